@@ -1,0 +1,70 @@
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace incise::curriculum {
+
+// How a measured value must compare with its pass threshold. The boundary value passes.
+enum class ThresholdOp {
+  at_most,   // "<=": e.g. completion time, path length, peak force
+  at_least,  // ">=": e.g. fraction of targets reached
+};
+
+// "<=" for at_most, ">=" for at_least: the spelling curricula use in JSON.
+std::string_view threshold_op_symbol(ThresholdOp op);
+
+struct Threshold {
+  ThresholdOp op = ThresholdOp::at_most;
+  double value = 0.0;  // in the metric's unit
+
+  bool operator==(const Threshold&) const = default;
+};
+
+// One metric a task is scored on, e.g. {"peak_force_n", {at_most, 4.0}, "N"}. The key names a
+// value the metrics computation reports for every attempt.
+struct MetricRequirement {
+  std::string key;
+  Threshold threshold;
+  std::string unit;  // for display only: "s", "m", "N"; empty for counts and ratios
+
+  bool operator==(const MetricRequirement&) const = default;
+};
+
+// One exercise: a scene to run, the tools it needs, and the metric thresholds an attempt must
+// meet. A task is mastered after consecutive_passes_required passing attempts in a row.
+struct Task {
+  std::string key;                 // unique within the curriculum; prerequisites refer to it
+  std::string name;                // shown to trainees
+  std::string scene;               // scene file id, e.g. "scenes/palpation.json"
+  std::string instructions;        // shown before and during the attempt
+  std::vector<std::string> tools;  // tool ids the station must provide, e.g. "probe"
+  std::vector<MetricRequirement> metrics;
+  int consecutive_passes_required = 1;
+  std::vector<std::string> prerequisites;  // keys of tasks to master first
+
+  bool operator==(const Task&) const = default;
+};
+
+// A group of related tasks, shown together.
+struct Module {
+  std::string key;  // unique within the curriculum
+  std::string name;
+  std::vector<Task> tasks;
+
+  bool operator==(const Module&) const = default;
+};
+
+struct Curriculum {
+  std::string name;
+  std::string description;
+  std::vector<Module> modules;
+
+  bool operator==(const Curriculum&) const = default;
+};
+
+// The task with this key in any module, or nullptr.
+const Task* find_task(const Curriculum& curriculum, std::string_view key);
+
+}  // namespace incise::curriculum

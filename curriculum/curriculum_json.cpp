@@ -1,0 +1,212 @@
+#include "curriculum/curriculum_json.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <initializer_list>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "curriculum/curriculum_validation.h"
+
+namespace incise::curriculum {
+namespace {
+
+using nlohmann::json;
+
+std::string member(const std::string& path, std::string_view key) {
+  return path.empty() ? std::string(key) : path + "." + std::string(key);
+}
+
+std::string element(const std::string& path, std::size_t index) {
+  return path + "[" + std::to_string(index) + "]";
+}
+
+enum class Presence { required, optional };
+constexpr Presence required = Presence::required;
+constexpr Presence optional = Presence::optional;
+
+// One JSON object being read: checks that it is an object with no members outside `allowed`,
+// and reads typed members, reporting problems at their paths.
+class ObjectReader {
+ public:
+  ObjectReader(const json& object, std::string path,
+               std::initializer_list<std::string_view> allowed)
+      : object_(object), path_(std::move(path)) {
+    if (!object_.is_object()) throw CurriculumError(path_, "must be an object");
+    for (const auto& item : object_.items()) {
+      if (std::find(allowed.begin(), allowed.end(), item.key()) != allowed.end()) continue;
+      std::string expected;
+      for (const std::string_view name : allowed) {
+        expected += (expected.empty() ? "" : ", ") + std::string(name);
+      }
+      throw CurriculumError(member(path_, item.key()),
+                            "unknown key (expected one of: " + expected + ")");
+    }
+  }
+
+  std::string path(std::string_view key) const { return member(path_, key); }
+
+  // The member's value, or nullptr if it is absent and optional.
+  const json* find(std::string_view key, Presence presence) const {
+    const auto it = object_.find(key);
+    if (it != object_.end()) return &*it;
+    if (presence == required) throw CurriculumError(path(key), "is required");
+    return nullptr;
+  }
+
+  std::string string(std::string_view key, Presence presence) const {
+    const json* value = find(key, presence);
+    if (value == nullptr) return {};
+    if (!value->is_string()) throw CurriculumError(path(key), "must be a string");
+    return value->get<std::string>();
+  }
+
+  // The member's elements; empty if it is absent and optional.
+  const json::array_t& array(std::string_view key, Presence presence) const {
+    static const json::array_t none;
+    const json* value = find(key, presence);
+    if (value == nullptr) return none;
+    if (!value->is_array()) throw CurriculumError(path(key), "must be an array");
+    return value->get_ref<const json::array_t&>();
+  }
+
+  std::vector<std::string> strings(std::string_view key, Presence presence) const {
+    const json::array_t& values = array(key, presence);
+    std::vector<std::string> result;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      if (!values[i].is_string()) throw CurriculumError(element(path(key), i), "must be a string");
+      result.push_back(values[i].get<std::string>());
+    }
+    return result;
+  }
+
+ private:
+  const json& object_;
+  std::string path_;
+};
+
+Threshold parse_threshold(const json& value, const std::string& path) {
+  const ObjectReader reader(value, path, {"op", "value"});
+  Threshold threshold;
+  const json& op = *reader.find("op", required);
+  if (op == "<=") {
+    threshold.op = ThresholdOp::at_most;
+  } else if (op == ">=") {
+    threshold.op = ThresholdOp::at_least;
+  } else {
+    throw CurriculumError(reader.path("op"), "must be \"<=\" or \">=\"");
+  }
+  const json& number = *reader.find("value", required);
+  if (!number.is_number()) throw CurriculumError(reader.path("value"), "must be a number");
+  threshold.value = number.get<double>();
+  return threshold;
+}
+
+MetricRequirement parse_metric(const json& value, const std::string& path) {
+  const ObjectReader reader(value, path, {"key", "threshold", "unit"});
+  MetricRequirement metric;
+  metric.key = reader.string("key", required);
+  metric.threshold = parse_threshold(*reader.find("threshold", required), reader.path("threshold"));
+  metric.unit = reader.string("unit", optional);
+  return metric;
+}
+
+int parse_consecutive_passes(const json& value, const std::string& path) {
+  const std::string message =
+      "must be an integer from 1 to " + std::to_string(max_consecutive_passes);
+  if (!value.is_number_integer()) throw CurriculumError(path, message);
+  // Compared before narrowing to int, so that huge values cannot wrap into range.
+  const bool in_range = value.is_number_unsigned()
+                            ? value.get<std::uint64_t>() <= max_consecutive_passes
+                            : value.get<std::int64_t>() <= max_consecutive_passes;
+  if (!in_range || value.get<std::int64_t>() < 1) throw CurriculumError(path, message);
+  return value.get<int>();
+}
+
+Task parse_task(const json& value, const std::string& path) {
+  const ObjectReader reader(value, path,
+                            {"key", "name", "scene", "instructions", "tools", "metrics",
+                             "consecutive_passes_required", "prerequisites"});
+  Task task;
+  task.key = reader.string("key", required);
+  task.name = reader.string("name", required);
+  task.scene = reader.string("scene", required);
+  task.instructions = reader.string("instructions", optional);
+  task.tools = reader.strings("tools", optional);
+  const json::array_t& metrics = reader.array("metrics", required);
+  for (std::size_t i = 0; i < metrics.size(); ++i) {
+    task.metrics.push_back(parse_metric(metrics[i], element(reader.path("metrics"), i)));
+  }
+  task.consecutive_passes_required =
+      parse_consecutive_passes(*reader.find("consecutive_passes_required", required),
+                               reader.path("consecutive_passes_required"));
+  task.prerequisites = reader.strings("prerequisites", optional);
+  return task;
+}
+
+Module parse_module(const json& value, const std::string& path) {
+  const ObjectReader reader(value, path, {"key", "name", "tasks"});
+  Module module;
+  module.key = reader.string("key", required);
+  module.name = reader.string("name", required);
+  const json::array_t& tasks = reader.array("tasks", required);
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    module.tasks.push_back(parse_task(tasks[i], element(reader.path("tasks"), i)));
+  }
+  return module;
+}
+
+}  // namespace
+
+Curriculum parse_curriculum(const json& value) {
+  const ObjectReader reader(value, "", {"name", "description", "modules"});
+  Curriculum curriculum;
+  curriculum.name = reader.string("name", required);
+  curriculum.description = reader.string("description", optional);
+  const json::array_t& modules = reader.array("modules", required);
+  for (std::size_t i = 0; i < modules.size(); ++i) {
+    curriculum.modules.push_back(parse_module(modules[i], element("modules", i)));
+  }
+  validate(curriculum);
+  return curriculum;
+}
+
+Curriculum parse_curriculum_text(std::string_view text) {
+  json value;
+  try {
+    value = json::parse(text);
+  } catch (const json::parse_error& error) {
+    throw CurriculumError("", std::string("invalid JSON: ") + error.what());
+  }
+  return parse_curriculum(value);
+}
+
+json to_json(const Curriculum& curriculum) {
+  json modules = json::array();
+  for (const Module& module : curriculum.modules) {
+    json tasks = json::array();
+    for (const Task& task : module.tasks) {
+      json metrics = json::array();
+      for (const MetricRequirement& metric : task.metrics) {
+        metrics.push_back({{"key", metric.key},
+                           {"threshold",
+                            {{"op", std::string(threshold_op_symbol(metric.threshold.op))},
+                             {"value", metric.threshold.value}}},
+                           {"unit", metric.unit}});
+      }
+      tasks.push_back({{"key", task.key},
+                       {"name", task.name},
+                       {"scene", task.scene},
+                       {"instructions", task.instructions},
+                       {"tools", task.tools},
+                       {"metrics", metrics},
+                       {"consecutive_passes_required", task.consecutive_passes_required},
+                       {"prerequisites", task.prerequisites}});
+    }
+    modules.push_back({{"key", module.key}, {"name", module.name}, {"tasks", tasks}});
+  }
+  return {{"name", curriculum.name}, {"description", curriculum.description}, {"modules", modules}};
+}
+
+}  // namespace incise::curriculum

@@ -1,0 +1,172 @@
+#include "curriculum/curriculum_validation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace incise::curriculum {
+namespace {
+
+std::string member(const std::string& path, std::string_view key) {
+  return path.empty() ? std::string(key) : path + "." + std::string(key);
+}
+
+std::string element(const std::string& path, std::size_t index) {
+  return path + "[" + std::to_string(index) + "]";
+}
+
+void require_key(const std::string& path, const std::string& key) {
+  if (!is_valid_key(key)) {
+    throw CurriculumError(path,
+                          "must be a key: a lowercase letter, then lowercase letters, "
+                          "digits or '_' (got \"" +
+                              key + "\")");
+  }
+}
+
+void require_text(const std::string& path, const std::string& text) {
+  if (text.empty()) throw CurriculumError(path, "must not be empty");
+}
+
+// Rejects empty entries and repeats in a list of names (tools, prerequisites).
+void require_distinct_names(const std::string& path, const std::vector<std::string>& names) {
+  std::set<std::string> seen;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    require_text(element(path, i), names[i]);
+    if (!seen.insert(names[i]).second) {
+      throw CurriculumError(element(path, i), "duplicate entry \"" + names[i] + "\"");
+    }
+  }
+}
+
+struct TaskRef {
+  const Task* task;
+  std::string path;  // "modules[i].tasks[j]"
+};
+
+void check_task(const Task& task, const std::string& path) {
+  require_key(member(path, "key"), task.key);
+  require_text(member(path, "name"), task.name);
+  require_text(member(path, "scene"), task.scene);
+  require_distinct_names(member(path, "tools"), task.tools);
+  const std::string metrics_path = member(path, "metrics");
+  if (task.metrics.empty()) throw CurriculumError(metrics_path, "must list at least one metric");
+  std::set<std::string> metric_keys;
+  for (std::size_t m = 0; m < task.metrics.size(); ++m) {
+    const MetricRequirement& metric = task.metrics[m];
+    const std::string metric_path = element(metrics_path, m);
+    require_key(member(metric_path, "key"), metric.key);
+    if (!metric_keys.insert(metric.key).second) {
+      throw CurriculumError(member(metric_path, "key"),
+                            "duplicate metric key \"" + metric.key + "\"");
+    }
+    if (!std::isfinite(metric.threshold.value)) {
+      throw CurriculumError(member(member(metric_path, "threshold"), "value"),
+                            "must be a finite number");
+    }
+  }
+  if (task.consecutive_passes_required < 1 ||
+      task.consecutive_passes_required > max_consecutive_passes) {
+    throw CurriculumError(member(path, "consecutive_passes_required"),
+                          "must be an integer from 1 to " + std::to_string(max_consecutive_passes));
+  }
+  require_distinct_names(member(path, "prerequisites"), task.prerequisites);
+}
+
+// Depth-first search along prerequisite edges; a task met again while still on the stack closes
+// a cycle. Throws at the prerequisite entry that closes it.
+class CycleFinder {
+ public:
+  explicit CycleFinder(const std::map<std::string, TaskRef>& tasks) : tasks_(tasks) {}
+
+  void visit(const std::string& key) {
+    if (finished_.count(key) > 0) return;
+    stack_.push_back(key);
+    const TaskRef& ref = tasks_.at(key);
+    for (std::size_t p = 0; p < ref.task->prerequisites.size(); ++p) {
+      const std::string& next = ref.task->prerequisites[p];
+      const auto on_stack = std::find(stack_.begin(), stack_.end(), next);
+      if (on_stack != stack_.end()) {
+        std::string cycle;
+        for (auto it = on_stack; it != stack_.end(); ++it)
+          cycle += *it + " -> ";
+        throw CurriculumError(element(member(ref.path, "prerequisites"), p),
+                              "prerequisite cycle: " + cycle + next);
+      }
+      visit(next);
+    }
+    stack_.pop_back();
+    finished_.insert(key);
+  }
+
+ private:
+  const std::map<std::string, TaskRef>& tasks_;
+  std::vector<std::string> stack_;
+  std::set<std::string> finished_;
+};
+
+}  // namespace
+
+bool is_valid_key(std::string_view key) {
+  if (key.empty() || key.front() < 'a' || key.front() > 'z') return false;
+  for (const char c : key) {
+    const bool allowed = (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+    if (!allowed) return false;
+  }
+  return true;
+}
+
+void validate(const Curriculum& curriculum) {
+  require_text("name", curriculum.name);
+  if (curriculum.modules.empty()) {
+    throw CurriculumError("modules", "must list at least one module");
+  }
+
+  std::set<std::string> module_keys;
+  std::map<std::string, TaskRef> tasks;  // by key
+  std::vector<std::string> task_order;   // document order, so that errors are reproducible
+  for (std::size_t i = 0; i < curriculum.modules.size(); ++i) {
+    const Module& module = curriculum.modules[i];
+    const std::string path = element("modules", i);
+    require_key(member(path, "key"), module.key);
+    if (!module_keys.insert(module.key).second) {
+      throw CurriculumError(member(path, "key"), "duplicate module key \"" + module.key + "\"");
+    }
+    require_text(member(path, "name"), module.name);
+    if (module.tasks.empty()) {
+      throw CurriculumError(member(path, "tasks"), "must list at least one task");
+    }
+    for (std::size_t j = 0; j < module.tasks.size(); ++j) {
+      const Task& task = module.tasks[j];
+      const std::string task_path = element(member(path, "tasks"), j);
+      check_task(task, task_path);
+      const auto [first, inserted] = tasks.emplace(task.key, TaskRef{&task, task_path});
+      if (!inserted) {
+        throw CurriculumError(
+            member(task_path, "key"),
+            "duplicate task key \"" + task.key + "\" (first at " + first->second.path + ")");
+      }
+      task_order.push_back(task.key);
+    }
+  }
+
+  for (const std::string& key : task_order) {
+    const TaskRef& ref = tasks.at(key);
+    for (std::size_t p = 0; p < ref.task->prerequisites.size(); ++p) {
+      const std::string& prerequisite = ref.task->prerequisites[p];
+      if (tasks.count(prerequisite) == 0) {
+        throw CurriculumError(element(member(ref.path, "prerequisites"), p),
+                              "unknown task \"" + prerequisite + "\"");
+      }
+    }
+  }
+
+  CycleFinder cycles(tasks);
+  for (const std::string& key : task_order)
+    cycles.visit(key);
+}
+
+}  // namespace incise::curriculum

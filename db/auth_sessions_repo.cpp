@@ -1,0 +1,49 @@
+#include "db/auth_sessions_repo.h"
+
+#include "db/password.h"
+#include "db/statement.h"
+
+namespace incise::db {
+
+std::string AuthSessionsRepo::create(std::int64_t user_id, std::int64_t now, std::int64_t ttl_s) {
+  std::string token = random_token();
+  db_.prepare(
+         "INSERT INTO auth_sessions (token_hash, user_id, created_at, expires_at) VALUES (?, ?, "
+         "?, ?)")
+      .bind_blob(1, token_hash(token))
+      .bind(2, user_id)
+      .bind(3, now)
+      .bind(4, now + ttl_s)
+      .run();
+  return token;
+}
+
+std::optional<User> AuthSessionsRepo::touch(std::string_view token, std::int64_t now,
+                                            std::int64_t ttl_s) {
+  const auto hash = token_hash(token);
+  auto q = db_.prepare(
+      "SELECT u.id, u.username, u.display_name, u.role, u.created_at FROM auth_sessions s JOIN "
+      "users u ON u.id = s.user_id WHERE s.token_hash = ? AND s.expires_at > ?");
+  q.bind_blob(1, hash).bind(2, now);
+  if (!q.step()) return std::nullopt;
+  User user{q.int64(0), q.text(1), q.text(2), parse_role(q.text(3)).value_or(Role::trainee),
+            q.int64(4)};
+  db_.prepare("UPDATE auth_sessions SET expires_at = ? WHERE token_hash = ?")
+      .bind(1, now + ttl_s)
+      .bind_blob(2, hash)
+      .run();
+  return user;
+}
+
+void AuthSessionsRepo::remove(std::string_view token) {
+  db_.prepare("DELETE FROM auth_sessions WHERE token_hash = ?")
+      .bind_blob(1, token_hash(token))
+      .run();
+}
+
+int AuthSessionsRepo::purge_expired(std::int64_t now) {
+  db_.prepare("DELETE FROM auth_sessions WHERE expires_at <= ?").bind(1, now).run();
+  return db_.changes();
+}
+
+}  // namespace incise::db

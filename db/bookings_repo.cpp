@@ -1,0 +1,93 @@
+#include "db/bookings_repo.h"
+
+#include "db/statement.h"
+#include "db/transaction.h"
+
+namespace incise::db {
+
+namespace {
+constexpr const char* kSelect =
+    "SELECT b.id, b.station_id, s.name, b.user_id, u.username, b.starts_at, b.ends_at, b.status, "
+    "b.created_at FROM bookings b JOIN stations s ON s.id = b.station_id JOIN users u ON u.id = "
+    "b.user_id ";
+
+Booking read_booking(const Statement& q) {
+  return Booking{q.int64(0), q.int64(1), q.text(2), q.int64(3), q.text(4),
+                 q.int64(5), q.int64(6), q.text(7), q.int64(8)};
+}
+
+// Half-open intervals [a0, a1) and [b0, b1) overlap when a0 < b1 and b0 < a1.
+std::optional<Booking> first_overlap(Database& db, const char* owner_column, std::int64_t owner,
+                                     std::int64_t starts_at, std::int64_t ends_at) {
+  auto q = db.prepare(std::string(kSelect) + "WHERE b.status = 'active' AND b." + owner_column +
+                      " = ? AND b.starts_at < ? AND ? < b.ends_at ORDER BY b.starts_at LIMIT 1");
+  q.bind(1, owner).bind(2, ends_at).bind(3, starts_at);
+  if (!q.step()) return std::nullopt;
+  return read_booking(q);
+}
+}  // namespace
+
+Booking BookingsRepo::create(std::int64_t station_id, std::int64_t user_id, std::int64_t starts_at,
+                             std::int64_t ends_at, std::int64_t now) {
+  Transaction tx(db_);
+  {
+    auto q = db_.prepare("SELECT 1 FROM stations WHERE id = ?");
+    q.bind(1, station_id);
+    if (!q.step()) throw NotFound("station " + std::to_string(station_id) + " does not exist");
+  }
+  if (auto other = first_overlap(db_, "station_id", station_id, starts_at, ends_at)) {
+    throw BookingConflict(*other, true);
+  }
+  if (auto other = first_overlap(db_, "user_id", user_id, starts_at, ends_at)) {
+    throw BookingConflict(*other, false);
+  }
+  try {
+    db_.prepare(
+           "INSERT INTO bookings (station_id, user_id, starts_at, ends_at, created_at) VALUES "
+           "(?, ?, ?, ?, ?)")
+        .bind(1, station_id)
+        .bind(2, user_id)
+        .bind(3, starts_at)
+        .bind(4, ends_at)
+        .bind(5, now)
+        .run();
+  } catch (const ConstraintError&) {
+    throw NotFound("user " + std::to_string(user_id) + " does not exist");
+  }
+  const std::int64_t id = db_.last_insert_id();
+  tx.commit();
+  return *find(id);
+}
+
+std::optional<Booking> BookingsRepo::find(std::int64_t id) {
+  auto q = db_.prepare(std::string(kSelect) + "WHERE b.id = ?");
+  q.bind(1, id);
+  if (!q.step()) return std::nullopt;
+  return read_booking(q);
+}
+
+std::vector<Booking> BookingsRepo::list(std::optional<std::int64_t> user_id) {
+  auto q = db_.prepare(std::string(kSelect) + (user_id ? "WHERE b.user_id = ? " : "") +
+                       "ORDER BY b.starts_at DESC, b.id DESC");
+  if (user_id) q.bind(1, *user_id);
+  std::vector<Booking> out;
+  while (q.step())
+    out.push_back(read_booking(q));
+  return out;
+}
+
+void BookingsRepo::cancel(std::int64_t id, std::int64_t now) {
+  Transaction tx(db_);
+  auto booking = find(id);
+  if (!booking) throw NotFound("booking " + std::to_string(id) + " does not exist");
+  if (booking->status == "cancelled") {
+    throw Conflict("booking " + std::to_string(id) + " is already cancelled");
+  }
+  db_.prepare("UPDATE bookings SET status = 'cancelled', cancelled_at = ? WHERE id = ?")
+      .bind(1, now)
+      .bind(2, id)
+      .run();
+  tx.commit();
+}
+
+}  // namespace incise::db

@@ -1,0 +1,59 @@
+#pragma once
+// Bookings of station slots. A station slot and a person can each hold only one active booking
+// at a time; the check and the insert run in one IMMEDIATE transaction, so two concurrent
+// requests cannot both win.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "db/database.h"
+#include "db/db_error.h"
+
+namespace incise::db {
+
+struct Booking {
+  std::int64_t id = 0;
+  std::int64_t station_id = 0;
+  std::string station_name;
+  std::int64_t user_id = 0;
+  std::string username;
+  std::int64_t starts_at = 0;  // Unix seconds, inclusive
+  std::int64_t ends_at = 0;    // Unix seconds, exclusive
+  std::string status;          // "active" or "cancelled"
+  std::int64_t created_at = 0;
+};
+
+// The slot overlaps `existing`, at the same station or of the same person.
+class BookingConflict : public Conflict {
+ public:
+  BookingConflict(Booking existing, bool same_station)
+      : Conflict("booking overlaps an existing booking"),
+        existing_(std::move(existing)),
+        same_station_(same_station) {}
+  const Booking& existing() const { return existing_; }
+  bool same_station() const { return same_station_; }
+
+ private:
+  Booking existing_;
+  bool same_station_;
+};
+
+class BookingsRepo {
+ public:
+  explicit BookingsRepo(Database& db) : db_(db) {}
+
+  // Throws NotFound for an unknown station or user, BookingConflict on overlap.
+  Booking create(std::int64_t station_id, std::int64_t user_id, std::int64_t starts_at,
+                 std::int64_t ends_at, std::int64_t now);
+  std::optional<Booking> find(std::int64_t id);
+  // Newest first by start time; `user_id` restricts to one person's bookings.
+  std::vector<Booking> list(std::optional<std::int64_t> user_id = std::nullopt);
+  // Throws NotFound for an unknown id, Conflict when already cancelled.
+  void cancel(std::int64_t id, std::int64_t now);
+
+ private:
+  Database& db_;
+};
+
+}  // namespace incise::db

@@ -1,0 +1,30 @@
+#include "db/curricula_repo.h"
+
+#include "db/db_error.h"
+#include "db/statement.h"
+
+namespace incise::db {
+
+CurriculumRecord CurriculaRepo::create(const std::string& name, const std::string& definition_json,
+                                       std::int64_t now) {
+  try {
+    db_.prepare("INSERT INTO curricula (name, definition, created_at) VALUES (?, ?, ?)")
+        .bind(1, name)
+        .bind(2, definition_json)
+        .bind(3, now)
+        .run();
+  } catch (const ConstraintError&) {
+    throw Conflict("a curriculum named '" + name + "' already exists");
+  }
+  return CurriculumRecord{db_.last_insert_id(), name, definition_json, now};
+}
+
+std::vector<CurriculumRecord> CurriculaRepo::list() {
+  auto q = db_.prepare("SELECT id, name, definition, created_at FROM curricula ORDER BY name");
+  std::vector<CurriculumRecord> out;
+  while (q.step())
+    out.push_back(CurriculumRecord{q.int64(0), q.text(1), q.text(2), q.int64(3)});
+  return out;
+}
+
+}  // namespace incise::db

@@ -1,0 +1,50 @@
+#include "db/migrations.h"
+
+#include <sqlite3.h>
+
+#include "db/statement.h"
+#include "db/transaction.h"
+
+namespace incise::db {
+
+int schema_version(Database& db) {
+  db.exec(
+      "CREATE TABLE IF NOT EXISTS schema_migrations (version INTEGER PRIMARY KEY, name TEXT NOT "
+      "NULL, applied_at INTEGER NOT NULL)");
+  auto q = db.prepare("SELECT COALESCE(MAX(version), 0) FROM schema_migrations");
+  q.step();
+  return static_cast<int>(q.int64(0));
+}
+
+int apply_migrations(Database& db, const std::vector<Migration>& migrations) {
+  const int current = schema_version(db);
+  int newest_known = 0;
+  for (const auto& m : migrations)
+    newest_known = std::max(newest_known, m.version);
+  if (current > newest_known) {
+    throw DbError(SQLITE_ERROR, "database schema version " + std::to_string(current) +
+                                    " is newer than this build knows (" +
+                                    std::to_string(newest_known) + ")");
+  }
+  int applied = 0;
+  for (const auto& m : migrations) {
+    if (m.version <= current) continue;
+    Transaction tx(db);
+    try {
+      db.exec(m.sql);
+    } catch (const DbError& e) {
+      throw DbError(e.code(), "migration " + m.name + " failed: " + e.what());
+    }
+    db.prepare(
+          "INSERT INTO schema_migrations (version, name, applied_at) VALUES (?, ?, "
+          "strftime('%s','now'))")
+        .bind(1, m.version)
+        .bind(2, m.name)
+        .run();
+    tx.commit();
+    ++applied;
+  }
+  return applied;
+}
+
+}  // namespace incise::db

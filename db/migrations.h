@@ -1,0 +1,27 @@
+#pragma once
+// Numbered schema migrations (db/migrations/NNN_name.sql), embedded at build time and applied in
+// order at start-up, each in its own transaction. The applied versions are kept in
+// schema_migrations, so applying is idempotent.
+#include <string>
+#include <vector>
+
+#include "db/database.h"
+
+namespace incise::db {
+
+struct Migration {
+  int version;
+  std::string name;
+  std::string sql;
+};
+
+const std::vector<Migration>& embedded_migrations();
+
+// Applies every migration newer than the database's version; returns how many were applied.
+// Throws DbError when the database is newer than this build (it knows no such schema).
+int apply_migrations(Database& db,
+                     const std::vector<Migration>& migrations = embedded_migrations());
+
+int schema_version(Database& db);
+
+}  // namespace incise::db

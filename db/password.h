@@ -1,0 +1,20 @@
+#pragma once
+// Password hashing with libsodium's argon2id (memory-hard; DESIGN.md section 5). The stored string
+// carries its own salt and parameters.
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace incise::db {
+
+std::string hash_password(std::string_view password);
+// Constant-time check; false for a malformed hash.
+bool verify_password(std::string_view password, const std::string& stored_hash);
+
+// A random token for cookies and station keys: 32 random bytes as 64 hex characters.
+std::string random_token();
+// SHA-256 of a token, for storage (only hashes of tokens are kept in the database).
+std::vector<std::uint8_t> token_hash(std::string_view token);
+
+}  // namespace incise::db

@@ -1,0 +1,51 @@
+#include "db/stations_repo.h"
+
+#include "db/password.h"
+#include "db/statement.h"
+
+namespace incise::db {
+
+namespace {
+Station read_station(const Statement& q) {
+  return Station{q.int64(0), q.text(1), q.text(2), q.int64(3)};
+}
+}  // namespace
+
+Station StationsRepo::create(std::string_view name, std::string_view location,
+                             std::string_view token, std::int64_t now) {
+  try {
+    db_.prepare("INSERT INTO stations (name, location, token_hash, created_at) VALUES (?, ?, ?, ?)")
+        .bind(1, name)
+        .bind(2, location)
+        .bind_blob(3, token_hash(token))
+        .bind(4, now)
+        .run();
+  } catch (const ConstraintError&) {
+    throw Conflict("a station named '" + std::string(name) + "' already exists");
+  }
+  return Station{db_.last_insert_id(), std::string(name), std::string(location), now};
+}
+
+std::optional<Station> StationsRepo::find(std::int64_t id) {
+  auto q = db_.prepare("SELECT id, name, location, created_at FROM stations WHERE id = ?");
+  q.bind(1, id);
+  if (!q.step()) return std::nullopt;
+  return read_station(q);
+}
+
+std::optional<Station> StationsRepo::find_by_token(std::string_view token) {
+  auto q = db_.prepare("SELECT id, name, location, created_at FROM stations WHERE token_hash = ?");
+  q.bind_blob(1, token_hash(token));
+  if (!q.step()) return std::nullopt;
+  return read_station(q);
+}
+
+std::vector<Station> StationsRepo::list() {
+  auto q = db_.prepare("SELECT id, name, location, created_at FROM stations ORDER BY name");
+  std::vector<Station> out;
+  while (q.step())
+    out.push_back(read_station(q));
+  return out;
+}
+
+}  // namespace incise::db

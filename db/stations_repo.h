@@ -1,0 +1,36 @@
+#pragma once
+// Haptic stations. Each has a secret token its agent presents; only the token's hash is stored.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "db/database.h"
+
+namespace incise::db {
+
+struct Station {
+  std::int64_t id = 0;
+  std::string name;
+  std::string location;
+  std::int64_t created_at = 0;
+};
+
+class StationsRepo {
+ public:
+  explicit StationsRepo(Database& db) : db_(db) {}
+
+  // Creates the station with the given agent token (random_token() for a new one).
+  // Throws Conflict when the name is taken.
+  Station create(std::string_view name, std::string_view location, std::string_view token,
+                 std::int64_t now);
+  std::optional<Station> find(std::int64_t id);
+  std::optional<Station> find_by_token(std::string_view token);
+  std::vector<Station> list();
+
+ private:
+  Database& db_;
+};
+
+}  // namespace incise::db

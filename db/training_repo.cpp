@@ -1,0 +1,106 @@
+#include "db/training_repo.h"
+
+#include "db/db_error.h"
+#include "db/statement.h"
+
+namespace incise::db {
+
+std::int64_t TrainingRepo::create_session(std::int64_t trainee_id,
+                                          std::optional<std::int64_t> station_id,
+                                          const std::string& task, std::int64_t now) {
+  db_.prepare(
+         "INSERT INTO sessions (trainee_id, station_id, task, state, created_at) VALUES (?, ?, "
+         "?, 'created', ?)")
+      .bind(1, trainee_id)
+      .bind(2, station_id)
+      .bind(3, task)
+      .bind(4, now)
+      .run();
+  return db_.last_insert_id();
+}
+
+void TrainingRepo::set_session_state(std::int64_t id, const std::string& state, std::int64_t now) {
+  // started_at is set on the first move to running; ended_at when the session ends.
+  db_.prepare(
+         "UPDATE sessions SET state = ?1, started_at = CASE WHEN ?1 = 'running' AND started_at IS "
+         "NULL THEN ?2 ELSE started_at END, ended_at = CASE WHEN ?1 IN ('finished', 'aborted') "
+         "THEN ?2 ELSE ended_at END WHERE id = ?3")
+      .bind(1, state)
+      .bind(2, now)
+      .bind(3, id)
+      .run();
+  if (db_.changes() == 0) throw NotFound("session " + std::to_string(id) + " does not exist");
+}
+
+std::int64_t TrainingRepo::add_recording(std::int64_t session_id, double duration_s,
+                                         std::int64_t now) {
+  db_.prepare("INSERT INTO recordings (session_id, duration_s, created_at) VALUES (?, ?, ?)")
+      .bind(1, session_id)
+      .bind(2, duration_s)
+      .bind(3, now)
+      .run();
+  return db_.last_insert_id();
+}
+
+std::int64_t TrainingRepo::add_score(std::int64_t session_id, const std::string& metric,
+                                     double value, const std::string& unit, bool passed,
+                                     std::int64_t now) {
+  db_.prepare(
+         "INSERT INTO scores (session_id, metric, value, unit, passed, created_at) VALUES (?, "
+         "?, ?, ?, ?, ?)")
+      .bind(1, session_id)
+      .bind(2, metric)
+      .bind(3, value)
+      .bind(4, unit)
+      .bind(5, passed ? 1 : 0)
+      .bind(6, now)
+      .run();
+  return db_.last_insert_id();
+}
+
+std::vector<SessionRecord> TrainingRepo::sessions(std::optional<std::int64_t> trainee_id) {
+  auto q = db_.prepare(
+      std::string("SELECT se.id, se.trainee_id, u.username, se.station_id, COALESCE(st.name, ''), "
+                  "se.task, se.state, se.started_at, se.ended_at FROM sessions se JOIN users u ON "
+                  "u.id = se.trainee_id LEFT JOIN stations st ON st.id = se.station_id ") +
+      (trainee_id ? "WHERE se.trainee_id = ? " : "") + "ORDER BY se.created_at DESC, se.id DESC");
+  if (trainee_id) q.bind(1, *trainee_id);
+  std::vector<SessionRecord> out;
+  while (q.step()) {
+    out.push_back(SessionRecord{q.int64(0), q.int64(1), q.text(2), q.optional_int64(3), q.text(4),
+                                q.text(5), q.text(6), q.optional_int64(7), q.optional_int64(8)});
+  }
+  return out;
+}
+
+std::vector<RecordingRecord> TrainingRepo::recordings(std::optional<std::int64_t> trainee_id) {
+  auto q = db_.prepare(
+      std::string("SELECT r.id, r.session_id, u.username, se.task, r.duration_s, r.created_at FROM "
+                  "recordings r JOIN sessions se ON se.id = r.session_id JOIN users u ON u.id = "
+                  "se.trainee_id ") +
+      (trainee_id ? "WHERE se.trainee_id = ? " : "") + "ORDER BY r.created_at DESC, r.id DESC");
+  if (trainee_id) q.bind(1, *trainee_id);
+  std::vector<RecordingRecord> out;
+  while (q.step()) {
+    out.push_back(
+        RecordingRecord{q.int64(0), q.int64(1), q.text(2), q.text(3), q.real(4), q.int64(5)});
+  }
+  return out;
+}
+
+std::vector<ScoreRecord> TrainingRepo::scores(std::optional<std::int64_t> trainee_id) {
+  auto q = db_.prepare(
+      std::string("SELECT sc.id, sc.session_id, u.username, se.task, sc.metric, sc.value, sc.unit, "
+                  "sc.passed, sc.created_at FROM scores sc JOIN sessions se ON se.id = "
+                  "sc.session_id JOIN users u ON u.id = se.trainee_id ") +
+      (trainee_id ? "WHERE se.trainee_id = ? " : "") + "ORDER BY sc.created_at DESC, sc.id DESC");
+  if (trainee_id) q.bind(1, *trainee_id);
+  std::vector<ScoreRecord> out;
+  while (q.step()) {
+    out.push_back(ScoreRecord{q.int64(0), q.int64(1), q.text(2), q.text(3), q.text(4), q.real(5),
+                              q.text(6), q.int64(7) != 0, q.int64(8)});
+  }
+  return out;
+}
+
+}  // namespace incise::db

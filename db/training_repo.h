@@ -1,0 +1,66 @@
+#pragma once
+// Training records: simulation sessions, their recordings and their scores.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "db/database.h"
+
+namespace incise::db {
+
+struct SessionRecord {
+  std::int64_t id = 0;
+  std::int64_t trainee_id = 0;
+  std::string trainee;  // username
+  std::optional<std::int64_t> station_id;
+  std::string station;  // name, empty when none
+  std::string task;
+  std::string state;  // created, running, paused, finished, aborted
+  std::optional<std::int64_t> started_at;
+  std::optional<std::int64_t> ended_at;
+};
+
+struct RecordingRecord {
+  std::int64_t id = 0;
+  std::int64_t session_id = 0;
+  std::string trainee;
+  std::string task;
+  double duration_s = 0;
+  std::int64_t created_at = 0;
+};
+
+struct ScoreRecord {
+  std::int64_t id = 0;
+  std::int64_t session_id = 0;
+  std::string trainee;
+  std::string task;
+  std::string metric;
+  double value = 0;
+  std::string unit;
+  bool passed = false;
+  std::int64_t created_at = 0;
+};
+
+class TrainingRepo {
+ public:
+  explicit TrainingRepo(Database& db) : db_(db) {}
+
+  std::int64_t create_session(std::int64_t trainee_id, std::optional<std::int64_t> station_id,
+                              const std::string& task, std::int64_t now);
+  // Throws ConstraintError for an unknown state name, NotFound for an unknown id.
+  void set_session_state(std::int64_t id, const std::string& state, std::int64_t now);
+  std::int64_t add_recording(std::int64_t session_id, double duration_s, std::int64_t now);
+  std::int64_t add_score(std::int64_t session_id, const std::string& metric, double value,
+                         const std::string& unit, bool passed, std::int64_t now);
+
+  // `trainee_id` restricts to one trainee's records. Newest first.
+  std::vector<SessionRecord> sessions(std::optional<std::int64_t> trainee_id = std::nullopt);
+  std::vector<RecordingRecord> recordings(std::optional<std::int64_t> trainee_id = std::nullopt);
+  std::vector<ScoreRecord> scores(std::optional<std::int64_t> trainee_id = std::nullopt);
+
+ private:
+  Database& db_;
+};
+
+}  // namespace incise::db

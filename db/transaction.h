@@ -1,0 +1,24 @@
+#pragma once
+// A transaction that rolls back unless committed (after SQLiteCpp's Transaction). IMMEDIATE takes
+// the write lock at the start, so a read-check-write sequence (e.g. booking conflict checks) cannot
+// interleave with another writer.
+#include "db/database.h"
+
+namespace incise::db {
+
+class Transaction {
+ public:
+  enum class Mode { deferred, immediate };
+  explicit Transaction(Database& db, Mode mode = Mode::immediate);
+  ~Transaction();
+  Transaction(const Transaction&) = delete;
+  Transaction& operator=(const Transaction&) = delete;
+
+  void commit();
+
+ private:
+  Database& db_;
+  bool done_ = false;
+};
+
+}  // namespace incise::db

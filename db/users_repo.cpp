@@ -1,0 +1,99 @@
+#include "db/users_repo.h"
+
+#include "db/password.h"
+#include "db/statement.h"
+
+namespace incise::db {
+
+std::string_view to_string(Role role) {
+  switch (role) {
+    case Role::trainee:
+      return "trainee";
+    case Role::instructor:
+      return "instructor";
+    case Role::admin:
+      return "admin";
+  }
+  return "trainee";
+}
+
+std::optional<Role> parse_role(std::string_view text) {
+  if (text == "trainee") return Role::trainee;
+  if (text == "instructor") return Role::instructor;
+  if (text == "admin") return Role::admin;
+  return std::nullopt;
+}
+
+namespace {
+constexpr const char* kColumns = "id, username, display_name, role, created_at";
+
+User read_user(const Statement& q) {
+  return User{q.int64(0), q.text(1), q.text(2), parse_role(q.text(3)).value_or(Role::trainee),
+              q.int64(4)};
+}
+}  // namespace
+
+User UsersRepo::create(const NewUser& user, std::int64_t now) {
+  const std::string hash = hash_password(user.password);
+  try {
+    db_.prepare(
+           "INSERT INTO users (username, display_name, role, password_hash, created_at) VALUES "
+           "(?, ?, ?, ?, ?)")
+        .bind(1, user.username)
+        .bind(2, user.display_name)
+        .bind(3, to_string(user.role))
+        .bind(4, hash)
+        .bind(5, now)
+        .run();
+  } catch (const ConstraintError&) {
+    if (find_by_username(user.username)) {
+      throw Conflict("username '" + user.username + "' is already taken");
+    }
+    throw;
+  }
+  return User{db_.last_insert_id(), user.username, user.display_name, user.role, now};
+}
+
+std::optional<User> UsersRepo::find(std::int64_t id) {
+  auto q = db_.prepare(std::string("SELECT ") + kColumns + " FROM users WHERE id = ?");
+  q.bind(1, id);
+  if (!q.step()) return std::nullopt;
+  return read_user(q);
+}
+
+std::optional<User> UsersRepo::find_by_username(std::string_view username) {
+  auto q = db_.prepare(std::string("SELECT ") + kColumns + " FROM users WHERE username = ?");
+  q.bind(1, username);
+  if (!q.step()) return std::nullopt;
+  return read_user(q);
+}
+
+std::optional<User> UsersRepo::authenticate(std::string_view username, std::string_view password) {
+  auto q = db_.prepare(std::string("SELECT ") + kColumns +
+                       ", password_hash FROM users WHERE username = ?");
+  q.bind(1, username);
+  if (!q.step()) {
+    // Spend the same hashing work as for a real user.
+    static const std::string dummy = hash_password("incise-timing-equaliser");
+    verify_password(password, dummy);
+    return std::nullopt;
+  }
+  if (!verify_password(password, q.text(5))) return std::nullopt;
+  return read_user(q);
+}
+
+std::vector<User> UsersRepo::list() {
+  auto q = db_.prepare(std::string("SELECT ") + kColumns + " FROM users ORDER BY username");
+  std::vector<User> users;
+  while (q.step())
+    users.push_back(read_user(q));
+  return users;
+}
+
+std::int64_t UsersRepo::count() {
+  auto q = db_.prepare("SELECT COUNT(*) FROM users");
+  q.step();
+  return q.int64(0);
+}
+
+}  // namespace incise::db

@@ -1,0 +1,50 @@
+#pragma once
+// Users and their roles.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "db/database.h"
+
+namespace incise::db {
+
+enum class Role { trainee, instructor, admin };
+std::string_view to_string(Role role);
+std::optional<Role> parse_role(std::string_view text);
+
+struct User {
+  std::int64_t id = 0;
+  std::string username;
+  std::string display_name;
+  Role role = Role::trainee;
+  std::int64_t created_at = 0;  // Unix seconds
+};
+
+struct NewUser {
+  std::string username;
+  std::string display_name;
+  Role role = Role::trainee;
+  std::string password;  // plain text; only its argon2id hash is stored
+};
+
+class UsersRepo {
+ public:
+  explicit UsersRepo(Database& db) : db_(db) {}
+
+  // Throws Conflict when the username is taken.
+  User create(const NewUser& user, std::int64_t now);
+  std::optional<User> find(std::int64_t id);
+  std::optional<User> find_by_username(std::string_view username);
+  // The user when the password matches; takes about as long for an unknown username, so the
+  // response time does not reveal which usernames exist.
+  std::optional<User> authenticate(std::string_view username, std::string_view password);
+  std::vector<User> list();
+  std::int64_t count();
+
+ private:
+  Database& db_;
+};
+
+}  // namespace incise::db

@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# Starts the product: the server with its SQLite database (created with demo data on first run)
+# and one simulated station agent. Ctrl-C stops both.
+#   INCISE_PORT (default 8080), INCISE_HOST (default 127.0.0.1), INCISE_DATA (default ./data)
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+
+bash deploy/build.sh
+
+port=${INCISE_PORT:-8080}
+host=${INCISE_HOST:-127.0.0.1}
+data=${INCISE_DATA:-$root/data}
+bin=${INCISE_BUILD_DIR:-build}/bin
+log_dir="$data/logs"
+mkdir -p "$log_dir"
+
+server_pid=""
+agent_pid=""
+stop() {
+  trap - INT TERM EXIT
+  echo
+  echo "Stopping..."
+  [ -n "$agent_pid" ] && kill -TERM "$agent_pid" 2>/dev/null || true
+  [ -n "$server_pid" ] && kill -TERM "$server_pid" 2>/dev/null || true
+  wait 2>/dev/null || true
+  echo "Stopped."
+}
+trap stop INT TERM EXIT
+
+ready="$log_dir/server.ready"
+rm -f "$ready"
+"$bin/incise-server" --host "$host" --port "$port" --data "$data" --web "$root/web/dist" --demo \
+  > >(tee "$ready") 2> >(tee -a "$log_dir/server.log" >&2) &
+server_pid=$!
+for _ in $(seq 1 100); do
+  grep -q "listening on" "$ready" 2>/dev/null && break
+  if ! kill -0 "$server_pid" 2>/dev/null; then
+    echo "run.sh: the server did not start; see above" >&2
+    exit 1
+  fi
+  sleep 0.1
+done
+
+# The demo station's agent, with the simulated (scripted) device.
+"$bin/incise-agent" --server "ws://$host:$port/agent" --token incise-demo-station-token \
+  2>> "$log_dir/agent.log" &
+agent_pid=$!
+
+cat <<MSG
+
+  Incise is running: http://$host:$port/
+
+  Demo logins (username / password):
+    trainee     / incise-trainee-demo
+    instructor  / incise-instructor-demo
+    admin       / incise-admin-demo
+
+  Station 1 is connected through a simulated station agent (log: $log_dir/agent.log).
+  Database: $data/incise.db.   Press Ctrl-C to stop.
+
+MSG
+wait "$server_pid"

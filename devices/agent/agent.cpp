@@ -1,0 +1,139 @@
+#include "devices/agent/agent.h"
+
+#include <csignal>
+#include <cstring>
+#include <string>
+
+#include "devices/agent/log.h"
+
+#ifndef INCISE_AGENT_VERSION
+#define INCISE_AGENT_VERSION "dev"
+#endif
+
+namespace incise::devices::agent {
+namespace {
+
+LinkSettings make_settings(const AgentOptions& options, const Device& device) {
+  LinkSettings settings;
+  settings.server = options.server;
+  settings.hello.station_token = options.token;
+  settings.hello.agent =
+      "incise-agent/" INCISE_AGENT_VERSION " (" + std::string(device.name()) + ")";
+  // The server refuses a longer hello; the description is informative only, so cut it (on a
+  // UTF-8 character boundary: continuation bytes are 10xxxxxx).
+  std::string& agent = settings.hello.agent;
+  if (agent.size() > kMaxNameSize) {
+    std::size_t end = kMaxNameSize;
+    while (end > 0 && (static_cast<unsigned char>(agent[end]) & 0xC0) == 0x80)
+      --end;
+    agent.resize(end);
+  }
+  settings.send_period = std::chrono::duration_cast<Clock::duration>(
+      std::chrono::duration<double>(1.0 / options.rate_hz));
+  settings.epoch = Clock::now();
+  return settings;
+}
+
+std::string rate_text(Clock::duration period) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g Hz", 1.0 / std::chrono::duration<double>(period).count());
+  return text;
+}
+
+}  // namespace
+
+Agent::Agent(asio::io_context& io, const AgentOptions& options, Device& device)
+    : io_(io),
+      settings_(make_settings(options, device)),
+      device_(device),
+      signals_(io, SIGINT, SIGTERM),
+      retry_timer_(io) {}
+
+void Agent::start() {
+  log_line(std::string(device_.name()) + " device, sending its state at " +
+           rate_text(settings_.send_period) + " to " + settings_.server.url());
+  signals_.async_wait(
+      [this](beast::error_code ec, int signal_number) { on_signal(ec, signal_number); });
+  do_connect();
+}
+
+void Agent::do_connect() {
+  ++attempt_;
+  link_ = std::make_shared<StationLink>(
+      io_, settings_, device_, [this](const Welcome& welcome) { on_welcome(welcome); },
+      [this](const LinkEnd& end) { on_link_end(end); });
+  link_->run();
+}
+
+void Agent::on_welcome(const Welcome& welcome) {
+  ++connections_;
+  attempt_ = 0;
+  backoff_.reset();
+  log_line("connected to " + settings_.server.url() + " as station " +
+           std::to_string(welcome.station_id) + " \"" + welcome.station_name + "\"");
+}
+
+void Agent::on_link_end(const LinkEnd& end) {
+  link_.reset();
+  messages_sent_ += end.messages_sent;
+  connected_for_ += end.connected_for;
+  // Whatever cut a link short while stopping, there is nothing left to retry or report.
+  if (stopping_ && end.kind != LinkEnd::Kind::Refused) return;
+  switch (end.kind) {
+    case LinkEnd::Kind::Stopped:
+      return;
+    case LinkEnd::Kind::Refused:
+      log_line("server refused: " + (end.reason.empty() ? "(no reason given)" : end.reason));
+      exit_code_ = kExitRefused;
+      return stop();
+    case LinkEnd::Kind::Failed: {
+      const auto delay = backoff_.next();
+      log_line("connection attempt " + std::to_string(attempt_) + " to " + settings_.server.url() +
+               " failed: " + end.reason + "; retrying in " + format_seconds(delay));
+      return do_retry(delay);
+    }
+    case LinkEnd::Kind::Dropped: {
+      const auto delay = backoff_.next();
+      log_line("link lost after " + format_seconds(end.connected_for) + ": " + end.reason +
+               "; reconnecting in " + format_seconds(delay));
+      return do_retry(delay);
+    }
+  }
+}
+
+void Agent::do_retry(Backoff::Duration delay) {
+  if (stopping_) return;
+  retry_timer_.expires_after(delay);
+  retry_timer_.async_wait([this](beast::error_code ec) { on_retry(ec); });
+}
+
+void Agent::on_retry(beast::error_code ec) {
+  if (ec || stopping_) return;
+  do_connect();
+}
+
+void Agent::on_signal(beast::error_code ec, int signal_number) {
+  if (ec) return;  // cancelled by stop()
+  log_line(std::string("caught ") + (signal_number == SIGINT ? "SIGINT" : "SIGTERM") + ", closing");
+  stop();
+}
+
+void Agent::stop() {
+  if (stopping_) return;
+  stopping_ = true;
+  // Give SIGINT/SIGTERM their default action back: a second Ctrl-C ends a stuck agent at once.
+  beast::error_code ignored;
+  signals_.clear(ignored);
+  signals_.cancel(ignored);
+  retry_timer_.cancel();
+  if (link_) link_->stop();
+}
+
+void Agent::log_summary() const {
+  const auto running = Clock::now() - settings_.epoch;
+  log_line("stopped: sent " + std::to_string(messages_sent_) + " device states over " +
+           std::to_string(connections_) + (connections_ == 1 ? " connection" : " connections") +
+           ", connected " + format_seconds(connected_for_) + " of " + format_seconds(running));
+}
+
+}  // namespace incise::devices::agent

@@ -1,0 +1,60 @@
+#include "server/api/api_context.h"
+
+#include <algorithm>
+
+#include "db/auth_sessions_repo.h"
+#include "server/api/api_error.h"
+
+namespace incise::server {
+
+const db::User& ApiContext::user() {
+  if (user_) return *user_;
+  const auto token = cookie(kSessionCookie);
+  if (!token) throw ApiError(http::status::unauthorized, "not logged in");
+  user_ = db::AuthSessionsRepo(app.db()).touch(*token, now, app.config().session_ttl_s);
+  if (!user_) throw ApiError(http::status::unauthorized, "session expired; please log in again");
+  return *user_;
+}
+
+const db::User& ApiContext::require_role(std::initializer_list<db::Role> roles) {
+  const auto& u = user();
+  if (std::find(roles.begin(), roles.end(), u.role) == roles.end()) {
+    std::string allowed;
+    for (auto r : roles)
+      allowed += (allowed.empty() ? "" : " or ") + std::string(db::to_string(r));
+    throw ApiError(http::status::forbidden, "this needs the role " + allowed + " (you are " +
+                                                std::string(db::to_string(u.role)) + ")");
+  }
+  return u;
+}
+
+nlohmann::json ApiContext::json_body() const {
+  try {
+    return nlohmann::json::parse(request.body());
+  } catch (const nlohmann::json::parse_error& e) {
+    // nlohmann's text reads "[json.exception.parse_error.101] parse error at line 1, ...".
+    const std::string what = e.what();
+    const auto at = what.find("parse error");
+    throw ApiError(http::status::bad_request,
+                   "malformed JSON: " + (at == std::string::npos ? what : what.substr(at)));
+  }
+}
+
+std::optional<std::string> ApiContext::cookie(std::string_view name) const {
+  const auto header = request[http::field::cookie];
+  std::string_view rest(header.data(), header.size());
+  while (!rest.empty()) {
+    const auto end = rest.find(';');
+    auto pair = rest.substr(0, end);
+    rest = end == std::string_view::npos ? std::string_view{} : rest.substr(end + 1);
+    while (!pair.empty() && pair.front() == ' ')
+      pair.remove_prefix(1);
+    const auto eq = pair.find('=');
+    if (eq != std::string_view::npos && pair.substr(0, eq) == name) {
+      return std::string(pair.substr(eq + 1));
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace incise::server

@@ -1,0 +1,54 @@
+#pragma once
+// What one REST handler sees: the request, the app, the caller, and helpers that turn missing
+// logins, wrong roles and malformed bodies into ApiErrors. The router holds the database lock for
+// the whole call, so handlers use the repositories directly.
+#include <boost/beast/http.hpp>
+#include <cstdint>
+#include <initializer_list>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "db/users_repo.h"
+#include "server/app_state.h"
+
+namespace incise::server {
+
+namespace http = boost::beast::http;
+using Request = http::request<http::string_body>;
+using Response = http::response<http::string_body>;
+
+struct ApiResponse {
+  http::status status = http::status::ok;
+  nlohmann::json body;  // null for 204
+  std::vector<std::pair<std::string, std::string>> headers;
+};
+
+class ApiContext {
+ public:
+  ApiContext(const Request& request, AppState& app, std::string client)
+      : request(request), app(app), client(std::move(client)), now(app.now()) {}
+
+  const Request& request;
+  AppState& app;
+  const std::string client;  // remote address, for the login limiter
+  const std::int64_t now;    // Unix seconds, fixed for the whole request
+  std::int64_t path_id = 0;  // the {id} of the matched route, if any
+
+  // The logged-in user; throws 401 when there is none or the session expired.
+  const db::User& user();
+  // The logged-in user if their role is one of `roles`; 403 otherwise.
+  const db::User& require_role(std::initializer_list<db::Role> roles);
+  // The parsed JSON body; 400 for malformed JSON.
+  nlohmann::json json_body() const;
+  std::optional<std::string> cookie(std::string_view name) const;
+
+ private:
+  std::optional<db::User> user_;
+};
+
+inline constexpr const char* kSessionCookie = "incise_session";
+
+}  // namespace incise::server

@@ -1,0 +1,83 @@
+#include "db/audit_repo.h"
+#include "server/api/api_error.h"
+#include "server/api/handlers.h"
+#include "server/api/json_views.h"
+#include "server/api/request_fields.h"
+#include "server/booking_rules.h"
+#include "server/time_text.h"
+
+namespace incise::server::api {
+
+namespace {
+std::int64_t time_field(const RequestFields& fields, std::string_view key) {
+  const auto text = fields.string(key);
+  const auto t = parse_utc(text);
+  if (!t) {
+    throw ApiError(http::status::unprocessable_entity,
+                   "field '" + std::string(key) +
+                       "' must be a UTC time like 2026-11-21T14:00:00Z (got '" + text + "')");
+  }
+  return *t;
+}
+
+std::string conflict_message(const db::BookingConflict& c) {
+  const auto& other = c.existing();
+  const auto span = " from " + format_utc(other.starts_at) + " to " + format_utc(other.ends_at);
+  if (c.same_station()) return other.station_name + " is already booked" + span;
+  return "you already have a booking at " + other.station_name + span;
+}
+}  // namespace
+
+ApiResponse list_bookings(ApiContext& ctx) {
+  const auto& user = ctx.user();
+  const auto filter = user.role == db::Role::trainee ? std::optional(user.id) : std::nullopt;
+  auto out = nlohmann::json::array();
+  for (const auto& b : db::BookingsRepo(ctx.app.db()).list(filter))
+    out.push_back(to_json(b));
+  return {http::status::ok, out, {}};
+}
+
+ApiResponse create_booking(ApiContext& ctx) {
+  const auto& user = ctx.user();
+  const auto body = ctx.json_body();
+  const RequestFields fields(body, {"station_id", "starts_at", "ends_at"});
+  const auto station_id = fields.integer("station_id");
+  const auto starts_at = time_field(fields, "starts_at");
+  const auto ends_at = time_field(fields, "ends_at");
+  if (const auto why = check_slot(starts_at, ends_at, ctx.now)) {
+    throw ApiError(http::status::unprocessable_entity, *why);
+  }
+  try {
+    const auto booking =
+        db::BookingsRepo(ctx.app.db()).create(station_id, user.id, starts_at, ends_at, ctx.now);
+    return {http::status::created, to_json(booking), {}};
+  } catch (const db::BookingConflict& c) {
+    throw ApiError(http::status::conflict, conflict_message(c));
+  } catch (const db::NotFound& e) {
+    // The station named in the body does not exist: the body is wrong, not the URL.
+    throw ApiError(http::status::unprocessable_entity, e.what());
+  }
+}
+
+ApiResponse cancel_booking(ApiContext& ctx) {
+  const auto& user = ctx.user();
+  db::BookingsRepo bookings(ctx.app.db());
+  const auto booking = bookings.find(ctx.path_id);
+  if (!booking) {
+    throw ApiError(http::status::not_found,
+                   "booking " + std::to_string(ctx.path_id) + " does not exist");
+  }
+  if (booking->user_id != user.id && user.role != db::Role::admin) {
+    // A trainee must not learn whose booking it is: same answer for every foreign booking.
+    throw ApiError(http::status::forbidden, "you can cancel only your own bookings");
+  }
+  bookings.cancel(booking->id, ctx.now);
+  if (booking->user_id != user.id) {
+    db::AuditRepo(ctx.app.db())
+        .record(user.id, "booking.cancel",
+                "booking " + std::to_string(booking->id) + " of " + booking->username, ctx.now);
+  }
+  return {http::status::no_content, nullptr, {}};
+}
+
+}  // namespace incise::server::api

@@ -1,0 +1,28 @@
+#pragma once
+// The REST endpoints (docs/api.md). Each parses, calls the repositories, and returns JSON.
+#include "server/api/api_context.h"
+
+namespace incise::server::api {
+
+ApiResponse health(ApiContext& ctx);
+
+ApiResponse login(ApiContext& ctx);
+ApiResponse logout(ApiContext& ctx);
+ApiResponse me(ApiContext& ctx);
+
+ApiResponse list_users(ApiContext& ctx);
+ApiResponse create_user(ApiContext& ctx);
+
+ApiResponse list_stations(ApiContext& ctx);
+ApiResponse create_station(ApiContext& ctx);
+
+ApiResponse list_bookings(ApiContext& ctx);
+ApiResponse create_booking(ApiContext& ctx);
+ApiResponse cancel_booking(ApiContext& ctx);
+
+ApiResponse list_sessions(ApiContext& ctx);
+ApiResponse list_recordings(ApiContext& ctx);
+ApiResponse list_scores(ApiContext& ctx);
+ApiResponse list_curricula(ApiContext& ctx);
+
+}  // namespace incise::server::api

@@ -1,0 +1,53 @@
+#include "server/api/request_fields.h"
+
+#include <algorithm>
+
+#include "server/api/api_error.h"
+
+namespace incise::server {
+
+using boost::beast::http::status;
+
+RequestFields::RequestFields(const nlohmann::json& body,
+                             std::initializer_list<std::string_view> allowed)
+    : body_(body) {
+  if (!body.is_object()) throw ApiError(status::unprocessable_entity, "body must be a JSON object");
+  for (const auto& [key, _] : body.items()) {
+    if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
+      throw ApiError(status::unprocessable_entity, "unknown field '" + key + "'");
+    }
+  }
+}
+
+const nlohmann::json& RequestFields::required(std::string_view key) const {
+  const auto it = body_.find(key);
+  if (it == body_.end() || it->is_null()) {
+    throw ApiError(status::unprocessable_entity, "missing field '" + std::string(key) + "'");
+  }
+  return *it;
+}
+
+std::string RequestFields::string(std::string_view key) const {
+  const auto& value = required(key);
+  if (!value.is_string()) {
+    throw ApiError(status::unprocessable_entity,
+                   "field '" + std::string(key) + "' must be a string");
+  }
+  return value.get<std::string>();
+}
+
+std::string RequestFields::string_or(std::string_view key, std::string fallback) const {
+  if (!body_.contains(key) || body_.at(key).is_null()) return fallback;
+  return string(key);
+}
+
+std::int64_t RequestFields::integer(std::string_view key) const {
+  const auto& value = required(key);
+  if (!value.is_number_integer()) {
+    throw ApiError(status::unprocessable_entity,
+                   "field '" + std::string(key) + "' must be an integer");
+  }
+  return value.get<std::int64_t>();
+}
+
+}  // namespace incise::server

@@ -1,0 +1,26 @@
+#pragma once
+// Reads a JSON request body field by field with precise 422 errors: every field is named, its
+// type checked, and unknown fields refused (a typo should not be silently ignored).
+#include <cstdint>
+#include <initializer_list>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+
+namespace incise::server {
+
+class RequestFields {
+ public:
+  // Throws ApiError 422 unless `body` is an object whose keys are all in `allowed`.
+  RequestFields(const nlohmann::json& body, std::initializer_list<std::string_view> allowed);
+
+  std::string string(std::string_view key) const;
+  std::string string_or(std::string_view key, std::string fallback) const;
+  std::int64_t integer(std::string_view key) const;
+
+ private:
+  const nlohmann::json& required(std::string_view key) const;
+  const nlohmann::json& body_;
+};
+
+}  // namespace incise::server

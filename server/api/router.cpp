@@ -1,0 +1,158 @@
+#include "server/api/router.h"
+
+#include <array>
+#include <charconv>
+#include <iostream>
+#include <mutex>
+
+#include "db/db_error.h"
+#include "server/api/api_error.h"
+#include "server/api/handlers.h"
+
+namespace incise::server {
+
+namespace {
+
+using Handler = ApiResponse (*)(ApiContext&);
+
+struct Route {
+  http::verb method;
+  std::string_view pattern;  // "{id}" matches a positive integer segment
+  Handler handler;
+};
+
+constexpr std::array kRoutes = {
+    Route{http::verb::get, "/api/health", api::health},
+    Route{http::verb::post, "/api/login", api::login},
+    Route{http::verb::post, "/api/logout", api::logout},
+    Route{http::verb::get, "/api/me", api::me},
+    Route{http::verb::get, "/api/users", api::list_users},
+    Route{http::verb::post, "/api/users", api::create_user},
+    Route{http::verb::get, "/api/stations", api::list_stations},
+    Route{http::verb::post, "/api/stations", api::create_station},
+    Route{http::verb::get, "/api/bookings", api::list_bookings},
+    Route{http::verb::post, "/api/bookings", api::create_booking},
+    Route{http::verb::delete_, "/api/bookings/{id}", api::cancel_booking},
+    Route{http::verb::get, "/api/sessions", api::list_sessions},
+    Route{http::verb::get, "/api/recordings", api::list_recordings},
+    Route{http::verb::get, "/api/scores", api::list_scores},
+    Route{http::verb::get, "/api/curricula", api::list_curricula},
+};
+
+// Matches `path` against `pattern` segment by segment; fills `id` for "{id}".
+bool matches(std::string_view pattern, std::string_view path, std::int64_t& id) {
+  while (!pattern.empty() || !path.empty()) {
+    if (pattern.empty() || path.empty() || pattern[0] != '/' || path[0] != '/') return false;
+    pattern.remove_prefix(1);
+    path.remove_prefix(1);
+    const auto pe = std::min(pattern.find('/'), pattern.size());
+    const auto se = std::min(path.find('/'), path.size());
+    const auto pseg = pattern.substr(0, pe);
+    const auto seg = path.substr(0, se);
+    if (pseg == "{id}") {
+      auto [end, ec] = std::from_chars(seg.data(), seg.data() + seg.size(), id);
+      if (ec != std::errc{} || end != seg.data() + seg.size() || id <= 0) return false;
+    } else if (pseg != seg) {
+      return false;
+    }
+    pattern.remove_prefix(pe);
+    path.remove_prefix(se);
+  }
+  return true;
+}
+
+bool is_state_changing(http::verb v) {
+  return v == http::verb::post || v == http::verb::put || v == http::verb::patch ||
+         v == http::verb::delete_;
+}
+
+// CSRF defence (docs/api.md): state-changing requests must be JSON (a cross-site form cannot send
+// that without a preflight, which this server never grants) and must not come from another origin.
+void check_csrf(const Request& req) {
+  if (!is_state_changing(req.method())) return;
+  const auto origin = req[http::field::origin];
+  if (!origin.empty()) {
+    const auto host = req[http::field::host];
+    const auto scheme_end = origin.find("://");
+    const auto origin_host =
+        scheme_end == std::string_view::npos ? origin : origin.substr(scheme_end + 3);
+    if (origin_host != host) {
+      throw ApiError(http::status::forbidden, "cross-origin request refused");
+    }
+  }
+  if (req.method() == http::verb::delete_ && req.body().empty()) return;
+  const auto type = req[http::field::content_type];
+  if (type.substr(0, 16) != "application/json") {
+    throw ApiError(http::status::bad_request, "Content-Type must be application/json");
+  }
+}
+
+ApiResponse dispatch(ApiContext& ctx, std::string_view path) {
+  bool path_known = false;
+  for (const auto& route : kRoutes) {
+    std::int64_t id = 0;
+    if (!matches(route.pattern, path, id)) continue;
+    path_known = true;
+    if (route.method != ctx.request.method()) continue;
+    ctx.path_id = id;
+    check_csrf(ctx.request);
+    return route.handler(ctx);
+  }
+  if (path_known) {
+    throw ApiError(http::status::method_not_allowed, std::string(ctx.request.method_string()) +
+                                                         " is not allowed on " + std::string(path));
+  }
+  throw ApiError(
+      http::status::not_found,
+      "no such endpoint: " + std::string(ctx.request.method_string()) + " " + std::string(path));
+}
+
+}  // namespace
+
+Response json_error(http::status status, const std::string& message, unsigned version,
+                    bool keep_alive) {
+  Response res{status, version};
+  res.set(http::field::content_type, "application/json");
+  res.set(http::field::cache_control, "no-store");
+  res.keep_alive(keep_alive);
+  res.body() = nlohmann::json{{"error", message}}.dump();
+  res.prepare_payload();
+  return res;
+}
+
+Response handle_api_request(const Request& request, AppState& app, const std::string& client) {
+  const auto target = request.target();
+  const auto path = target.substr(0, target.find('?'));
+  const auto version = request.version();
+  const bool keep_alive = request.keep_alive();
+  try {
+    std::lock_guard lock(app.db_mutex());
+    ApiContext ctx(request, app, client);
+    const ApiResponse out = dispatch(ctx, std::string_view(path.data(), path.size()));
+    Response res{out.status, version};
+    res.set(http::field::cache_control, "no-store");
+    for (const auto& [name, value] : out.headers)
+      res.insert(name, value);
+    if (out.status != http::status::no_content) {
+      res.set(http::field::content_type, "application/json");
+      res.body() = out.body.dump();
+    }
+    res.keep_alive(keep_alive);
+    res.prepare_payload();
+    return res;
+  } catch (const ApiError& e) {
+    return json_error(e.status(), e.what(), version, keep_alive);
+  } catch (const db::Conflict& e) {
+    return json_error(http::status::conflict, e.what(), version, keep_alive);
+  } catch (const db::NotFound& e) {
+    return json_error(http::status::not_found, e.what(), version, keep_alive);
+  } catch (const std::exception& e) {
+    // Details go to the log, not to the client.
+    std::cerr << "incise-server: internal error on " << request.method_string() << " " << path
+              << ": " << e.what() << "\n";
+    return json_error(http::status::internal_server_error, "internal server error", version,
+                      keep_alive);
+  }
+}
+
+}  // namespace incise::server

@@ -1,0 +1,47 @@
+#include "server/app_state.h"
+
+#include <chrono>
+#include <vector>
+
+#include "server/agent_session.h"
+
+namespace incise::server {
+
+AppState::AppState(db::Database& db, ServerConfig config)
+    : db_(db), config_(std::move(config)), clock_([] {
+        return std::chrono::duration_cast<std::chrono::seconds>(
+                   std::chrono::system_clock::now().time_since_epoch())
+            .count();
+      }) {}
+
+void AppState::agent_joined(std::int64_t station_id, const std::shared_ptr<AgentSession>& session) {
+  std::lock_guard lock(agents_mutex_);
+  agents_[session.get()] = AgentEntry{station_id, session};
+}
+
+void AppState::agent_left(const AgentSession* session) {
+  std::lock_guard lock(agents_mutex_);
+  agents_.erase(session);
+}
+
+bool AppState::station_online(std::int64_t station_id) const {
+  std::lock_guard lock(agents_mutex_);
+  for (const auto& [_, entry] : agents_) {
+    if (entry.station_id == station_id) return true;
+  }
+  return false;
+}
+
+void AppState::close_all_agents() {
+  std::vector<std::shared_ptr<AgentSession>> live;
+  {
+    std::lock_guard lock(agents_mutex_);
+    for (const auto& [_, entry] : agents_) {
+      if (auto s = entry.session.lock()) live.push_back(std::move(s));
+    }
+  }
+  for (const auto& s : live)
+    s->close("server shutting down");
+}
+
+}  // namespace incise::server

@@ -1,0 +1,61 @@
+#pragma once
+// What every connection of one server shares (Beast chat-multi's shared_state): the database, the
+// web root, the live station registry and the login limiter. Handlers lock `db_mutex` around
+// database work; one connection, serialised, is plenty at this scale and keeps SQLite simple.
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "db/database.h"
+#include "server/login_limiter.h"
+
+namespace incise::server {
+
+class AgentSession;
+
+struct ServerConfig {
+  std::filesystem::path web_root;  // the built dashboard (web/dist)
+  std::int64_t session_ttl_s = 12 * 3600;
+  std::size_t api_body_limit = 64 * 1024;
+  bool secure_cookies = false;  // set behind TLS
+};
+
+class AppState {
+ public:
+  AppState(db::Database& db, ServerConfig config);
+
+  db::Database& db() { return db_; }
+  std::mutex& db_mutex() { return db_mutex_; }
+  const ServerConfig& config() const { return config_; }
+  LoginLimiter& login_limiter() { return login_limiter_; }
+
+  // Unix seconds; replaceable so that tests can move time.
+  std::int64_t now() const { return clock_(); }
+  void set_clock(std::function<std::int64_t()> clock) { clock_ = std::move(clock); }
+
+  // Station agents currently connected (a station may briefly have two during a reconnect).
+  void agent_joined(std::int64_t station_id, const std::shared_ptr<AgentSession>& session);
+  void agent_left(const AgentSession* session);
+  bool station_online(std::int64_t station_id) const;
+  // Closes every agent link (shutdown).
+  void close_all_agents();
+
+ private:
+  db::Database& db_;
+  std::mutex db_mutex_;
+  ServerConfig config_;
+  LoginLimiter login_limiter_;
+  std::function<std::int64_t()> clock_;
+  mutable std::mutex agents_mutex_;
+  struct AgentEntry {
+    std::int64_t station_id;
+    std::weak_ptr<AgentSession> session;
+  };
+  std::map<const AgentSession*, AgentEntry> agents_;
+};
+
+}  // namespace incise::server

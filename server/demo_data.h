@@ -1,0 +1,26 @@
+#pragma once
+// The demo data of a first run: three logins, one station, one curriculum, and one finished
+// practice session with its scores (so every dashboard page has something to show).
+#include <string>
+
+#include "db/database.h"
+
+namespace incise::server {
+
+struct DemoLogin {
+  const char* username;
+  const char* password;
+  const char* role;
+};
+
+inline constexpr DemoLogin kDemoLogins[] = {
+    {"admin", "incise-admin-demo", "admin"},
+    {"instructor", "incise-instructor-demo", "instructor"},
+    {"trainee", "incise-trainee-demo", "trainee"},
+};
+inline constexpr const char* kDemoStationToken = "incise-demo-station-token";
+
+// Seeds the demo data if the database has no users yet; returns whether it did.
+bool seed_demo_data(db::Database& db, std::int64_t now);
+
+}  // namespace incise::server

@@ -1,0 +1,69 @@
+#include "server/server_options.h"
+
+#include <charconv>
+
+namespace incise::server {
+
+const char* const kServerUsage =
+    "usage: incise-server [--host ADDR] [--port N] [--data DIR] [--web DIR] [--demo] [--threads "
+    "N]\n"
+    "\n"
+    "Serves the Incise dashboard, REST API and station-agent WebSocket on one port.\n"
+    "  --host ADDR   address to listen on (default 127.0.0.1)\n"
+    "  --port N      port; 0 picks a free one (default 8080)\n"
+    "  --data DIR    data directory; the database is DIR/incise.db, created on first run\n"
+    "                (default ./data)\n"
+    "  --web DIR     the built dashboard (default ./web/dist)\n"
+    "  --demo        on a new database, add demo logins, a station and a curriculum\n"
+    "  --threads N   I/O threads (default 2)\n"
+    "  --help        this text\n"
+    "Prints 'incise-server: listening on http://HOST:PORT' when ready; SIGINT/SIGTERM stop it.\n";
+
+namespace {
+bool parse_int(const std::string& text, long min, long max, long& out) {
+  auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), out);
+  return ec == std::errc{} && end == text.data() + text.size() && out >= min && out <= max;
+}
+}  // namespace
+
+ParsedOptions parse_server_options(const std::vector<std::string>& args) {
+  ServerOptions o;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    auto value = [&](std::string& out) {
+      if (i + 1 >= args.size()) return false;
+      out = args[++i];
+      return true;
+    };
+    std::string v;
+    long n = 0;
+    if (arg == "--help" || arg == "-h") {
+      o.help = true;
+    } else if (arg == "--demo") {
+      o.demo = true;
+    } else if (arg == "--host") {
+      if (!value(o.host)) return {std::nullopt, "--host needs an address"};
+    } else if (arg == "--port") {
+      if (!value(v) || !parse_int(v, 0, 65535, n)) {
+        return {std::nullopt, "--port needs a number from 0 to 65535"};
+      }
+      o.port = static_cast<unsigned short>(n);
+    } else if (arg == "--threads") {
+      if (!value(v) || !parse_int(v, 1, 64, n)) {
+        return {std::nullopt, "--threads needs a number from 1 to 64"};
+      }
+      o.threads = static_cast<int>(n);
+    } else if (arg == "--data") {
+      if (!value(v)) return {std::nullopt, "--data needs a directory"};
+      o.data_dir = v;
+    } else if (arg == "--web") {
+      if (!value(v)) return {std::nullopt, "--web needs a directory"};
+      o.web_root = v;
+    } else {
+      return {std::nullopt, "unknown option '" + arg + "'"};
+    }
+  }
+  return {o, ""};
+}
+
+}  // namespace incise::server

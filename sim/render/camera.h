@@ -1,0 +1,27 @@
+#pragma once
+
+#include <Eigen/Core>
+
+namespace incise::render {
+
+// A pinhole camera in world coordinates [m]: it sits at eye, looks at target, and up points to
+// the top of the image.
+struct Camera {
+  Eigen::Vector3d eye{0.0, 0.0, 0.5};
+  Eigen::Vector3d target{0.0, 0.0, 0.0};
+  Eigen::Vector3d up{0.0, 1.0, 0.0};
+  double fov_y_deg = 45.0;  // full vertical field of view, in (0, 180)
+  double near_m = 0.01;     // clip distances along the view direction, 0 < near_m < far_m
+  double far_m = 10.0;
+};
+
+// World -> eye transform as gluLookAt builds it: right-handed, the camera looks down -z.
+// Throws std::invalid_argument if eye == target or up is parallel to the view direction.
+Eigen::Matrix4d view_matrix(const Camera& camera);
+
+// Eye -> clip transform as gluPerspective builds it (depth maps to [-1, 1], OpenGL's convention).
+// aspect: image width / height. Throws std::invalid_argument for a non-positive aspect, a field of
+// view outside (0, 180) or clip distances that do not satisfy 0 < near_m < far_m.
+Eigen::Matrix4d projection_matrix(const Camera& camera, double aspect);
+
+}  // namespace incise::render

@@ -1,0 +1,210 @@
+#include "curriculum/curriculum_json.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <string>
+
+#include "sample_curriculum.h"
+
+namespace incise::curriculum {
+namespace {
+
+using nlohmann::json;
+
+std::string read_file(const std::string& path) {
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+// Parses json expecting a CurriculumError whose what() is exactly `expected`.
+void expect_error(const json& value, const std::string& expected) {
+  try {
+    parse_curriculum(value);
+    ADD_FAILURE() << "accepted, expected \"" << expected << "\"";
+  } catch (const CurriculumError& error) {
+    EXPECT_EQ(std::string(error.what()), expected);
+  }
+}
+
+// The sample with one change applied.
+json changed(const std::function<void(json&)>& change) {
+  json value = sample_curriculum_json();
+  change(value);
+  return value;
+}
+
+TEST(CurriculumJson, DemoFileParses) {
+  const std::string text = read_file(INCISE_DEMO_CURRICULUM);
+  ASSERT_FALSE(text.empty()) << INCISE_DEMO_CURRICULUM;
+  const Curriculum curriculum = parse_curriculum_text(text);
+  EXPECT_EQ(curriculum.name, "Basic laparoscopic skills");
+  ASSERT_EQ(curriculum.modules.size(), 1u);
+  ASSERT_EQ(curriculum.modules[0].tasks.size(), 1u);
+  const Task& task = curriculum.modules[0].tasks[0];
+  EXPECT_EQ(task.key, "palpation");
+  EXPECT_EQ(task.scene, "scenes/palpation.json");
+  EXPECT_EQ(task.consecutive_passes_required, 3);
+  EXPECT_TRUE(task.prerequisites.empty());
+  const std::vector<MetricRequirement> metrics = {
+      {"completion_time_s", {ThresholdOp::at_most, 120.0}, "s"},
+      {"path_length_m", {ThresholdOp::at_most, 1.5}, "m"},
+      {"peak_force_n", {ThresholdOp::at_most, 4.0}, "N"}};
+  EXPECT_EQ(task.metrics, metrics);
+  EXPECT_EQ(parse_curriculum(to_json(curriculum)), curriculum);
+}
+
+TEST(CurriculumJson, RoundTripIsExact) {
+  const Curriculum curriculum = parse_curriculum(sample_curriculum_json());
+  EXPECT_EQ(parse_curriculum(to_json(curriculum)), curriculum);
+  EXPECT_EQ(parse_curriculum_text(to_json(curriculum).dump()), curriculum);
+  // Every member is written out, so the full-form sample comes back unchanged.
+  EXPECT_EQ(to_json(curriculum), sample_curriculum_json());
+}
+
+TEST(CurriculumJson, RoundTripKeepsAwkwardValues) {
+  Curriculum curriculum = parse_curriculum(sample_curriculum_json());
+  curriculum.modules[0].tasks[1].metrics[0].threshold.value = 0.1 + 0.2;  // not a short decimal
+  curriculum.modules[0].tasks[0].metrics[0].threshold.value = -1e-300;
+  curriculum.modules[1].tasks[0].instructions = "Quote \" and unicode \u00b5m";
+  EXPECT_EQ(parse_curriculum_text(to_json(curriculum).dump()), curriculum);
+}
+
+TEST(CurriculumJson, OptionalMembersMayBeLeftOut) {
+  const Curriculum curriculum = parse_curriculum(changed([](json& value) {
+    value.erase("description");
+    json& task = value["modules"][0]["tasks"][0];
+    task.erase("instructions");
+    task.erase("tools");
+    task.erase("prerequisites");
+    task["metrics"][0].erase("unit");
+  }));
+  EXPECT_EQ(curriculum.description, "");
+  const Task& task = curriculum.modules[0].tasks[0];
+  EXPECT_EQ(task.instructions, "");
+  EXPECT_TRUE(task.tools.empty());
+  EXPECT_TRUE(task.prerequisites.empty());
+  EXPECT_EQ(task.metrics[0].unit, "");
+}
+
+TEST(CurriculumJson, ShapeErrorsNameTheirPath) {
+  const std::string metric = "modules[0].tasks[1].metrics[0]";
+  const std::vector<std::pair<std::function<void(json&)>, std::string>> cases = {
+      {[](json& v) { v = json::array(); }, "(root): must be an object"},
+      {[](json& v) { v["colour"] = "red"; },
+       "colour: unknown key (expected one of: name, description, modules)"},
+      {[](json& v) { v.erase("name"); }, "name: is required"},
+      {[](json& v) { v["name"] = 7; }, "name: must be a string"},
+      {[](json& v) { v["modules"] = json::object(); }, "modules: must be an array"},
+      {[](json& v) { v["modules"][1] = "cutting"; }, "modules[1]: must be an object"},
+      {[](json& v) { v["modules"][0].erase("tasks"); }, "modules[0].tasks: is required"},
+      {[](json& v) { v["modules"][0]["tasks"][1]["scenery"] = "x"; },
+       "modules[0].tasks[1].scenery: unknown key (expected one of: key, name, scene, "
+       "instructions, tools, metrics, consecutive_passes_required, prerequisites)"},
+      {[](json& v) { v["modules"][0]["tasks"][1]["tools"][1] = nullptr; },
+       "modules[0].tasks[1].tools[1]: must be a string"},
+      {[](json& v) { v["modules"][0]["tasks"][1]["prerequisites"] = "palpation"; },
+       "modules[0].tasks[1].prerequisites: must be an array"},
+      {[](json& v) { v["modules"][0]["tasks"][1]["metrics"][0]["threshold"]["op"] = "<"; },
+       metric + ".threshold.op: must be \"<=\" or \">=\""},
+      {[](json& v) { v["modules"][0]["tasks"][1]["metrics"][0]["threshold"]["op"] = 1; },
+       metric + ".threshold.op: must be \"<=\" or \">=\""},
+      {[](json& v) { v["modules"][0]["tasks"][1]["metrics"][0]["threshold"].erase("op"); },
+       metric + ".threshold.op: is required"},
+      {[](json& v) { v["modules"][0]["tasks"][1]["metrics"][0]["threshold"]["value"] = "0.9"; },
+       metric + ".threshold.value: must be a number"},
+      {[](json& v) { v["modules"][0]["tasks"][1]["metrics"][0]["threshold"] = 0.9; },
+       metric + ".threshold: must be an object"},
+      {[](json& v) { v["modules"][0]["tasks"][1]["metrics"][0]["weight"] = 2; },
+       metric + ".weight: unknown key (expected one of: key, threshold, unit)"},
+      {[](json& v) { v["modules"][0]["tasks"][1]["consecutive_passes_required"] = 2.5; },
+       "modules[0].tasks[1].consecutive_passes_required: must be an integer from 1 to 1000"},
+      {[](json& v) { v["modules"][0]["tasks"][1]["consecutive_passes_required"] = 0; },
+       "modules[0].tasks[1].consecutive_passes_required: must be an integer from 1 to 1000"},
+      {[](json& v) { v["modules"][0]["tasks"][1]["consecutive_passes_required"] = -3; },
+       "modules[0].tasks[1].consecutive_passes_required: must be an integer from 1 to 1000"},
+      {[](json& v) {
+         v["modules"][0]["tasks"][1]["consecutive_passes_required"] = 18446744073709551615u;
+       },
+       "modules[0].tasks[1].consecutive_passes_required: must be an integer from 1 to 1000"},
+  };
+  for (const auto& [change, expected] : cases)
+    expect_error(changed(change), expected);
+}
+
+TEST(CurriculumJson, ValidationErrorsNameTheirPath) {
+  const std::vector<std::pair<std::function<void(json&)>, std::string>> cases = {
+      {[](json& v) { v["modules"] = json::array(); }, "modules: must list at least one module"},
+      {[](json& v) { v["modules"][1]["key"] = "basics"; },
+       "modules[1].key: duplicate module key \"basics\""},
+      {[](json& v) { v["modules"][1]["tasks"][0]["key"] = "grasping"; },
+       "modules[1].tasks[0].key: duplicate task key \"grasping\" (first at modules[0].tasks[1])"},
+      {[](json& v) { v["modules"][0]["tasks"][1]["metrics"][1]["key"] = "targets_reached"; },
+       "modules[0].tasks[1].metrics[1].key: duplicate metric key \"targets_reached\""},
+      {[](json& v) { v["modules"][0]["tasks"][0]["key"] = "Palpation"; },
+       "modules[0].tasks[0].key: must be a key: a lowercase letter, then lowercase letters, "
+       "digits or '_' (got \"Palpation\")"},
+      {[](json& v) { v["modules"][0]["tasks"][0]["metrics"] = json::array(); },
+       "modules[0].tasks[0].metrics: must list at least one metric"},
+      {[](json& v) { v["modules"][0]["tasks"][0]["scene"] = ""; },
+       "modules[0].tasks[0].scene: must not be empty"},
+      {[](json& v) { v["modules"][0]["tasks"][1]["tools"][1] = "grasper"; },
+       "modules[0].tasks[1].tools[1]: duplicate entry \"grasper\""},
+      {[](json& v) { v["modules"][1]["tasks"][0]["prerequisites"][1] = "suturing"; },
+       "modules[1].tasks[0].prerequisites[1]: unknown task \"suturing\""},
+  };
+  for (const auto& [change, expected] : cases)
+    expect_error(changed(change), expected);
+}
+
+TEST(CurriculumJson, ErrorCarriesPathAndReasonApart) {
+  try {
+    parse_curriculum(changed(
+        [](json& v) { v["modules"][0]["tasks"][1]["metrics"][0]["threshold"]["op"] = "=="; }));
+    FAIL() << "accepted";
+  } catch (const CurriculumError& error) {
+    EXPECT_EQ(error.path(), "modules[0].tasks[1].metrics[0].threshold.op");
+    EXPECT_EQ(error.reason(), "must be \"<=\" or \">=\"");
+  }
+}
+
+TEST(CurriculumJson, PrerequisiteCyclesAreRejected) {
+  // A task that requires itself.
+  expect_error(
+      changed([](json& v) { v["modules"][0]["tasks"][0]["prerequisites"] = {"palpation"}; }),
+      "modules[0].tasks[0].prerequisites[0]: prerequisite cycle: palpation -> palpation");
+  // Two tasks requiring each other.
+  expect_error(
+      changed([](json& v) { v["modules"][0]["tasks"][0]["prerequisites"] = {"grasping"}; }),
+      "modules[0].tasks[1].prerequisites[0]: prerequisite cycle: palpation -> grasping "
+      "-> palpation");
+  // Three tasks across modules.
+  expect_error(
+      changed([](json& v) { v["modules"][0]["tasks"][0]["prerequisites"] = {"incision"}; }),
+      "modules[0].tasks[1].prerequisites[0]: prerequisite cycle: palpation -> incision "
+      "-> grasping -> palpation");
+}
+
+TEST(CurriculumJson, SharedPrerequisitesAreNotACycle) {
+  // incision needs grasping and palpation; grasping needs palpation too: a diamond, no loop.
+  const Curriculum curriculum = parse_curriculum(sample_curriculum_json());
+  EXPECT_EQ(curriculum.modules[1].tasks[0].prerequisites,
+            (std::vector<std::string>{"grasping", "palpation"}));
+}
+
+TEST(CurriculumJson, SyntaxErrorIsReportedAtTheRoot) {
+  try {
+    parse_curriculum_text("{\"name\": ");
+    FAIL() << "accepted";
+  } catch (const CurriculumError& error) {
+    EXPECT_EQ(error.path(), "");
+    EXPECT_EQ(std::string(error.what()).rfind("(root): invalid JSON: ", 0), 0u) << error.what();
+  }
+}
+
+}  // namespace
+}  // namespace incise::curriculum

@@ -1,0 +1,60 @@
+#pragma once
+// The server side of the /agent WebSocket, in-process, for testing the real agent: accepts a
+// hello with a known token (else closes 1008 "unknown station token"), answers with a welcome,
+// then decodes and records every device-state frame. Runs on its own thread on 127.0.0.1 at a
+// port the OS picks.
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+
+namespace incise::devices::agent::testing {
+
+struct FakeStationBehaviour {
+  std::string accepted_token = "good-token";
+  // Close the first connection with 1001 (going away) after this many frames; 0 = never.
+  int drop_first_connection_after = 0;
+};
+
+struct ReceivedFrame {
+  int connection = 0;  // 1 for the first accepted WebSocket, 2 for the next, ...
+  uint32_t sequence = 0;
+  uint64_t timestamp_us = 0;
+  std::chrono::steady_clock::time_point received;
+};
+
+struct FakeStationRecord {
+  int connections = 0;                 // WebSocket upgrades accepted
+  std::vector<std::string> agents;     // the "agent" field of each accepted hello
+  std::vector<ReceivedFrame> frames;   // device states that decoded cleanly, in order
+  std::vector<std::string> errors;     // anything that should not happen: bad hello, bad frame
+  std::vector<int> agent_close_codes;  // close codes the agent sent, one per closed connection
+};
+
+class FakeStationServer {
+ public:
+  explicit FakeStationServer(FakeStationBehaviour behaviour = {});
+  ~FakeStationServer();
+
+  std::string url() const;  // ws://127.0.0.1:<port>/agent
+  FakeStationRecord record() const;
+
+  struct State;  // shared with the sessions, which may outlive a request
+
+ private:
+  void do_accept();
+
+  boost::asio::io_context io_;
+  boost::asio::ip::tcp::acceptor acceptor_;
+  unsigned short port_ = 0;
+  std::shared_ptr<State> state_;
+  std::thread thread_;
+};
+
+}  // namespace incise::devices::agent::testing

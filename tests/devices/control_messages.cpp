@@ -1,0 +1,156 @@
+// JSON control messages: devices/control_messages.cpp (declared in devices/protocol.h).
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "devices/protocol.h"
+
+namespace incise::devices {
+namespace {
+
+using nlohmann::json;
+
+std::string hello_error(const json& message) {
+  const auto parsed = parse_hello(message.dump());
+  EXPECT_FALSE(parsed);
+  EXPECT_LE(parsed.error.size(), kMaxCloseReasonSize);
+  return parsed.error;
+}
+
+std::string welcome_error(const json& message) {
+  const auto parsed = parse_welcome(message.dump());
+  EXPECT_FALSE(parsed);
+  EXPECT_LE(parsed.error.size(), kMaxCloseReasonSize);
+  return parsed.error;
+}
+
+json good_hello() {
+  return {{"type", "hello"}, {"protocol", 1}, {"station_token", "tok-123"}, {"agent", "a/1"}};
+}
+
+json good_welcome() {
+  return {{"type", "welcome"}, {"protocol", 1}, {"station_id", 3}, {"station_name", "Bench 3"}};
+}
+
+TEST(ControlMessages, HelloRoundTrip) {
+  const Hello hello{"s3cr3t \"quoted\" \\ token", "incise-agent/0.1.0 (simulated)"};
+  const std::string text = build_hello(hello);
+  const auto parsed = parse_hello(text);
+  ASSERT_TRUE(parsed) << parsed.error;
+  EXPECT_EQ(*parsed.value, hello);
+
+  // The exact shape docs/api.md promises.
+  const json j = json::parse(text);
+  EXPECT_EQ(j, (json{{"type", "hello"},
+                     {"protocol", 1},
+                     {"station_token", hello.station_token},
+                     {"agent", hello.agent}}));
+}
+
+TEST(ControlMessages, WelcomeRoundTrip) {
+  const Welcome welcome{9007199254740993, "Übungsplatz 2 — left"};
+  const std::string text = build_welcome(welcome);
+  const auto parsed = parse_welcome(text);
+  ASSERT_TRUE(parsed) << parsed.error;
+  EXPECT_EQ(*parsed.value, welcome);
+  const json j = json::parse(text);
+  EXPECT_EQ(j, (json{{"type", "welcome"},
+                     {"protocol", 1},
+                     {"station_id", welcome.station_id},
+                     {"station_name", welcome.station_name}}));
+}
+
+TEST(ControlMessages, UnknownKeysAreIgnoredAndOrderDoesNotMatter) {
+  EXPECT_TRUE(parse_hello(R"({"agent":"a","station_token":"t","protocol":1,"type":"hello",
+                              "extra":{"anything":[1,2]}})"));
+  json w = good_welcome();
+  w["server"] = "incise/0.2";
+  EXPECT_TRUE(parse_welcome(w.dump()));
+}
+
+TEST(ControlMessages, ProtocolVersionMismatchNamesBothVersions) {
+  json hello = good_hello();
+  hello["protocol"] = 2;
+  EXPECT_EQ(hello_error(hello), "protocol 2 not supported (server speaks 1)");
+  json welcome = good_welcome();
+  welcome["protocol"] = 0;
+  EXPECT_EQ(welcome_error(welcome), "protocol 0 not supported (agent speaks 1)");
+  // The version is checked before the other keys: a newer peer may have renamed them.
+  EXPECT_EQ(hello_error({{"type", "hello"}, {"protocol", 7}}),
+            "protocol 7 not supported (server speaks 1)");
+}
+
+TEST(ControlMessages, HelloErrorsArePrecise) {
+  EXPECT_EQ(hello_error(json::array()), "hello: expected a JSON object, got array");
+  json h = good_hello();
+  h.erase("type");
+  EXPECT_EQ(hello_error(h), "hello: missing key \"type\"");
+  h = good_hello();
+  h.erase("protocol");
+  EXPECT_EQ(hello_error(h), "hello: missing key \"protocol\"");
+  h = good_hello();
+  h["type"] = 5;
+  EXPECT_EQ(hello_error(h), "hello: \"type\" must be a string, got number");
+  h["type"] = "welcome";
+  EXPECT_EQ(hello_error(h), "hello: \"type\" is \"welcome\", expected \"hello\"");
+  h = good_hello();
+  h["protocol"] = "1";
+  EXPECT_EQ(hello_error(h), "hello: \"protocol\" must be an integer, got string");
+  h["protocol"] = 1.5;
+  EXPECT_EQ(hello_error(h), "hello: \"protocol\" must be an integer, got number");
+  h = good_hello();
+  h.erase("station_token");
+  EXPECT_EQ(hello_error(h), "hello: missing key \"station_token\"");
+  h["station_token"] = nullptr;
+  EXPECT_EQ(hello_error(h), "hello: \"station_token\" must be a string, got null");
+  h["station_token"] = "";
+  EXPECT_EQ(hello_error(h), "hello: \"station_token\" is empty");
+  h["station_token"] = std::string(257, 'x');
+  EXPECT_EQ(hello_error(h), "hello: \"station_token\" is longer than 256 bytes");
+  h = good_hello();
+  h.erase("agent");
+  EXPECT_EQ(hello_error(h), "hello: missing key \"agent\"");
+}
+
+TEST(ControlMessages, NotJsonReportsTheByte) {
+  const auto parsed = parse_hello(R"({"type": "hello", )");
+  ASSERT_FALSE(parsed);
+  EXPECT_TRUE(parsed.error.starts_with("hello: not valid JSON (syntax error at byte "))
+      << parsed.error;
+  EXPECT_FALSE(parse_welcome(""));
+}
+
+TEST(ControlMessages, WelcomeErrorsArePrecise) {
+  json w = good_welcome();
+  w.erase("station_id");
+  EXPECT_EQ(welcome_error(w), "welcome: missing key \"station_id\"");
+  for (const json& bad : {json(0), json(-4), json(1.0)}) {
+    w["station_id"] = bad;
+    EXPECT_TRUE(welcome_error(w).starts_with("welcome: \"station_id\" must be a positive integer"));
+  }
+  w["station_id"] = "3";
+  EXPECT_EQ(welcome_error(w), "welcome: \"station_id\" must be a positive integer, got string");
+  w["station_id"] = 18446744073709551615ull;  // does not fit a rowid
+  EXPECT_FALSE(parse_welcome(w.dump()));
+  w = good_welcome();
+  w.erase("station_name");
+  EXPECT_EQ(welcome_error(w), "welcome: missing key \"station_name\"");
+  w = good_welcome();
+  w["type"] = "hello";
+  EXPECT_EQ(welcome_error(w), "welcome: \"type\" is \"hello\", expected \"welcome\"");
+}
+
+TEST(ControlMessages, ErrorsFitACloseReasonEvenForHugeInput) {
+  json h = good_hello();
+  h["type"] = std::string(10000, 'x');
+  EXPECT_EQ(hello_error(h), "hello: \"type\" is \"xxxxxxxxxxxxxxxxxxxxxxx..., expected \"hello\"");
+  // Peers' strings are quoted as ASCII escapes, so a cut never splits a UTF-8 sequence.
+  h["type"] = std::string(30, 'a') + "\u00fc";
+  EXPECT_EQ(hello_error(h), "hello: \"type\" is \"aaaaaaaaaaaaaaaaaaaaaaa..., expected \"hello\"");
+  h["type"] = "\u00fc\u00fc";
+  EXPECT_EQ(hello_error(h), "hello: \"type\" is \"\\u00fc\\u00fc\", expected \"hello\"");
+}
+
+}  // namespace
+}  // namespace incise::devices
