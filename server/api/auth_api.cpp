@@ -7,9 +7,12 @@
 namespace incise::server::api {
 
 namespace {
-std::string session_cookie(const AppState& app, const std::string& token, std::int64_t max_age) {
-  std::string c = std::string(kSessionCookie) + "=" + token +
-                  "; Path=/; HttpOnly; SameSite=Strict; Max-Age=" + std::to_string(max_age);
+// A browser-session cookie (no Max-Age): the server enforces the inactivity expiry, so an active
+// person is never logged out by a cookie that was dated at login. `clear` deletes the cookie.
+std::string session_cookie(const AppState& app, const std::string& token, bool clear) {
+  std::string c =
+      std::string(kSessionCookie) + "=" + token + "; Path=/; HttpOnly; SameSite=Strict";
+  if (clear) c += "; Max-Age=0";
   if (app.config().secure_cookies) c += "; Secure";
   return c;
 }
@@ -41,14 +44,14 @@ ApiResponse login(ApiContext& ctx) {
   db::AuthSessionsRepo(ctx.app.db()).purge_expired(ctx.now);
   return {http::status::ok,
           {{"user", to_json(*user)}},
-          {{"Set-Cookie", session_cookie(ctx.app, token, ttl)}}};
+          {{"Set-Cookie", session_cookie(ctx.app, token, false)}}};
 }
 
 ApiResponse logout(ApiContext& ctx) {
   if (const auto token = ctx.cookie(kSessionCookie)) {
     db::AuthSessionsRepo(ctx.app.db()).remove(*token);
   }
-  return {http::status::no_content, nullptr, {{"Set-Cookie", session_cookie(ctx.app, "", 0)}}};
+  return {http::status::no_content, nullptr, {{"Set-Cookie", session_cookie(ctx.app, "", true)}}};
 }
 
 ApiResponse me(ApiContext& ctx) {

@@ -1,0 +1,132 @@
+// The REST API of docs/api.md: its types and one fetch wrapper that turns every failure into an
+// ApiError carrying the server's own message.
+
+export type Role = 'trainee' | 'instructor' | 'admin';
+
+export interface User {
+  id: number;
+  username: string;
+  display_name: string;
+  role: Role;
+}
+
+export interface Station {
+  id: number;
+  name: string;
+  location: string;
+  online: boolean;
+}
+
+export interface Booking {
+  id: number;
+  station_id: number;
+  station_name: string;
+  user_id: number;
+  username: string;
+  starts_at: string;
+  ends_at: string;
+  status: 'active' | 'cancelled';
+  created_at: string;
+}
+
+export interface Session {
+  id: number;
+  trainee_id: number;
+  trainee: string;
+  /** null when the station has since been removed. */
+  station_id: number | null;
+  station: string | null;
+  task: string;
+  state: 'created' | 'running' | 'paused' | 'finished' | 'aborted';
+  started_at: string | null;
+  ended_at: string | null;
+}
+
+export interface Score {
+  id: number;
+  session_id: number;
+  trainee: string;
+  task: string;
+  metric: string;
+  value: number;
+  unit: string;
+  passed: boolean;
+  created_at: string;
+}
+
+export class ApiError extends Error {
+  /** HTTP status, or 0 when the server could not be reached. */
+  readonly status: number;
+
+  constructor(status: number, message: string) {
+    super(message);
+    this.name = 'ApiError';
+    this.status = status;
+  }
+}
+
+let on_unauthorized: () => void = () => {};
+
+/** Called whenever the server answers 401 to anything but a login attempt. */
+export function set_unauthorized_handler(handler: () => void): void {
+  on_unauthorized = handler;
+}
+
+async function request<T>(method: string, path: string, body?: unknown): Promise<T> {
+  const headers: Record<string, string> = { Accept: 'application/json' };
+  // The server refuses state-changing requests without this header (its CSRF defence).
+  if (method !== 'GET') headers['Content-Type'] = 'application/json';
+  const init: RequestInit = { method, headers, credentials: 'same-origin' };
+  if (body !== undefined) init.body = JSON.stringify(body);
+
+  let response: Response;
+  try {
+    response = await fetch(path, init);
+  } catch {
+    throw new ApiError(0, 'Could not reach the Incise server. Check your connection and try again.');
+  }
+
+  if (!response.ok) {
+    const message = await error_message(response);
+    if (response.status === 401 && path !== '/api/login') on_unauthorized();
+    throw new ApiError(response.status, message);
+  }
+  if (response.status === 204) return undefined as T;
+  return (await response.json()) as T;
+}
+
+async function error_message(response: Response): Promise<string> {
+  const fallback = `The server answered ${response.status} ${response.statusText}`.trim() + '.';
+  try {
+    const body: unknown = await response.json();
+    if (body && typeof body === 'object' && 'error' in body && typeof body.error === 'string') {
+      return body.error;
+    }
+  } catch {
+    // Not JSON (e.g. a proxy's error page): the status line is all we have.
+  }
+  return fallback;
+}
+
+export const api = {
+  login: (username: string, password: string) =>
+    request<{ user: User }>('POST', '/api/login', { username, password }),
+  logout: () => request<void>('POST', '/api/logout'),
+  me: () => request<User>('GET', '/api/me'),
+
+  stations: () => request<Station[]>('GET', '/api/stations'),
+  create_station: (name: string, location: string) =>
+    request<{ station: Station; token: string }>('POST', '/api/stations', { name, location }),
+
+  bookings: () => request<Booking[]>('GET', '/api/bookings'),
+  create_booking: (station_id: number, starts_at: string, ends_at: string) =>
+    request<Booking>('POST', '/api/bookings', { station_id, starts_at, ends_at }),
+  cancel_booking: (id: number) => request<void>('DELETE', `/api/bookings/${id}`),
+
+  users: () => request<User[]>('GET', '/api/users'),
+  create_user: (user: { username: string; password: string; role: Role; display_name: string }) =>
+    request<User>('POST', '/api/users', user),
+
+  sessions: () => request<Session[]>('GET', '/api/sessions'),
+  scores: () => request<Score[]>('GET', '/api/scores'),
+};

@@ -1,0 +1,76 @@
+import { useState, type FormEvent } from 'react';
+import { api, type Station } from '../api';
+import { error_text } from '../use_resource';
+import { ErrorAlert } from './alerts';
+
+/** Creates a station and shows its agent token, which the server reveals only this once. */
+export function StationForm({ on_created }: { on_created: (station: Station) => void }) {
+  const [name, set_name] = useState('');
+  const [location, set_location] = useState('');
+  const [error, set_error] = useState<string | null>(null);
+  const [created, set_created] = useState<{ station: Station; token: string } | null>(null);
+  const [copied, set_copied] = useState(false);
+  const [busy, set_busy] = useState(false);
+
+  async function on_submit(event: FormEvent<HTMLFormElement>) {
+    event.preventDefault();
+    set_busy(true);
+    set_error(null);
+    try {
+      const result = await api.create_station(name.trim(), location.trim());
+      set_created(result);
+      set_copied(false);
+      set_name('');
+      set_location('');
+      on_created(result.station);
+    } catch (reason) {
+      set_error(`Could not create the station: ${error_text(reason)}`);
+    } finally {
+      set_busy(false);
+    }
+  }
+
+  async function copy_token(token: string) {
+    try {
+      await navigator.clipboard.writeText(token);
+      set_copied(true);
+    } catch {
+      set_error('Could not copy automatically: select the token and copy it by hand.');
+    }
+  }
+
+  return (
+    <>
+      {created && (
+        <div className="token-panel" role="region" aria-label="New station token">
+          <h3>Station token for {created.station.name}</h3>
+          <p>
+            <strong>This token is shown only once.</strong> Copy it now and configure the station's agent with it;
+            it cannot be displayed again.
+          </p>
+          <code className="token" aria-label="Station token">
+            {created.token}
+          </code>
+          <div className="button-row">
+            <button type="button" className="button-primary" onClick={() => copy_token(created.token)}>
+              {copied ? 'Copied' : 'Copy token'}
+            </button>
+            <button type="button" className="button-quiet" onClick={() => set_created(null)}>
+              I have saved the token
+            </button>
+          </div>
+        </div>
+      )}
+      <form onSubmit={on_submit} className="form" aria-label="Create station">
+        <label htmlFor="station-name">Station name</label>
+        <input id="station-name" required value={name} onChange={(e) => set_name(e.target.value)} />
+        <label htmlFor="station-location">Location</label>
+        <input id="station-location" value={location} onChange={(e) => set_location(e.target.value)} />
+        <ErrorAlert message={error} />
+        <button type="submit" className="button-primary" disabled={busy}>
+          {busy ? 'Creating…' : 'Create station'}
+        </button>
+      </form>
+    </>
+  );
+}

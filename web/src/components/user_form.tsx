@@ -1,0 +1,83 @@
+import { useState, type FormEvent } from 'react';
+import { api, type Role, type User } from '../api';
+import { role_label } from '../pages/access';
+import { error_text } from '../use_resource';
+import { ErrorAlert, StatusMessage } from './alerts';
+
+const roles: Role[] = ['trainee', 'instructor', 'admin'];
+
+export function UserForm({ on_created }: { on_created: (user: User) => void }) {
+  const [username, set_username] = useState('');
+  const [display_name, set_display_name] = useState('');
+  const [role, set_role] = useState<Role>('trainee');
+  const [password, set_password] = useState('');
+  const [error, set_error] = useState<string | null>(null);
+  const [status, set_status] = useState<string | null>(null);
+  const [busy, set_busy] = useState(false);
+
+  async function on_submit(event: FormEvent<HTMLFormElement>) {
+    event.preventDefault();
+    set_busy(true);
+    set_error(null);
+    set_status(null);
+    try {
+      const user = await api.create_user({ username: username.trim(), display_name: display_name.trim(), role, password });
+      set_status(`Created ${role_label(user.role).toLowerCase()} “${user.username}”.`);
+      set_username('');
+      set_display_name('');
+      set_password('');
+      on_created(user);
+    } catch (reason) {
+      set_error(`Could not create the user: ${error_text(reason)}`);
+    } finally {
+      set_busy(false);
+    }
+  }
+
+  return (
+    <form onSubmit={on_submit} className="form" aria-label="Create user">
+      <label htmlFor="user-username">Username</label>
+      <input
+        id="user-username"
+        autoComplete="off"
+        autoCapitalize="none"
+        spellCheck={false}
+        required
+        aria-describedby="user-username-hint"
+        value={username}
+        onChange={(e) => set_username(e.target.value)}
+      />
+      <p className="hint" id="user-username-hint">
+        3–32 characters: lower-case letters, digits, “.”, “_” and “-”.
+      </p>
+      <label htmlFor="user-display-name">Display name</label>
+      <input id="user-display-name" required value={display_name} onChange={(e) => set_display_name(e.target.value)} />
+      <label htmlFor="user-role">Role</label>
+      <select id="user-role" value={role} onChange={(e) => set_role(e.target.value as Role)}>
+        {roles.map((r) => (
+          <option key={r} value={r}>
+            {role_label(r)}
+          </option>
+        ))}
+      </select>
+      <label htmlFor="user-password">Password</label>
+      <input
+        id="user-password"
+        type="password"
+        autoComplete="new-password"
+        required
+        aria-describedby="user-password-hint"
+        value={password}
+        onChange={(e) => set_password(e.target.value)}
+      />
+      <p className="hint" id="user-password-hint">
+        At least 10 characters. Give it to the person over a safe channel.
+      </p>
+      <ErrorAlert message={error} />
+      <StatusMessage message={status} />
+      <button type="submit" className="button-primary" disabled={busy}>
+        {busy ? 'Creating…' : 'Create user'}
+      </button>
+    </form>
+  );
+}
