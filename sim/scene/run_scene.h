@@ -1,0 +1,29 @@
+#pragma once
+
+#include <cstdint>
+
+#include "sim/core/types.h"
+#include "sim/scene/scene.h"
+
+namespace incise::sim {
+
+// The outcome of running a scene to its end (the fields of `incise solve`'s RESULT.json).
+struct RunResult {
+  Points rest;          // #nodes by 3 rest positions [m]
+  Points displacement;  // #nodes by 3 final x - rest [m]
+  int num_tets = 0;
+  std::int64_t steps = 0;  // steps taken; fewer than solver.steps if the state blew up
+  double ms_per_step = 0;  // median wall time of one step [ms]
+  Real max_speed = 0;      // largest node speed at the end [m/s]
+  bool finite = true;      // false if the run stopped on a non-finite state
+};
+
+// Runs scene.solver.steps steps of Simulation(scene), stopping early when a position or velocity
+// stops being finite. Steps are timed one by one (at most kMaxTimedSteps of them, evenly spaced,
+// so that the record stays small for long runs) and ms_per_step is their median.
+// Throws SceneError like Simulation.
+RunResult run_scene(const Scene& scene);
+
+inline constexpr std::int64_t kMaxTimedSteps = 1'000'000;
+
+}  // namespace incise::sim

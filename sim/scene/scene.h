@@ -1,0 +1,85 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "sim/core/types.h"
+
+namespace incise::sim {
+
+// What to simulate and how, as plain values. The members mirror the JSON form read by
+// sim/io/scene_json.h member for member; SceneError paths use the JSON names (noted below).
+// All quantities SI.
+
+// A box [0, size] meshed on a grid of cells (see make_box_mesh).
+struct BoxMeshSpec {
+  Vec3 size = Vec3::Zero();     // "size": edge lengths [m], each > 0
+  Vec3i cells = Vec3i::Ones();  // "cells": cells per axis, each >= 1
+};
+
+struct MeshSpec {
+  BoxMeshSpec box;  // "box"; the only mesh source so far
+};
+
+enum class MaterialModel {
+  mass_spring,  // "mss": volumetric mass-spring system (sim/models/mass_spring.h)
+};
+
+struct Material {
+  MaterialModel model = MaterialModel::mass_spring;  // "model"
+  Real youngs_modulus = 0;                           // "E" [Pa], > 0
+  Real poisson_ratio = 0;  // "nu", in (-1, 0.5); the mass-spring model has no free Poisson
+                           // ratio and ignores it
+  Real density = 0;        // "density" [kg/m^3], > 0
+  Real damping = 0.1;      // "damping", in [0, 1]: fraction of the model's reference damping
+};
+
+// The nodes a constraint or load acts on: those inside box (closed, widened by
+// selection_tolerance). Every selection must pick at least one node.
+struct Selection {
+  Box3 box;  // "box": [[x0, y0, z0], [x1, y1, z1]] [m], min <= max
+};
+
+using Axes = std::array<bool, 3>;  // x, y, z
+
+// Holds the selected nodes' coordinates on `axes` at rest + displacement: "fix" is a zero
+// displacement, "displace" a given one, applied as a linear ramp over the first half of the
+// solver's steps and then held. Where constraints overlap, the later one wins on that axis.
+struct Constraint {
+  Selection where;                   // "where"
+  Axes axes = {true, true, true};    // "fix": "xyz" subset, or "axes" of a "displace"
+  Vec3 displacement = Vec3::Zero();  // "displace" [m]
+};
+
+// A total force split equally over the selected nodes (a load on a prescribed coordinate has
+// no effect).
+struct Load {
+  Selection where;            // "where"
+  Vec3 force = Vec3::Zero();  // "force" [N]
+};
+
+enum class Integrator {
+  symplectic_euler,  // "symplectic_euler" (sim/solve/symplectic_euler.h)
+};
+
+struct SolverSettings {
+  Integrator integrator = Integrator::symplectic_euler;  // "integrator"
+  Real dt = 0;                                           // "dt" [s], > 0
+  std::int64_t steps = 0;                                // "steps", >= 1
+};
+
+struct Scene {
+  MeshSpec mesh;                        // "mesh"
+  Material material;                    // "material"
+  std::vector<Constraint> constraints;  // "constraints"
+  std::vector<Load> loads;              // "loads"
+  Vec3 gravity = Vec3::Zero();          // "gravity" [m/s^2]
+  SolverSettings solver;                // "solver"
+};
+
+// Upper bound on mesh.box.cells' product, so that a typo cannot ask for more memory than a
+// workstation has (6 tets per cell).
+inline constexpr std::int64_t kMaxBoxCells = 1'000'000;
+
+}  // namespace incise::sim

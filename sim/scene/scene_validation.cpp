@@ -1,0 +1,102 @@
+#include "sim/scene/scene_validation.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstddef>
+
+namespace incise::sim {
+namespace {
+
+constexpr const char* kAxisNames[3] = {"x", "y", "z"};
+
+std::string element(const std::string& path, std::size_t index) {
+  return path + "[" + std::to_string(index) + "]";
+}
+
+void require_finite(const std::string& path, Real value) {
+  if (!std::isfinite(value))
+    throw SceneError(path, "must be finite (got " + format_number(value) + ")");
+}
+
+void require_positive(const std::string& path, Real value) {
+  require_finite(path, value);
+  if (!(value > 0)) throw SceneError(path, "must be positive (got " + format_number(value) + ")");
+}
+
+void require_finite(const std::string& path, const Vec3& value) {
+  for (int a = 0; a < 3; ++a)
+    require_finite(element(path, static_cast<std::size_t>(a)), value(a));
+}
+
+void validate_selection(const std::string& path, const Selection& selection) {
+  const std::string box_path = path + ".box";
+  require_finite(element(box_path, 0), Vec3(selection.box.min()));
+  require_finite(element(box_path, 1), Vec3(selection.box.max()));
+  for (int a = 0; a < 3; ++a) {
+    if (selection.box.min()(a) > selection.box.max()(a)) {
+      throw SceneError(box_path, std::string("min corner exceeds max corner in ") + kAxisNames[a] +
+                                     " (" + format_number(selection.box.min()(a)) + " > " +
+                                     format_number(selection.box.max()(a)) + ")");
+    }
+  }
+}
+
+}  // namespace
+
+std::string format_number(Real value) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, result.ptr);
+}
+
+void validate_scene(const Scene& scene) {
+  const BoxMeshSpec& box = scene.mesh.box;
+  for (int a = 0; a < 3; ++a) {
+    require_positive(element("mesh.box.size", static_cast<std::size_t>(a)), box.size(a));
+    if (box.cells(a) < 1) {
+      throw SceneError(element("mesh.box.cells", static_cast<std::size_t>(a)),
+                       "must be at least 1 (got " + std::to_string(box.cells(a)) + ")");
+    }
+  }
+  const std::int64_t cells = std::int64_t{box.cells.x()} * box.cells.y() * box.cells.z();
+  if (cells > kMaxBoxCells) {
+    throw SceneError("mesh.box.cells", "at most " + std::to_string(kMaxBoxCells) +
+                                           " cells in all (got " + std::to_string(cells) + ")");
+  }
+
+  const Material& material = scene.material;
+  require_positive("material.E", material.youngs_modulus);
+  require_positive("material.density", material.density);
+  if (!(material.poisson_ratio > -1 && material.poisson_ratio < 0.5)) {
+    throw SceneError("material.nu",
+                     "must be in (-1, 0.5) (got " + format_number(material.poisson_ratio) + ")");
+  }
+  if (!(material.damping >= 0 && material.damping <= 1)) {
+    throw SceneError("material.damping",
+                     "must be in [0, 1] (got " + format_number(material.damping) + ")");
+  }
+
+  for (std::size_t c = 0; c < scene.constraints.size(); ++c) {
+    const Constraint& constraint = scene.constraints[c];
+    const std::string path = element("constraints", c);
+    validate_selection(path + ".where", constraint.where);
+    require_finite(path + ".displace", constraint.displacement);
+    if (!constraint.axes[0] && !constraint.axes[1] && !constraint.axes[2]) {
+      throw SceneError(path, "constrains no axis");
+    }
+  }
+  for (std::size_t l = 0; l < scene.loads.size(); ++l) {
+    const std::string path = element("loads", l);
+    validate_selection(path + ".where", scene.loads[l].where);
+    require_finite(path + ".force", scene.loads[l].force);
+  }
+  require_finite("gravity", scene.gravity);
+
+  require_positive("solver.dt", scene.solver.dt);
+  if (scene.solver.steps < 1) {
+    throw SceneError("solver.steps",
+                     "must be at least 1 (got " + std::to_string(scene.solver.steps) + ")");
+  }
+}
+
+}  // namespace incise::sim

@@ -1,0 +1,20 @@
+#pragma once
+
+#include <string>
+
+#include "sim/core/types.h"
+#include "sim/scene/scene.h"
+#include "sim/scene/scene_error.h"
+
+namespace incise::sim {
+
+// Checks the value ranges stated in scene.h that need no mesh (selections are checked against
+// the mesh when a Simulation is built). Throws SceneError for the first problem, e.g.
+//   material.E: must be positive (got -3)
+void validate_scene(const Scene& scene);
+
+// The shortest decimal form that reads back as the same double ("-3", "0.1", "1e-05"), for
+// error messages.
+std::string format_number(Real value);
+
+}  // namespace incise::sim

@@ -1,0 +1,110 @@
+#include "sim/scene/simulation.h"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "sim/mesh/box_mesher.h"
+#include "sim/scene/node_selection.h"
+#include "sim/scene/scene_error.h"
+#include "sim/scene/scene_validation.h"
+
+namespace incise::sim {
+namespace {
+
+TetMesh make_mesh(const Scene& scene) {
+  validate_scene(scene);  // before anything is allocated from the scene's numbers
+  try {
+    return make_box_mesh(scene.mesh.box.size, scene.mesh.box.cells);
+  } catch (const std::invalid_argument& error) {
+    throw SceneError("mesh", error.what());
+  }
+}
+
+// Valid numbers can still give unusable tets, e.g. a box so small that the volumes underflow.
+MassSpring make_model(const TetMesh& mesh, const Material& material) {
+  try {
+    return MassSpring(mesh.rest, mesh.tets,
+                      {material.youngs_modulus, material.density, material.damping});
+  } catch (const std::invalid_argument& error) {
+    throw SceneError("mesh", error.what());
+  }
+}
+
+std::vector<int> select(const TetMesh& mesh, const Selection& where, const std::string& path) {
+  std::vector<int> nodes = nodes_in_box(mesh.rest, where.box, selection_tolerance(mesh.rest));
+  if (nodes.empty()) throw SceneError(path + ".box", "selects no node");
+  return nodes;
+}
+
+}  // namespace
+
+Simulation::Simulation(const Scene& scene)
+    : mesh_(make_mesh(scene)),
+      model_(make_model(mesh_, scene.material)),
+      gravity_(scene.gravity),
+      dt_(scene.solver.dt),
+      ramp_steps_(std::max<std::int64_t>(1, scene.solver.steps / 2)) {
+  const Eigen::Index n = mesh_.num_nodes();
+  inv_mass_ = (model_.masses().array() > 0).select(model_.masses().cwiseInverse(), 0.0);
+
+  prescribed_.mask = AxisMask::Zero(n, 3);
+  prescribed_.position = mesh_.rest;
+  prescribed_displacement_ = Points::Zero(n, 3);
+  for (std::size_t c = 0; c < scene.constraints.size(); ++c) {
+    const Constraint& constraint = scene.constraints[c];
+    const std::string path = "constraints[" + std::to_string(c) + "].where";
+    for (const int i : select(mesh_, constraint.where, path)) {
+      for (int a = 0; a < 3; ++a) {
+        if (!constraint.axes[static_cast<std::size_t>(a)]) continue;
+        prescribed_.mask(i, a) = 1;
+        prescribed_displacement_(i, a) = constraint.displacement(a);
+      }
+    }
+  }
+  ramping_ = !prescribed_displacement_.isZero(0);
+
+  external_forces_ = Points::Zero(n, 3);
+  for (std::size_t l = 0; l < scene.loads.size(); ++l) {
+    const Load& load = scene.loads[l];
+    const std::vector<int> nodes =
+        select(mesh_, load.where, "loads[" + std::to_string(l) + "].where");
+    const Vec3 share = load.force / static_cast<Real>(nodes.size());
+    for (const int i : nodes)
+      external_forces_.row(i) += share.transpose();
+  }
+  forces_ = Points::Zero(n, 3);
+}
+
+void Simulation::update_prescribed_positions() {
+  if (!ramping_ || steps_taken_ >= ramp_steps_) return;  // held since the end of the ramp
+  const Real scale = static_cast<Real>(steps_taken_ + 1) / static_cast<Real>(ramp_steps_);
+  prescribed_.position.noalias() = mesh_.rest + scale * prescribed_displacement_;
+}
+
+void Simulation::step() {
+  forces_ = external_forces_;
+  model_.add_forces(mesh_.x, mesh_.v, forces_);
+  update_prescribed_positions();
+  symplectic_euler_step(dt_, gravity_, inv_mass_, prescribed_, forces_, mesh_.x, mesh_.v);
+  ++steps_taken_;
+}
+
+Real Simulation::max_speed() const {
+  if (!mesh_.v.allFinite()) return std::numeric_limits<Real>::quiet_NaN();
+  return mesh_.num_nodes() == 0 ? 0 : mesh_.v.rowwise().norm().maxCoeff();
+}
+
+bool Simulation::state_finite() const {
+  return mesh_.x.allFinite() && mesh_.v.allFinite();
+}
+
+Points Simulation::internal_forces() const {
+  Points forces = Points::Zero(mesh_.num_nodes(), 3);
+  model_.add_forces(mesh_.x, mesh_.v, forces);
+  return forces;
+}
+
+}  // namespace incise::sim

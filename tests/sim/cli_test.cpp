@@ -1,0 +1,188 @@
+// Runs the real incise binary (INCISE_CLI_PATH, from CMake) as a user would.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace incise::sim {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct CliRun {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string read_file(const fs::path& path) {
+  std::ifstream stream(path);
+  std::ostringstream text;
+  text << stream.rdbuf();
+  return text.str();
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("incise_cli_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path write(const std::string& name, const std::string& text) {
+    const fs::path path = dir_ / name;
+    std::ofstream(path) << text;
+    return path;
+  }
+
+  // Runs incise with the arguments (already shell-quoted where needed) in the temp folder.
+  CliRun incise(const std::string& arguments) {
+    const std::string command = "cd '" + dir_.string() + "' && '" INCISE_CLI_PATH "' " + arguments +
+                                " > out.txt 2> err.txt";
+    const int status = std::system(command.c_str());
+    CliRun run;
+    run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    run.out = read_file(dir_ / "out.txt");
+    run.err = read_file(dir_ / "err.txt");
+    return run;
+  }
+
+  static json small_scene() {
+    return json::parse(R"({
+      "mesh": {"box": {"size": [0.02, 0.02, 0.04], "cells": [2, 2, 4]}},
+      "material": {"model": "mss", "E": 3000, "nu": 0.45, "density": 1000, "damping": 0.5},
+      "constraints": [{"where": {"box": [[0, 0, 0], [0.02, 0.02, 0]]}, "fix": "xyz"}],
+      "gravity": [0, 0, -9.81],
+      "solver": {"integrator": "symplectic_euler", "dt": 1e-4, "steps": 3000}
+    })");
+  }
+
+  fs::path dir_;
+};
+
+// Exactly one line, ending in a newline.
+bool one_line(const std::string& text) {
+  return !text.empty() && text.back() == '\n' && text.find('\n') == text.size() - 1;
+}
+
+TEST_F(Cli, SolvesASceneAndWritesTheResult) {
+  write("scene.json", small_scene().dump());
+  const CliRun run = incise("solve scene.json --out result.json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(run.err, "");
+  const json result = json::parse(read_file(dir_ / "result.json"));
+  EXPECT_EQ(result.at("nodes"), 3 * 3 * 5);
+  EXPECT_EQ(result.at("tets"), 5 * 2 * 2 * 4);
+  EXPECT_EQ(result.at("rest").size(), 45u);
+  EXPECT_EQ(result.at("displacement").size(), 45u);
+  EXPECT_EQ(result.at("steps"), 3000);
+  EXPECT_GT(result.at("ms_per_step").get<double>(), 0);
+  EXPECT_EQ(result.at("finite"), true);
+  EXPECT_LT(result.at("max_speed").get<double>(), 1e-4);  // settled (peak is ~0.05 m/s)
+  // The top corner (node 44) sags, the clamped base (node 0) stays.
+  EXPECT_EQ(result.at("rest")[44], json::parse("[0.02, 0.02, 0.04]"));
+  EXPECT_LT(result.at("displacement")[44][2].get<double>(), -1e-4);
+  EXPECT_EQ(result.at("displacement")[0], json::parse("[0.0, 0.0, 0.0]"));
+}
+
+TEST_F(Cli, TheExampleSceneSettles) {
+  const CliRun run = incise("solve '" INCISE_SCENES_DIR "/clamped_box.json' --out result.json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json result = json::parse(read_file(dir_ / "result.json"));
+  EXPECT_EQ(result.at("finite"), true);
+  EXPECT_LT(result.at("max_speed").get<double>(), 1e-6);
+}
+
+TEST_F(Cli, InvalidSceneGivesExitCode2AndOneLineNamingTheKey) {
+  json scene = small_scene();
+  scene["material"]["E"] = -3;
+  write("scene.json", scene.dump());
+  const CliRun run = incise("solve scene.json --out result.json");
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_EQ(run.err, "incise: scene.json: material.E: must be positive (got -3)\n");
+  EXPECT_FALSE(fs::exists(dir_ / "result.json"));
+}
+
+TEST_F(Cli, EmptySelectionUnknownKeyAndBadJsonAreReported) {
+  json empty_selection = small_scene();
+  empty_selection["constraints"][0]["where"]["box"] = json::parse("[[1, 1, 1], [2, 2, 2]]");
+  write("a.json", empty_selection.dump());
+  CliRun run = incise("solve a.json --out r.json");
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_EQ(run.err, "incise: a.json: constraints[0].where.box: selects no node\n");
+
+  json unknown = small_scene();
+  unknown["solver"]["tolerance"] = 1e-3;
+  write("b.json", unknown.dump());
+  run = incise("solve b.json --out r.json");
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_EQ(run.err,
+            "incise: b.json: solver.tolerance: unknown key (expected one of: integrator, dt, "
+            "steps)\n");
+
+  write("c.json", "{\"mesh\": {\"box\": ");
+  run = incise("solve c.json --out r.json");
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_EQ(run.err.rfind("incise: c.json: malformed JSON: parse error at line 1", 0), 0u)
+      << run.err;
+  EXPECT_TRUE(one_line(run.err)) << run.err;
+
+  run = incise("solve missing.json --out r.json");
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_EQ(run.err, "incise: missing.json: cannot open file (No such file or directory)\n");
+}
+
+TEST_F(Cli, NonFiniteStateGivesExitCode1AndAResult) {
+  json scene = small_scene();
+  scene["solver"]["dt"] = 0.05;  // far above the stability limit
+  scene["solver"]["steps"] = 100000;
+  write("scene.json", scene.dump());
+  const CliRun run = incise("solve scene.json --out result.json");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_TRUE(one_line(run.err)) << run.err;
+  EXPECT_NE(run.err.find("non-finite"), std::string::npos) << run.err;
+  const json result = json::parse(read_file(dir_ / "result.json"));
+  EXPECT_EQ(result.at("finite"), false);
+  EXPECT_LT(result.at("steps").get<int>(), 100000);
+}
+
+TEST_F(Cli, UsageErrorsGiveExitCode2AndAUsageLine) {
+  for (const std::string arguments :
+       {"", "frobnicate", "solve", "solve scene.json", "solve scene.json --out",
+        "solve a.json b.json --out r.json", "solve scene.json --out r.json --fast"}) {
+    const CliRun run = incise(arguments);
+    EXPECT_EQ(run.exit_code, 2) << arguments;
+    EXPECT_TRUE(one_line(run.err)) << arguments << ": " << run.err;
+    EXPECT_NE(run.err.find("usage: incise solve SCENE.json --out RESULT.json"), std::string::npos)
+        << arguments;
+  }
+}
+
+TEST_F(Cli, HelpDescribesTheContractAndTheExample) {
+  const CliRun run = incise("--help");
+  EXPECT_EQ(run.exit_code, 0);
+  EXPECT_EQ(run.err, "");
+  EXPECT_NE(run.out.find("incise solve SCENE.json --out RESULT.json"), std::string::npos);
+  EXPECT_NE(run.out.find("sim/scenes/clamped_box.json"), std::string::npos);
+  EXPECT_NE(run.out.find("ramped"), std::string::npos);
+}
+
+TEST_F(Cli, UnwritableResultIsReported) {
+  write("scene.json", small_scene().dump());
+  const CliRun run = incise("solve scene.json --out no/such/dir/result.json");
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_EQ(run.err, "incise: no/such/dir/result.json: cannot write the result\n");
+}
+
+}  // namespace
+}  // namespace incise::sim

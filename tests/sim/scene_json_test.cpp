@@ -1,0 +1,195 @@
+#include "sim/io/scene_json.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace incise::sim {
+namespace {
+
+using nlohmann::json;
+
+json good_scene() {
+  return json::parse(R"({
+    "mesh": {"box": {"size": [0.1, 0.02, 0.03], "cells": [10, 2, 3]}},
+    "material": {"model": "mss", "E": 3000, "nu": 0.45, "density": 1000, "damping": 0.2},
+    "constraints": [
+      {"where": {"box": [[0, 0, 0], [0, 0.02, 0.03]]}, "fix": "zx"},
+      {"where": {"box": [[0.1, 0, 0], [0.1, 0.02, 0.03]]}, "displace": [0.01, 0, 0], "axes": "x"},
+      {"where": {"box": [[0.05, 0, 0], [0.05, 0.02, 0.03]]}, "displace": [0, 0.001, 0]}
+    ],
+    "loads": [{"where": {"box": [[0, 0, 0.03], [0.1, 0.02, 0.03]]}, "force": [0, 0, -0.5]}],
+    "gravity": [0, 0, -9.81],
+    "solver": {"integrator": "symplectic_euler", "dt": 1e-4, "steps": 10000}
+  })");
+}
+
+TEST(ParseScene, ReadsEveryMember) {
+  const Scene scene = parse_scene(good_scene());
+  EXPECT_EQ(scene.mesh.box.size, Vec3(0.1, 0.02, 0.03));
+  EXPECT_EQ(scene.mesh.box.cells, Vec3i(10, 2, 3));
+  EXPECT_EQ(scene.material.model, MaterialModel::mass_spring);
+  EXPECT_EQ(scene.material.youngs_modulus, 3000);
+  EXPECT_EQ(scene.material.poisson_ratio, 0.45);
+  EXPECT_EQ(scene.material.density, 1000);
+  EXPECT_EQ(scene.material.damping, 0.2);
+  ASSERT_EQ(scene.constraints.size(), 3u);
+  EXPECT_EQ(scene.constraints[0].where.box.min(), Vec3(0, 0, 0));
+  EXPECT_EQ(scene.constraints[0].where.box.max(), Vec3(0, 0.02, 0.03));
+  EXPECT_EQ(scene.constraints[0].axes, (Axes{true, false, true}));
+  EXPECT_EQ(scene.constraints[0].displacement, Vec3::Zero());
+  EXPECT_EQ(scene.constraints[1].axes, (Axes{true, false, false}));
+  EXPECT_EQ(scene.constraints[1].displacement, Vec3(0.01, 0, 0));
+  EXPECT_EQ(scene.constraints[2].axes, (Axes{true, true, true}));  // default "xyz"
+  ASSERT_EQ(scene.loads.size(), 1u);
+  EXPECT_EQ(scene.loads[0].force, Vec3(0, 0, -0.5));
+  EXPECT_EQ(scene.gravity, Vec3(0, 0, -9.81));
+  EXPECT_EQ(scene.solver.integrator, Integrator::symplectic_euler);
+  EXPECT_EQ(scene.solver.dt, 1e-4);
+  EXPECT_EQ(scene.solver.steps, 10000);
+}
+
+TEST(ParseScene, OptionalMembersHaveDefaults) {
+  json value = good_scene();
+  value.erase("constraints");
+  value.erase("loads");
+  value.erase("gravity");
+  value["material"].erase("damping");
+  value["solver"]["steps"] = 1e4;  // an integral float counts as an integer
+  const Scene scene = parse_scene(value);
+  EXPECT_TRUE(scene.constraints.empty());
+  EXPECT_TRUE(scene.loads.empty());
+  EXPECT_EQ(scene.gravity, Vec3::Zero());
+  EXPECT_EQ(scene.material.damping, 0.1);
+  EXPECT_EQ(scene.solver.steps, 10000);
+}
+
+struct BadCase {
+  const char* pointer;  // JSON pointer of the member to change
+  const char* value;    // its new value as JSON text, or nullptr to remove it
+  const char* message;  // SceneError::what()
+};
+
+class ParseSceneErrors : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(ParseSceneErrors, NameTheKeyAndTheProblem) {
+  const BadCase& bad = GetParam();
+  json value = good_scene();
+  const json::json_pointer pointer(bad.pointer);
+  if (bad.value == nullptr) {
+    value[pointer.parent_pointer()].erase(pointer.back());
+  } else {
+    value[pointer] = json::parse(bad.value);
+  }
+  try {
+    parse_scene(value);
+    FAIL() << "no error";
+  } catch (const SceneError& error) {
+    EXPECT_EQ(std::string(error.what()), bad.message);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, ParseSceneErrors,
+    ::testing::Values(
+        BadCase{"/material/E", "-3", "material.E: must be positive (got -3)"},
+        BadCase{"/material/E", "\"stiff\"", "material.E: must be a number (got \"stiff\")"},
+        BadCase{"/material/E", "true", "material.E: must be a number (got true)"},
+        BadCase{"/material/E", nullptr, "material.E: is required"},
+        BadCase{"/material/density", "0", "material.density: must be positive (got 0)"},
+        BadCase{"/material/nu", "0.5", "material.nu: must be in (-1, 0.5) (got 0.5)"},
+        BadCase{"/material/nu", "-1.2", "material.nu: must be in (-1, 0.5) (got -1.2)"},
+        BadCase{"/material/model", "\"fem\"",
+                "material.model: unknown model \"fem\" (expected: mss)"},
+        BadCase{"/material/youngs", "1",
+                "material.youngs: unknown key (expected one of: model, E, nu, density, "
+                "damping)"},
+        BadCase{"/material", "[]", "material: must be an object (got [])"},
+        BadCase{"/mesh", nullptr, "mesh: is required"},
+        BadCase{"/material", nullptr, "material: is required"},
+        BadCase{"/solver", nullptr, "solver: is required"},
+        BadCase{"/mesh/box/size", "[0.1, 0.02]",
+                "mesh.box.size: must be an array of 3 numbers (got [0.1,0.02])"},
+        BadCase{"/mesh/box/size/1", "-0.02", "mesh.box.size[1]: must be positive (got -0.02)"},
+        BadCase{"/mesh/box/cells/2", "2.5", "mesh.box.cells[2]: must be an integer (got 2.5)"},
+        BadCase{"/mesh/box/cells/0", "0", "mesh.box.cells[0]: must be at least 1 (got 0)"},
+        BadCase{"/mesh/file", "\"liver.msh\"",
+                "mesh.file: mesh files are not supported yet (use mesh.box)"},
+        BadCase{"/mesh/box", nullptr, "mesh.box: is required"},
+        BadCase{"/constraints/0/fix", "\"xw\"",
+                "constraints[0].fix: must be a non-empty subset of \"xyz\" (got \"xw\")"},
+        BadCase{"/constraints/0/fix", "\"xx\"",
+                "constraints[0].fix: must be a non-empty subset of \"xyz\" (got \"xx\")"},
+        BadCase{"/constraints/0/fix", "\"\"",
+                "constraints[0].fix: must be a non-empty subset of \"xyz\" (got \"\")"},
+        BadCase{"/constraints/0/fix", nullptr, "constraints[0]: needs \"fix\" or \"displace\""},
+        BadCase{"/constraints/0/displace", "[1, 0, 0]",
+                "constraints[0]: has both \"fix\" and \"displace\" (give one)"},
+        BadCase{"/constraints/0/axes", "\"x\"",
+                "constraints[0].axes: belongs to \"displace\" (\"fix\" names its axes)"},
+        BadCase{"/constraints/1/axes", "\"q\"",
+                "constraints[1].axes: must be a non-empty subset of \"xyz\" (got \"q\")"},
+        BadCase{"/constraints/1/displace/2", "null",
+                "constraints[1].displace[2]: must be a number (got null)"},
+        BadCase{"/constraints/1/where/box", "[[0, 0, 0]]",
+                "constraints[1].where.box: must be [[x0, y0, z0], [x1, y1, z1]] (got "
+                "[[0,0,0]])"},
+        BadCase{"/constraints/1/where/box/1/0", "-1",
+                "constraints[1].where.box: min corner exceeds max corner in x (0.1 > -1)"},
+        BadCase{"/constraints/1/where/sphere", "1",
+                "constraints[1].where.sphere: unknown key (expected one of: box)"},
+        BadCase{"/constraints", "{}", "constraints: must be an array (got {})"},
+        BadCase{"/loads/0/force", nullptr, "loads[0].force: is required"},
+        BadCase{"/loads/0/where/box/0/2", "\"top\"",
+                "loads[0].where.box[0][2]: must be a number (got \"top\")"},
+        BadCase{"/gravity", "[0, 0]", "gravity: must be an array of 3 numbers (got [0,0])"},
+        BadCase{"/solver/integrator", "\"rk4\"",
+                "solver.integrator: unknown integrator \"rk4\" (expected: symplectic_euler)"},
+        BadCase{"/solver/dt", "0", "solver.dt: must be positive (got 0)"},
+        BadCase{"/solver/steps", "-5", "solver.steps: must be at least 1 (got -5)"},
+        BadCase{"/solver/steps", "\"many\"", "solver.steps: must be an integer (got \"many\")"},
+        BadCase{"/solver/order", "2",
+                "solver.order: unknown key (expected one of: integrator, dt, steps)"},
+        BadCase{"/extra", "1",
+                "extra: unknown key (expected one of: mesh, material, constraints, loads, "
+                "gravity, solver)"}));
+
+TEST(ParseSceneText, MalformedJsonSaysWhere) {
+  try {
+    parse_scene_text("{\"mesh\": ");
+    FAIL() << "no error";
+  } catch (const SceneError& error) {
+    EXPECT_EQ(error.path(), "");
+    const std::string what = error.what();
+    EXPECT_EQ(what.rfind("malformed JSON: parse error at line 1, column 10", 0), 0u) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos);
+  }
+  try {
+    parse_scene_text("[1, 2]");
+    FAIL() << "no error";
+  } catch (const SceneError& error) {
+    EXPECT_EQ(std::string(error.what()), "the scene must be a JSON object (got [1,2])");
+  }
+}
+
+TEST(ReadSceneFile, ReadsAFileAndReportsAMissingOne) {
+  const auto path = std::filesystem::temp_directory_path() / "incise_scene_json_test.json";
+  std::ofstream(path) << good_scene().dump();
+  EXPECT_EQ(read_scene_file(path).mesh.box.cells, Vec3i(10, 2, 3));
+  std::filesystem::remove(path);
+  try {
+    read_scene_file(path);
+    FAIL() << "no error";
+  } catch (const SceneError& error) {
+    EXPECT_EQ(std::string(error.what()), "cannot open file (No such file or directory)");
+  }
+}
+
+TEST(ReadSceneFile, TheExampleSceneIsValid) {
+  EXPECT_NO_THROW(read_scene_file(INCISE_SCENES_DIR "/clamped_box.json"));
+}
+
+}  // namespace
+}  // namespace incise::sim
