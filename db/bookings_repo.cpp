@@ -1,5 +1,7 @@
 #include "db/bookings_repo.h"
 
+#include <stdexcept>
+
 #include "db/statement.h"
 #include "db/transaction.h"
 
@@ -29,7 +31,15 @@ std::optional<Booking> first_overlap(Database& db, const char* owner_column, std
 
 Booking BookingsRepo::create(std::int64_t station_id, std::int64_t user_id, std::int64_t starts_at,
                              std::int64_t ends_at, std::int64_t now) {
+  if (ends_at <= starts_at) {
+    throw std::invalid_argument("a booking must end after it starts");
+  }
   Transaction tx(db_);
+  {
+    auto q = db_.prepare("SELECT 1 FROM users WHERE id = ?");
+    q.bind(1, user_id);
+    if (!q.step()) throw NotFound("user " + std::to_string(user_id) + " does not exist");
+  }
   {
     auto q = db_.prepare("SELECT 1 FROM stations WHERE id = ?");
     q.bind(1, station_id);

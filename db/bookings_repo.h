@@ -43,7 +43,8 @@ class BookingsRepo {
  public:
   explicit BookingsRepo(Database& db) : db_(db) {}
 
-  // Throws NotFound for an unknown station or user, BookingConflict on overlap.
+  // Throws NotFound for an unknown station or user, BookingConflict on overlap, and
+  // std::invalid_argument for an empty or reversed interval.
   Booking create(std::int64_t station_id, std::int64_t user_id, std::int64_t starts_at,
                  std::int64_t ends_at, std::int64_t now);
   std::optional<Booking> find(std::int64_t id);

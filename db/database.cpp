@@ -18,11 +18,18 @@ Database::Database(const std::filesystem::path& path) {
   }
   sqlite3_extended_result_codes(db_, 1);
   sqlite3_busy_timeout(db_, 5000);
-  exec("PRAGMA foreign_keys = ON");
-  if (path != ":memory:") exec("PRAGMA journal_mode = WAL");
-  // WAL with NORMAL sync is durable across application crashes; a power loss may drop the last
-  // transactions, which the recorder tolerates (DESIGN.md section 2, step 7).
-  exec("PRAGMA synchronous = NORMAL");
+  try {
+    exec("PRAGMA foreign_keys = ON");
+    if (path != ":memory:") exec("PRAGMA journal_mode = WAL");
+    // WAL with NORMAL sync is durable across application crashes; a power loss may drop the last
+    // transactions, which the recorder tolerates (DESIGN.md section 2, step 7).
+    exec("PRAGMA synchronous = NORMAL");
+  } catch (const DbError& e) {
+    // The destructor does not run for a throwing constructor: close here (e.g. not a database).
+    sqlite3_close_v2(db_);
+    db_ = nullptr;
+    throw DbError(e.code(), "cannot open database " + path.string() + ": " + e.what());
+  }
 }
 
 Database::~Database() {
@@ -36,6 +43,7 @@ void Database::exec(std::string_view sql) {
   if (rc != SQLITE_OK) {
     std::string message = error ? error : sqlite3_errstr(rc);
     sqlite3_free(error);
+    if ((rc & 0xff) == SQLITE_CONSTRAINT) throw ConstraintError(rc, message);
     throw DbError(rc, message);
   }
 }

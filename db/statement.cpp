@@ -36,14 +36,18 @@ Statement& Statement::bind(int index, double value) {
 }
 
 Statement& Statement::bind(int index, std::string_view text) {
-  check_bind(db_, sqlite3_bind_text(stmt_, index, text.data(), static_cast<int>(text.size()),
-                                    SQLITE_TRANSIENT));
+  // An empty string_view may have a null data(), which SQLite would bind as NULL.
+  check_bind(db_, sqlite3_bind_text(stmt_, index, text.data() ? text.data() : "",
+                                    static_cast<int>(text.size()), SQLITE_TRANSIENT));
   return *this;
 }
 
 Statement& Statement::bind_blob(int index, const std::vector<std::uint8_t>& bytes) {
-  check_bind(db_, sqlite3_bind_blob(stmt_, index, bytes.data(), static_cast<int>(bytes.size()),
-                                    SQLITE_TRANSIENT));
+  // An empty vector has a null data(), which SQLite would bind as NULL: bind a zero-length blob.
+  check_bind(db_, bytes.empty()
+                      ? sqlite3_bind_zeroblob(stmt_, index, 0)
+                      : sqlite3_bind_blob(stmt_, index, bytes.data(),
+                                          static_cast<int>(bytes.size()), SQLITE_TRANSIENT));
   return *this;
 }
 

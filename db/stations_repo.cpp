@@ -21,7 +21,11 @@ Station StationsRepo::create(std::string_view name, std::string_view location,
         .bind(4, now)
         .run();
   } catch (const ConstraintError&) {
-    throw Conflict("a station named '" + std::string(name) + "' already exists");
+    for (const auto& s : list()) {
+      if (s.name == name)
+        throw Conflict("a station named '" + std::string(name) + "' already exists");
+    }
+    throw;
   }
   return Station{db_.last_insert_id(), std::string(name), std::string(location), now};
 }

@@ -1,0 +1,170 @@
+// Tests for db/training_repo.h: sessions with their state timestamps, recordings and scores, each
+// listed newest first for everyone or for one trainee.
+#include "db/training_repo.h"
+
+#include <gtest/gtest.h>
+
+#include "db/statement.h"
+#include "temp_database.h"
+
+namespace incise::db {
+namespace {
+
+using test::row_count;
+
+class TrainingRepoTest : public test::DbTest {
+ protected:
+  std::int64_t ann_ = test::add_user(db(), "ann");
+  std::int64_t bob_ = test::add_user(db(), "bob");
+  std::int64_t station_ = test::add_station(db(), "s1");
+  TrainingRepo training_{db()};
+};
+
+TEST_F(TrainingRepoTest, CreateSessionThenList) {
+  const auto with_station = training_.create_session(ann_, station_, "suture", 100);
+  const auto without = training_.create_session(bob_, std::nullopt, "incision", 200);
+  const auto all = training_.sessions();
+  ASSERT_EQ(all.size(), 2u);
+  EXPECT_EQ(all[0].id, without) << "newest first";
+  EXPECT_EQ(all[0].trainee_id, bob_);
+  EXPECT_EQ(all[0].trainee, "bob");
+  EXPECT_EQ(all[0].station_id, std::nullopt);
+  EXPECT_EQ(all[0].station, "");
+  EXPECT_EQ(all[0].task, "incision");
+  EXPECT_EQ(all[0].state, "created");
+  EXPECT_EQ(all[0].started_at, std::nullopt);
+  EXPECT_EQ(all[0].ended_at, std::nullopt);
+  EXPECT_EQ(all[1].id, with_station);
+  EXPECT_EQ(all[1].station_id, station_);
+  EXPECT_EQ(all[1].station, "s1");
+  EXPECT_EQ(all[1].trainee, "ann");
+}
+
+TEST_F(TrainingRepoTest, SessionsFilteredByTrainee) {
+  const auto a1 = training_.create_session(ann_, std::nullopt, "t", 1);
+  training_.create_session(bob_, std::nullopt, "t", 2);
+  const auto a2 = training_.create_session(ann_, std::nullopt, "t", 3);
+  const auto anns = training_.sessions(ann_);
+  ASSERT_EQ(anns.size(), 2u);
+  EXPECT_EQ(anns[0].id, a2);
+  EXPECT_EQ(anns[1].id, a1);
+  EXPECT_EQ(training_.sessions(bob_).size(), 1u);
+  EXPECT_TRUE(training_.sessions(bob_ + 100).empty());
+}
+
+TEST_F(TrainingRepoTest, StateChangesStampStartAndEnd) {
+  const auto id = training_.create_session(ann_, station_, "suture", 100);
+  training_.set_session_state(id, "running", 110);
+  auto s = training_.sessions().at(0);
+  EXPECT_EQ(s.state, "running");
+  EXPECT_EQ(s.started_at, 110);
+  EXPECT_EQ(s.ended_at, std::nullopt);
+
+  training_.set_session_state(id, "paused", 120);
+  training_.set_session_state(id, "running", 130);
+  s = training_.sessions().at(0);
+  EXPECT_EQ(s.state, "running");
+  EXPECT_EQ(s.started_at, 110) << "started_at is the first start, not the latest";
+  EXPECT_EQ(s.ended_at, std::nullopt);
+
+  training_.set_session_state(id, "finished", 140);
+  s = training_.sessions().at(0);
+  EXPECT_EQ(s.state, "finished");
+  EXPECT_EQ(s.started_at, 110);
+  EXPECT_EQ(s.ended_at, 140);
+}
+
+TEST_F(TrainingRepoTest, AbortedSessionIsEnded) {
+  const auto id = training_.create_session(ann_, std::nullopt, "suture", 100);
+  training_.set_session_state(id, "aborted", 105);
+  const auto s = training_.sessions().at(0);
+  EXPECT_EQ(s.state, "aborted");
+  EXPECT_EQ(s.started_at, std::nullopt) << "never ran";
+  EXPECT_EQ(s.ended_at, 105);
+}
+
+TEST_F(TrainingRepoTest, InvalidStateThrowsConstraintErrorAndChangesNothing) {
+  const auto id = training_.create_session(ann_, std::nullopt, "suture", 100);
+  training_.set_session_state(id, "running", 110);
+  EXPECT_THROW(training_.set_session_state(id, "exploded", 120), ConstraintError);
+  EXPECT_THROW(training_.set_session_state(id, "", 120), ConstraintError);
+  const auto s = training_.sessions().at(0);
+  EXPECT_EQ(s.state, "running");
+  EXPECT_EQ(s.started_at, 110);
+}
+
+TEST_F(TrainingRepoTest, UnknownSessionIdThrowsNotFound) {
+  EXPECT_THROW(training_.set_session_state(4242, "running", 1), NotFound);
+}
+
+TEST_F(TrainingRepoTest, SessionOfAnUnknownTraineeIsRefused) {
+  EXPECT_THROW(training_.create_session(bob_ + 100, std::nullopt, "t", 1), ConstraintError);
+  EXPECT_EQ(row_count(db(), "sessions"), 0);
+}
+
+TEST_F(TrainingRepoTest, RecordingsCreateAndListWithFilter) {
+  const auto sa = training_.create_session(ann_, std::nullopt, "suture", 1);
+  const auto sb = training_.create_session(bob_, std::nullopt, "incision", 2);
+  const auto ra = training_.add_recording(sa, 12.5, 10);
+  const auto rb = training_.add_recording(sb, 3.25, 20);
+  const auto all = training_.recordings();
+  ASSERT_EQ(all.size(), 2u);
+  EXPECT_EQ(all[0].id, rb);
+  EXPECT_EQ(all[1].id, ra);
+  EXPECT_EQ(all[1].session_id, sa);
+  EXPECT_EQ(all[1].trainee, "ann");
+  EXPECT_EQ(all[1].task, "suture");
+  EXPECT_EQ(all[1].duration_s, 12.5);
+  EXPECT_EQ(all[1].created_at, 10);
+  const auto anns = training_.recordings(ann_);
+  ASSERT_EQ(anns.size(), 1u);
+  EXPECT_EQ(anns[0].id, ra);
+}
+
+TEST_F(TrainingRepoTest, OneRecordingPerSession) {
+  const auto s = training_.create_session(ann_, std::nullopt, "suture", 1);
+  training_.add_recording(s, 1.0, 10);
+  EXPECT_THROW(training_.add_recording(s, 2.0, 11), ConstraintError);
+  EXPECT_THROW(training_.add_recording(s + 100, 2.0, 11), ConstraintError) << "unknown session";
+  EXPECT_EQ(row_count(db(), "recordings"), 1);
+}
+
+TEST_F(TrainingRepoTest, ScoresCreateAndListWithFilter) {
+  const auto sa = training_.create_session(ann_, std::nullopt, "suture", 1);
+  const auto sb = training_.create_session(bob_, std::nullopt, "incision", 2);
+  const auto depth = training_.add_score(sa, "depth_error", 0.75, "mm", true, 10);
+  const auto time = training_.add_score(sa, "time", 95.0, "s", false, 11);
+  const auto other = training_.add_score(sb, "depth_error", 2.0, "mm", false, 12);
+  const auto all = training_.scores();
+  ASSERT_EQ(all.size(), 3u);
+  EXPECT_EQ(all[0].id, other);
+  EXPECT_EQ(all[1].id, time);
+  EXPECT_EQ(all[2].id, depth);
+  EXPECT_EQ(all[2].session_id, sa);
+  EXPECT_EQ(all[2].trainee, "ann");
+  EXPECT_EQ(all[2].task, "suture");
+  EXPECT_EQ(all[2].metric, "depth_error");
+  EXPECT_EQ(all[2].value, 0.75);
+  EXPECT_EQ(all[2].unit, "mm");
+  EXPECT_TRUE(all[2].passed);
+  EXPECT_FALSE(all[1].passed);
+  EXPECT_EQ(all[2].created_at, 10);
+  const auto anns = training_.scores(ann_);
+  ASSERT_EQ(anns.size(), 2u);
+  for (const auto& s : anns)
+    EXPECT_EQ(s.trainee, "ann");
+  EXPECT_EQ(training_.scores(bob_).size(), 1u);
+}
+
+TEST_F(TrainingRepoTest, OneScorePerSessionAndMetric) {
+  const auto sa = training_.create_session(ann_, std::nullopt, "suture", 1);
+  const auto sb = training_.create_session(ann_, std::nullopt, "suture", 2);
+  training_.add_score(sa, "time", 1.0, "s", true, 10);
+  EXPECT_THROW(training_.add_score(sa, "time", 2.0, "s", true, 11), ConstraintError);
+  EXPECT_NO_THROW(training_.add_score(sb, "time", 2.0, "s", true, 11)) << "another session";
+  EXPECT_NO_THROW(training_.add_score(sa, "depth", 2.0, "mm", true, 11)) << "another metric";
+  EXPECT_EQ(row_count(db(), "scores"), 3);
+}
+
+}  // namespace
+}  // namespace incise::db
