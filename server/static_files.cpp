@@ -46,7 +46,15 @@ Response serve_static(const Request& request, const std::filesystem::path& web_r
       path.empty() || path[0] != '/') {
     return json_error(http::status::bad_request, "illegal request path", version, keep_alive);
   }
-  std::filesystem::path file = web_root / path.substr(1);
+  // "//x" would make `web_root / "/x"` the absolute path "/x": refuse it with the other tricks.
+  if (path.find("//") != std::string::npos) {
+    return json_error(http::status::bad_request, "illegal request path", version, keep_alive);
+  }
+  const std::filesystem::path relative(path.substr(1));
+  if (relative.is_absolute()) {
+    return json_error(http::status::bad_request, "illegal request path", version, keep_alive);
+  }
+  std::filesystem::path file = web_root / relative;
   std::error_code ec;
   const bool is_asset = std::filesystem::is_regular_file(file, ec);
   if (!is_asset) {

@@ -27,6 +27,11 @@ std::optional<std::int64_t> parse_utc(std::string_view text) {
   } else {
     return std::nullopt;
   }
+  // Exactly "DDDD-DD-DDTDD:DD:DD": sscanf alone would also take signs and spaces inside fields.
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const bool separator = i == 4 || i == 7 || i == 10 || i == 13 || i == 16;
+    if (!separator && (text[i] < '0' || text[i] > '9')) return std::nullopt;
+  }
   int y, mo, d, h, mi, s;
   char tail;
   const std::string copy(text);
