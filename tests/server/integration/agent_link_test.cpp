@@ -1,0 +1,150 @@
+// The station-agent WebSocket of the real server, with the real incise-agent and with
+// misbehaving agents played by the test.
+#include <signal.h>
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "integration/server_fixture.h"
+#include "ws_client.h"
+
+namespace incise::server::test {
+namespace {
+
+using namespace std::chrono_literals;
+
+class AgentLink : public ServerTest {
+ protected:
+  std::unique_ptr<ChildProcess> start_agent() {
+    return std::make_unique<ChildProcess>(
+        std::vector<std::string>{INCISE_AGENT_BIN, "--server",
+                                 "ws://127.0.0.1:" + std::to_string(server().port()) + "/agent",
+                                 "--token", kStationToken, "--rate", "50"});
+  }
+
+  // Whether Station 1 reaches `online` within `timeout`, polling /api/stations.
+  bool station_1_becomes(bool online, std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    do {
+      if (station_1_online() == online) return true;
+      std::this_thread::sleep_for(25ms);
+    } while (std::chrono::steady_clock::now() < deadline);
+    return false;
+  }
+
+  bool station_1_online() {
+    for (const auto& s : as(kTrainee).get("/api/stations").json()) {
+      if (s["name"] == "Station 1") return s["online"].get<bool>();
+    }
+    return false;
+  }
+
+  std::unique_ptr<WsClient> connect() {
+    return std::make_unique<WsClient>("127.0.0.1", server().port());
+  }
+
+  static std::string hello(const std::string& token, int protocol = 1) {
+    return nlohmann::json{{"type", "hello"},
+                          {"protocol", protocol},
+                          {"station_token", token},
+                          {"agent", "server_integration_tests"}}
+        .dump();
+  }
+};
+
+TEST_F(AgentLink, TheRealAgentBringsTheStationOnlineUntilItStops) {
+  ASSERT_FALSE(station_1_online());
+  auto agent = start_agent();
+  EXPECT_TRUE(station_1_becomes(true, 3s)) << agent->stderr_text();
+  std::this_thread::sleep_for(300ms);  // device states flow meanwhile
+  EXPECT_TRUE(station_1_online());
+  agent->send_signal(SIGTERM);
+  EXPECT_EQ(agent->wait_for_exit(3s), 0) << agent->stderr_text();
+  EXPECT_TRUE(station_1_becomes(false, 3s));
+}
+
+TEST_F(AgentLink, MisbehavingAgentsAreClosedAndTheRealOneStays) {
+  auto agent = start_agent();
+  ASSERT_TRUE(station_1_becomes(true, 3s)) << agent->stderr_text();
+
+  {
+    auto ws = connect();
+    ws->send_text(hello("not-a-station-token"));
+    const auto event = ws->read();
+    EXPECT_TRUE(event.closed) << event.message;
+    EXPECT_EQ(event.close_code, 1008) << event.error;
+    EXPECT_EQ(event.close_reason, "unknown station token");
+  }
+  {
+    auto ws = connect();
+    ws->send_text(hello(kStationToken, 2));
+    const auto event = ws->read();
+    EXPECT_EQ(event.close_code, 1008) << event.error;
+    EXPECT_EQ(event.close_reason, "protocol 2 not supported (server speaks 1)");
+  }
+  {
+    auto ws = connect();
+    ws->send_binary({1, 0, 0, 0});
+    const auto event = ws->read();
+    EXPECT_EQ(event.close_code, 1008) << event.error;
+    EXPECT_EQ(event.close_reason, "the first message must be the hello");
+  }
+  {
+    // A valid hello with the same token as the real agent, then a frame shorter than a header.
+    auto ws = connect();
+    ws->send_text(hello(kStationToken));
+    const auto welcome = ws->read();
+    ASSERT_FALSE(welcome.closed) << welcome.close_code << " " << welcome.close_reason;
+    const auto w = nlohmann::json::parse(welcome.message, nullptr, false);
+    EXPECT_EQ(w["type"], "welcome") << welcome.message;
+    EXPECT_EQ(w["protocol"], 1);
+    EXPECT_EQ(w["station_name"], "Station 1");
+    ws->send_binary({1, 0, 0, 0, 0});
+    const auto event = ws->read();
+    EXPECT_TRUE(event.closed);
+    EXPECT_EQ(event.close_code, 1007) << event.error;
+    EXPECT_FALSE(event.close_reason.empty());
+  }
+  {
+    auto ws = connect();
+    ws->send_text(hello(kStationToken));
+    ASSERT_FALSE(ws->read().closed);
+    ws->send_binary(std::vector<std::uint8_t>(5000, 0));
+    const auto event = ws->read();
+    EXPECT_EQ(event.close_code, 1009) << event.error;
+    EXPECT_EQ(event.close_reason, "message exceeds 4096 bytes");
+  }
+  {
+    auto ws = connect();
+    ws->send_text(hello(kStationToken));
+    ASSERT_FALSE(ws->read().closed);
+    ws->send_text(R"({"type": "chat"})");
+    const auto event = ws->read();
+    EXPECT_EQ(event.close_code, 1008) << event.error;
+    EXPECT_EQ(event.close_reason, "text messages after the hello are not part of protocol 1");
+  }
+
+  // The real agent never noticed: still connected, on its first connection.
+  EXPECT_TRUE(station_1_online());
+  EXPECT_TRUE(agent->running());
+  const auto log = agent->stderr_text();
+  std::size_t connections = 0;
+  for (auto at = log.find("connected to "); at != std::string::npos;
+       at = log.find("connected to ", at + 1)) {
+    ++connections;
+  }
+  EXPECT_EQ(connections, 1u) << log;
+  EXPECT_EQ(log.find("link lost"), std::string::npos) << log;
+}
+
+TEST_F(AgentLink, OtherWebSocketPathsAreRefused) {
+  EXPECT_THROW(WsClient("127.0.0.1", server().port(), "/chat"), boost::system::system_error);
+}
+
+}  // namespace
+}  // namespace incise::server::test
