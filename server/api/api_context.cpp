@@ -12,7 +12,8 @@ const db::User& ApiContext::user() {
   const auto token = cookie(kSessionCookie);
   if (!token) throw ApiError(http::status::unauthorized, "not logged in");
   user_ = db::AuthSessionsRepo(app.db()).touch(*token, now, app.config().session_ttl_s);
-  if (!user_) throw ApiError(http::status::unauthorized, "not logged in (the session has ended or expired)");
+  if (!user_)
+    throw ApiError(http::status::unauthorized, "not logged in (the session has ended or expired)");
   return *user_;
 }
 

@@ -10,8 +10,7 @@ namespace {
 // A browser-session cookie (no Max-Age): the server enforces the inactivity expiry, so an active
 // person is never logged out by a cookie that was dated at login. `clear` deletes the cookie.
 std::string session_cookie(const AppState& app, const std::string& token, bool clear) {
-  std::string c =
-      std::string(kSessionCookie) + "=" + token + "; Path=/; HttpOnly; SameSite=Strict";
+  std::string c = std::string(kSessionCookie) + "=" + token + "; Path=/; HttpOnly; SameSite=Strict";
   if (clear) c += "; Max-Age=0";
   if (app.config().secure_cookies) c += "; Secure";
   return c;
