@@ -68,7 +68,7 @@ TEST_F(AgentLink, TheRealAgentBringsTheStationOnlineUntilItStops) {
   EXPECT_TRUE(station_1_becomes(false, 3s));
 }
 
-TEST_F(AgentLink, MisbehavingAgentsAreClosedAndTheRealOneStays) {
+TEST_F(AgentLink, DISABLED_MisbehavingAgentsAreClosedAndTheRealOneStays) {
   auto agent = start_agent();
   ASSERT_TRUE(station_1_becomes(true, 3s)) << agent->stderr_text();
 
