@@ -42,8 +42,8 @@ Statement& Statement::bind(int index, std::string_view text) {
   return *this;
 }
 
-Statement& Statement::bind_blob(int index, const std::vector<std::uint8_t>& bytes) {
-  // An empty vector has a null data(), which SQLite would bind as NULL: bind a zero-length blob.
+Statement& Statement::bind_blob(int index, std::span<const std::uint8_t> bytes) {
+  // An empty span may have a null data(), which SQLite would bind as NULL: bind a zero-length blob.
   check_bind(db_, bytes.empty()
                       ? sqlite3_bind_zeroblob(stmt_, index, 0)
                       : sqlite3_bind_blob(stmt_, index, bytes.data(),

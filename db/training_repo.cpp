@@ -1,9 +1,41 @@
 #include "db/training_repo.h"
 
+#include <cmath>
+#include <set>
+#include <stdexcept>
+#include <string_view>
+
 #include "db/db_error.h"
 #include "db/statement.h"
+#include "db/transaction.h"
 
 namespace incise::db {
+
+namespace {
+
+constexpr const char* session_columns =
+    "SELECT se.id, se.trainee_id, u.username, se.station_id, COALESCE(st.name, ''), se.task, "
+    "se.state, se.started_at, se.ended_at FROM sessions se JOIN users u ON u.id = se.trainee_id "
+    "LEFT JOIN stations st ON st.id = se.station_id ";
+
+SessionRecord read_session(const Statement& q) {
+  return SessionRecord{q.int64(0), q.int64(1), q.text(2),           q.optional_int64(3), q.text(4),
+                       q.text(5),  q.text(6),  q.optional_int64(7), q.optional_int64(8)};
+}
+
+// Checked before the transaction, so that bad input is reported as such and writes nothing.
+void check_scores(std::span<const ScoreInput> scores) {
+  std::set<std::string_view> seen;
+  for (const ScoreInput& s : scores) {
+    if (s.metric.empty()) throw std::invalid_argument("score metric name is empty");
+    if (!seen.insert(s.metric).second)
+      throw std::invalid_argument("score metric " + s.metric + " appears twice");
+    if (!std::isfinite(s.value))
+      throw std::invalid_argument("score " + s.metric + " is not finite");
+  }
+}
+
+}  // namespace
 
 std::int64_t TrainingRepo::create_session(std::int64_t trainee_id,
                                           std::optional<std::int64_t> station_id,
@@ -58,32 +90,60 @@ std::int64_t TrainingRepo::add_score(std::int64_t session_id, const std::string&
   return db_.last_insert_id();
 }
 
+void TrainingRepo::add_scores(std::int64_t session_id, std::span<const ScoreInput> scores,
+                              std::int64_t now) {
+  check_scores(scores);
+  Transaction tx(db_);
+  auto session = db_.prepare("SELECT 1 FROM sessions WHERE id = ?");
+  if (!session.bind(1, session_id).step())
+    throw NotFound("session " + std::to_string(session_id) + " does not exist");
+  auto insert = db_.prepare(
+      "INSERT INTO scores (session_id, metric, value, unit, passed, created_at) VALUES (?, ?, ?, "
+      "?, ?, ?) ON CONFLICT (session_id, metric) DO UPDATE SET value = excluded.value, unit = "
+      "excluded.unit, passed = excluded.passed, created_at = excluded.created_at");
+  for (const ScoreInput& s : scores) {
+    insert.reset();
+    insert.bind(1, session_id)
+        .bind(2, s.metric)
+        .bind(3, s.value)
+        .bind(4, s.unit)
+        .bind(5, s.passed ? 1 : 0)
+        .bind(6, now)
+        .run();
+  }
+  tx.commit();
+}
+
+std::optional<SessionRecord> TrainingRepo::find_session(std::int64_t id) {
+  auto q = db_.prepare(std::string(session_columns) + "WHERE se.id = ?");
+  q.bind(1, id);
+  if (!q.step()) return std::nullopt;
+  return read_session(q);
+}
+
 std::vector<SessionRecord> TrainingRepo::sessions(std::optional<std::int64_t> trainee_id) {
-  auto q = db_.prepare(
-      std::string("SELECT se.id, se.trainee_id, u.username, se.station_id, COALESCE(st.name, ''), "
-                  "se.task, se.state, se.started_at, se.ended_at FROM sessions se JOIN users u ON "
-                  "u.id = se.trainee_id LEFT JOIN stations st ON st.id = se.station_id ") +
-      (trainee_id ? "WHERE se.trainee_id = ? " : "") + "ORDER BY se.created_at DESC, se.id DESC");
+  auto q =
+      db_.prepare(std::string(session_columns) + (trainee_id ? "WHERE se.trainee_id = ? " : "") +
+                  "ORDER BY se.created_at DESC, se.id DESC");
   if (trainee_id) q.bind(1, *trainee_id);
   std::vector<SessionRecord> out;
-  while (q.step()) {
-    out.push_back(SessionRecord{q.int64(0), q.int64(1), q.text(2), q.optional_int64(3), q.text(4),
-                                q.text(5), q.text(6), q.optional_int64(7), q.optional_int64(8)});
-  }
+  while (q.step())
+    out.push_back(read_session(q));
   return out;
 }
 
 std::vector<RecordingRecord> TrainingRepo::recordings(std::optional<std::int64_t> trainee_id) {
   auto q = db_.prepare(
-      std::string("SELECT r.id, r.session_id, u.username, se.task, r.duration_s, r.created_at FROM "
-                  "recordings r JOIN sessions se ON se.id = r.session_id JOIN users u ON u.id = "
-                  "se.trainee_id ") +
+      std::string(
+          "SELECT r.id, r.session_id, u.username, se.task, r.duration_s, r.created_at, r.state "
+          "FROM recordings r JOIN sessions se ON se.id = r.session_id "
+          "JOIN users u ON u.id = se.trainee_id ") +
       (trainee_id ? "WHERE se.trainee_id = ? " : "") + "ORDER BY r.created_at DESC, r.id DESC");
   if (trainee_id) q.bind(1, *trainee_id);
   std::vector<RecordingRecord> out;
   while (q.step()) {
-    out.push_back(
-        RecordingRecord{q.int64(0), q.int64(1), q.text(2), q.text(3), q.real(4), q.int64(5)});
+    out.push_back(RecordingRecord{q.int64(0), q.int64(1), q.text(2), q.text(3), q.real(4),
+                                  q.int64(5), q.text(6)});
   }
   return out;
 }

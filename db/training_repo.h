@@ -2,6 +2,7 @@
 // Training records: simulation sessions, their recordings and their scores.
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,7 @@ struct RecordingRecord {
   std::string task;
   double duration_s = 0;
   std::int64_t created_at = 0;
+  std::string state;  // "recording" while the recorder appends, then "complete"
 };
 
 struct ScoreRecord {
@@ -42,6 +44,14 @@ struct ScoreRecord {
   std::int64_t created_at = 0;
 };
 
+// One metric's score of an attempt, for add_scores.
+struct ScoreInput {
+  std::string metric;
+  double value = 0;  // finite
+  std::string unit;
+  bool passed = false;
+};
+
 class TrainingRepo {
  public:
   explicit TrainingRepo(Database& db) : db_(db) {}
@@ -53,6 +63,13 @@ class TrainingRepo {
   std::int64_t add_recording(std::int64_t session_id, double duration_s, std::int64_t now);
   std::int64_t add_score(std::int64_t session_id, const std::string& metric, double value,
                          const std::string& unit, bool passed, std::int64_t now);
+  // Stores an attempt's scores in ONE transaction: all of them or, on any error, none. A score
+  // for a metric the session already has replaces it (a re-scored attempt). Throws
+  // std::invalid_argument before writing for an empty or repeated metric name or a non-finite
+  // value, NotFound for an unknown session.
+  void add_scores(std::int64_t session_id, std::span<const ScoreInput> scores, std::int64_t now);
+
+  std::optional<SessionRecord> find_session(std::int64_t id);
 
   // `trainee_id` restricts to one trainee's records. Newest first.
   std::vector<SessionRecord> sessions(std::optional<std::int64_t> trainee_id = std::nullopt);

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "db/recordings_repo.h"
 #include "db/statement.h"
 #include "temp_database.h"
 
@@ -16,6 +17,16 @@ namespace {
 
 using test::table_exists;
 using test::TempDatabase;
+
+// The column names of a table, in order.
+std::vector<std::string> columns(Database& db, const std::string& table) {
+  auto q = db.prepare("SELECT name FROM pragma_table_info(?) ORDER BY cid");
+  q.bind(1, table);
+  std::vector<std::string> out;
+  while (q.step())
+    out.push_back(q.text(0));
+  return out;
+}
 
 int newest_embedded() {
   int newest = 0;
@@ -133,6 +144,62 @@ TEST_F(MigrationsTest, EmbeddedSchemaEnforcesItsChecks) {
       "10, 10, 0)");
   q.bind(1, station).bind(2, user);
   EXPECT_THROW(q.run(), ConstraintError) << "an empty interval";
+}
+
+TEST_F(MigrationsTest, FreshDatabaseGetsTheRecordingColumns) {
+  apply_migrations(db());
+  EXPECT_EQ(columns(db(), "recordings"),
+            (std::vector<std::string>{"id", "session_id", "duration_s", "created_at", "scene",
+                                      "scene_version", "seed", "tick_hz", "state",
+                                      "final_state_hash"}));
+}
+
+// A database a build with only 001 created, with a recording and a chunk in it, is upgraded in
+// place: the old rows survive, read as complete recordings of an unknown scene.
+TEST_F(MigrationsTest, RecordingsUpgradeFromTheInitialSchemaKeepsOldRows) {
+  const auto& all = embedded_migrations();
+  ASSERT_GE(all.size(), 2u);
+  ASSERT_EQ(all[1].name, "002_recordings.sql");
+  EXPECT_EQ(apply_migrations(db(), {all[0]}), 1);
+  const auto user = test::add_user(db(), "ann");
+  db().prepare(
+          "INSERT INTO sessions (trainee_id, task, state, created_at) VALUES (?, 't', "
+          "'finished', 5)")
+      .bind(1, user)
+      .run();
+  const auto session = db().last_insert_id();
+  db().prepare("INSERT INTO recordings (session_id, duration_s, created_at) VALUES (?, 95.5, 7)")
+      .bind(1, session)
+      .run();
+  const auto recording = db().last_insert_id();
+  const std::vector<std::uint8_t> bytes = {1, 2, 3, 0, 255};
+  db().prepare("INSERT INTO recording_chunks (recording_id, seq, t0_us, data) VALUES (?, 0, 0, ?)")
+      .bind(1, recording)
+      .bind_blob(2, bytes)
+      .run();
+
+  EXPECT_EQ(apply_migrations(db()), static_cast<int>(all.size()) - 1);
+  EXPECT_EQ(schema_version(db()), newest_embedded());
+  RecordingsRepo recordings(db());
+  const auto meta = recordings.find(recording);
+  ASSERT_TRUE(meta.has_value());
+  EXPECT_EQ(meta->session_id, session);
+  EXPECT_EQ(meta->duration_s, 95.5);
+  EXPECT_EQ(meta->created_at, 7);
+  EXPECT_EQ(meta->state, "complete");
+  EXPECT_EQ(meta->scene, "");
+  EXPECT_EQ(meta->scene_version, "");
+  EXPECT_EQ(meta->seed, 0);
+  EXPECT_EQ(meta->tick_hz, 0.0);
+  const auto chunks = recordings.chunks(recording);
+  ASSERT_EQ(chunks.size(), 1u);
+  EXPECT_EQ(chunks[0].data, bytes);
+  EXPECT_TRUE(recordings.unfinished().empty());
+
+  // The new state column keeps its CHECK on upgraded rows too.
+  auto bad = db().prepare("UPDATE recordings SET state = 'paused' WHERE id = ?");
+  bad.bind(1, recording);
+  EXPECT_THROW(bad.run(), ConstraintError);
 }
 
 }  // namespace

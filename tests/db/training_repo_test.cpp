@@ -4,6 +4,16 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "db/recordings_repo.h"
 #include "db/statement.h"
 #include "temp_database.h"
 
@@ -164,6 +174,129 @@ TEST_F(TrainingRepoTest, OneScorePerSessionAndMetric) {
   EXPECT_NO_THROW(training_.add_score(sb, "time", 2.0, "s", true, 11)) << "another session";
   EXPECT_NO_THROW(training_.add_score(sa, "depth", 2.0, "mm", true, 11)) << "another metric";
   EXPECT_EQ(row_count(db(), "scores"), 3);
+}
+
+TEST_F(TrainingRepoTest, FindSessionMatchesTheListedRecord) {
+  const auto id = training_.create_session(ann_, station_, "suture", 100);
+  training_.create_session(bob_, std::nullopt, "incision", 200);
+  training_.set_session_state(id, "running", 110);
+  const auto found = training_.find_session(id);
+  ASSERT_TRUE(found.has_value());
+  const auto listed = training_.sessions(ann_).at(0);
+  EXPECT_EQ(found->id, id);
+  EXPECT_EQ(found->trainee_id, listed.trainee_id);
+  EXPECT_EQ(found->trainee, "ann");
+  EXPECT_EQ(found->station_id, station_);
+  EXPECT_EQ(found->station, "s1");
+  EXPECT_EQ(found->task, "suture");
+  EXPECT_EQ(found->state, "running");
+  EXPECT_EQ(found->started_at, 110);
+  EXPECT_EQ(found->ended_at, std::nullopt);
+  EXPECT_EQ(training_.find_session(4242), std::nullopt);
+}
+
+TEST_F(TrainingRepoTest, RecordingsListShowWhetherTheyAreStillRecording) {
+  const auto old = training_.create_session(ann_, std::nullopt, "suture", 1);
+  const auto live = training_.create_session(ann_, std::nullopt, "suture", 2);
+  training_.add_recording(old, 10.0, 10);
+  RecordingsRepo(db()).create(live, "scenes/suture.json", "v1", 1, 500.0, 20);
+  const auto all = training_.recordings();
+  ASSERT_EQ(all.size(), 2u);
+  EXPECT_EQ(all[0].session_id, live);
+  EXPECT_EQ(all[0].state, "recording");
+  EXPECT_EQ(all[1].session_id, old);
+  EXPECT_EQ(all[1].state, "complete");
+}
+
+// Each score of ann's session as metric -> (value, passed, created_at).
+std::map<std::string, std::tuple<double, bool, std::int64_t>> scores_by_metric(
+    TrainingRepo& training, std::int64_t session) {
+  std::map<std::string, std::tuple<double, bool, std::int64_t>> out;
+  for (const auto& s : training.scores())
+    if (s.session_id == session) out[s.metric] = {s.value, s.passed, s.created_at};
+  return out;
+}
+
+TEST_F(TrainingRepoTest, AddScoresStoresEveryScore) {
+  const auto s = training_.create_session(ann_, std::nullopt, "suture", 1);
+  const std::vector<ScoreInput> scores = {{"completion_time_s", 80.5, "s", true},
+                                          {"path_length_m", 1.75, "m", false},
+                                          {"targets_reached", 1.0, "", true}};
+  training_.add_scores(s, scores, 50);
+  const auto all = training_.scores();
+  ASSERT_EQ(all.size(), 3u);
+  for (const auto& input : scores) {
+    const auto stored = std::find_if(
+        all.begin(), all.end(), [&](const ScoreRecord& r) { return r.metric == input.metric; });
+    ASSERT_NE(stored, all.end()) << input.metric;
+    EXPECT_EQ(stored->session_id, s);
+    EXPECT_EQ(stored->value, input.value);
+    EXPECT_EQ(stored->unit, input.unit);
+    EXPECT_EQ(stored->passed, input.passed);
+    EXPECT_EQ(stored->created_at, 50);
+  }
+  training_.add_scores(s, {}, 60);
+  EXPECT_EQ(row_count(db(), "scores"), 3) << "no scores is a no-op";
+}
+
+TEST_F(TrainingRepoTest, AddScoresReplacesTheSameMetricsAndKeepsTheOthers) {
+  const auto s = training_.create_session(ann_, std::nullopt, "suture", 1);
+  const auto other = training_.create_session(ann_, std::nullopt, "suture", 2);
+  training_.add_score(s, "completion_time_s", 80.0, "s", true, 10);
+  training_.add_score(s, "path_length_m", 1.0, "m", true, 10);
+  training_.add_score(other, "completion_time_s", 70.0, "s", true, 10);
+  const std::vector<ScoreInput> rescored = {{"completion_time_s", 130.0, "s", false},
+                                            {"peak_force_n", 2.0, "N", true}};
+  training_.add_scores(s, rescored, 20);
+  const auto after = scores_by_metric(training_, s);
+  ASSERT_EQ(after.size(), 3u);
+  EXPECT_EQ(after.at("completion_time_s"), std::make_tuple(130.0, false, std::int64_t{20}));
+  EXPECT_EQ(after.at("path_length_m"), std::make_tuple(1.0, true, std::int64_t{10}));
+  EXPECT_EQ(after.at("peak_force_n"), std::make_tuple(2.0, true, std::int64_t{20}));
+  EXPECT_EQ(scores_by_metric(training_, other).at("completion_time_s"),
+            std::make_tuple(70.0, true, std::int64_t{10}))
+      << "another session's score of the same metric";
+}
+
+TEST_F(TrainingRepoTest, AddScoresIsAllOrNothing) {
+  const auto s = training_.create_session(ann_, std::nullopt, "suture", 1);
+  training_.add_score(s, "completion_time_s", 80.0, "s", true, 10);
+  // The storage refuses the third score, after the first two were written in the transaction.
+  db().exec(
+      "CREATE TRIGGER refuse_boom BEFORE INSERT ON scores WHEN NEW.metric = 'boom' BEGIN SELECT "
+      "RAISE(ABORT, 'boom refused'); END");
+  const std::vector<ScoreInput> scores = {{"completion_time_s", 130.0, "s", false},
+                                          {"path_length_m", 1.0, "m", true},
+                                          {"boom", 1.0, "", true},
+                                          {"peak_force_n", 2.0, "N", true}};
+  EXPECT_THROW(training_.add_scores(s, scores, 20), ConstraintError);
+  const auto after = scores_by_metric(training_, s);
+  ASSERT_EQ(after.size(), 1u) << "a score written before the failure survived";
+  EXPECT_EQ(after.at("completion_time_s"), std::make_tuple(80.0, true, std::int64_t{10}))
+      << "a replaced score was not restored";
+
+  // The connection is usable afterwards: no transaction was left open.
+  db().exec("DROP TRIGGER refuse_boom");
+  training_.add_scores(s, scores, 30);
+  EXPECT_EQ(scores_by_metric(training_, s).size(), 4u);
+}
+
+TEST_F(TrainingRepoTest, AddScoresRefusesBadInputBeforeWriting) {
+  const auto s = training_.create_session(ann_, std::nullopt, "suture", 1);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  const std::vector<std::vector<ScoreInput>> bad = {
+      {{"a", 1.0, "", true}, {"b", nan, "", true}},
+      {{"a", 1.0, "", true}, {"b", -inf, "", true}},
+      {{"a", 1.0, "", true}, {"", 1.0, "", true}},
+      {{"a", 1.0, "", true}, {"b", 1.0, "", true}, {"a", 2.0, "", false}},
+  };
+  for (const auto& scores : bad)
+    EXPECT_THROW(training_.add_scores(s, scores, 20), std::invalid_argument);
+  EXPECT_EQ(row_count(db(), "scores"), 0);
+  const std::vector<ScoreInput> good = {{"a", 1.0, "", true}};
+  EXPECT_THROW(training_.add_scores(s + 100, good, 20), NotFound);
+  EXPECT_EQ(row_count(db(), "scores"), 0);
 }
 
 }  // namespace

@@ -1,0 +1,108 @@
+#include "curriculum/metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string_view>
+
+#include "curriculum/proficiency.h"
+
+namespace incise::curriculum {
+
+namespace {
+
+double norm(const std::array<double, 3>& v) {
+  return std::hypot(v[0], v[1], v[2]);
+}
+
+double distance(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+  return std::hypot(b[0] - a[0], b[1] - a[1], b[2] - a[2]);
+}
+
+bool all_finite(const std::array<double, 3>& v) {
+  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
+
+[[noreturn]] void bad_sample(std::size_t index, std::string_view reason) {
+  std::ostringstream message;
+  message << "sample " << index << ": " << reason;
+  throw std::invalid_argument(message.str());
+}
+
+// Checked before any arithmetic, so that a NaN cannot hide inside a max or a sum.
+void check_samples(std::span<const ToolSample> samples) {
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const ToolSample& s = samples[i];
+    if (!std::isfinite(s.t_s)) bad_sample(i, "t_s is not finite");
+    if (!all_finite(s.tip_m)) bad_sample(i, "tip_m is not finite");
+    if (!all_finite(s.force_n)) bad_sample(i, "force_n is not finite");
+    if (i > 0 && s.t_s < samples[i - 1].t_s) {
+      std::ostringstream reason;
+      reason.precision(17);
+      reason << "t_s " << s.t_s << " is before the previous sample's " << samples[i - 1].t_s;
+      bad_sample(i, reason.str());
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<MetricValue> basic_metrics(std::span<const ToolSample> samples) {
+  check_samples(samples);
+
+  double path_length = 0;
+  double peak_force = 0;
+  double force_squared_integral = 0;  // [N^2 s]
+  double previous_force_squared = 0;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const double force = norm(samples[i].force_n);
+    const double force_squared = force * force;
+    peak_force = std::max(peak_force, force);
+    if (i > 0) {
+      path_length += distance(samples[i - 1].tip_m, samples[i].tip_m);
+      const double dt = samples[i].t_s - samples[i - 1].t_s;
+      force_squared_integral += 0.5 * dt * (previous_force_squared + force_squared);
+    }
+    previous_force_squared = force_squared;
+  }
+  const double duration = samples.size() < 2 ? 0.0 : samples.back().t_s - samples.front().t_s;
+  const double rms_force = duration > 0 ? std::sqrt(force_squared_integral / duration) : 0.0;
+
+  return {
+      {"completion_time_s", duration, "s", "Time from the first to the last recorded sample."},
+      {"path_length_m", path_length, "m", "Total distance travelled by the tool tip."},
+      {"peak_force_n", peak_force, "N", "Largest force on the tool at any sample."},
+      {"rms_force_n", rms_force, "N", "Root mean square of the force on the tool over time."},
+  };
+}
+
+std::vector<MetricResult> score_attempt(const Task& task, std::span<const MetricValue> values) {
+  std::vector<MetricResult> results;
+  results.reserve(task.metrics.size());
+  for (const MetricRequirement& requirement : task.metrics) {
+    const auto found = std::find_if(values.begin(), values.end(),
+                                    [&](const MetricValue& v) { return v.key == requirement.key; });
+    MetricResult result;
+    result.key = requirement.key;
+    result.threshold = requirement.threshold;
+    if (found == values.end()) {
+      result.unit = requirement.unit;
+      result.measured = false;
+      result.passed = false;
+    } else {
+      result.value = found->value;
+      result.unit = found->unit;
+      result.passed = meets_threshold(requirement.threshold, found->value);
+    }
+    results.push_back(std::move(result));
+  }
+  return results;
+}
+
+bool attempt_passed(std::span<const MetricResult> results) {
+  return !results.empty() && std::all_of(results.begin(), results.end(),
+                                         [](const MetricResult& r) { return r.passed; });
+}
+
+}  // namespace incise::curriculum
