@@ -120,6 +120,26 @@ SolverSettings read_solver(const json& value) {
   return solver;
 }
 
+// Every member optional: the defaults of SphereTool.
+SphereTool read_tool(const json& value) {
+  const JsonObjectReader object(value, "tool", {"radius", "stiffness", "damping"});
+  SphereTool tool;
+  if (object.has("radius")) tool.radius = object.number("radius");
+  if (object.has("stiffness")) tool.stiffness = object.number("stiffness");
+  if (object.has("damping")) tool.damping = object.number("damping");
+  return tool;
+}
+
+ViewSpec read_view(const json& value) {
+  const JsonObjectReader object(value, "view", {"eye", "target", "up", "fov_y_deg"});
+  ViewSpec view;
+  view.eye = object.vec3("eye");
+  view.target = object.vec3("target");
+  if (object.has("up")) view.up = object.vec3("up");
+  if (object.has("fov_y_deg")) view.fov_y_deg = object.number("fov_y_deg");
+  return view;
+}
+
 // The elements of an optional array member, each read by read(element, path).
 template <typename T, typename Read>
 std::vector<T> read_list(const JsonObjectReader& object, std::string_view key, Read read) {
@@ -141,8 +161,8 @@ Scene parse_scene(const json& value) {
   if (!value.is_object()) {
     throw SceneError("", "the scene must be a JSON object (got " + describe(value) + ")");
   }
-  const JsonObjectReader root(value, "",
-                              {"mesh", "material", "constraints", "loads", "gravity", "solver"});
+  const JsonObjectReader root(
+      value, "", {"mesh", "material", "constraints", "loads", "gravity", "solver", "tool", "view"});
   Scene scene;
   scene.mesh = read_mesh(root.required("mesh"));
   scene.material = read_material(root.required("material"));
@@ -150,6 +170,8 @@ Scene parse_scene(const json& value) {
   scene.loads = read_list<Load>(root, "loads", read_load);
   if (root.has("gravity")) scene.gravity = root.vec3("gravity");
   scene.solver = read_solver(root.required("solver"));
+  if (root.has("tool")) scene.tool = read_tool(root.required("tool"));
+  if (root.has("view")) scene.view = read_view(root.required("view"));
   validate_scene(scene);
   return scene;
 }

@@ -19,9 +19,12 @@ namespace incise::sim {
 //                     | {"where": ..., "displace": [dx, dy, dz], "axes"?: "xyz"} ],
 //     "loads"?: [ {"where": ..., "force": [fx, fy, fz]} ],
 //     "gravity"?: [gx, gy, gz],
-//     "solver": {"integrator": "symplectic_euler", "dt": number, "steps": integer} }
-// Members marked ? may be left out: damping 0.1, no constraints or loads, no gravity, and a
-// displace's axes "xyz". "fix" and "axes" are non-empty subsets of "xyz" in any order. Unknown
+//     "solver": {"integrator": "symplectic_euler", "dt": number, "steps": integer},
+//     "tool"?: {"radius"?: number, "stiffness"?: number, "damping"?: number},
+//     "view"?: {"eye": [x, y, z], "target": [x, y, z], "up"?: [x, y, z], "fov_y_deg"?: number} }
+// Members marked ? may be left out: damping 0.1, no constraints or loads, no gravity, a
+// displace's axes "xyz", no tool (a tool's members default as in SphereTool), no view (its up
+// +z, its fov_y_deg 45). "fix" and "axes" are non-empty subsets of "xyz" in any order. Unknown
 // members are rejected, so that a misspelt optional member is not silently ignored. After the
 // shape, validate_scene checks the value ranges.
 // Throws SceneError naming the JSON path of the first problem, e.g.

@@ -2,9 +2,11 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "sim/core/types.h"
+#include "sim/interact/sphere_tool.h"
 
 namespace incise::sim {
 
@@ -69,13 +71,24 @@ struct SolverSettings {
   std::int64_t steps = 0;                                // "steps", >= 1
 };
 
+// Where a live view of the scene looks from, as plain values (the renderer makes a camera of it).
+struct ViewSpec {
+  Vec3 eye = Vec3::Zero();     // "eye": camera position [m]
+  Vec3 target = Vec3::Zero();  // "target": the point looked at [m], not the eye
+  Vec3 up = Vec3::UnitZ();     // "up": roughly up on screen; not parallel to target - eye
+  Real fov_y_deg = 45;         // "fov_y_deg": vertical field of view [deg], in (0, 180)
+};
+
 struct Scene {
   MeshSpec mesh;                        // "mesh"
   Material material;                    // "material"
   std::vector<Constraint> constraints;  // "constraints"
   std::vector<Load> loads;              // "loads"
   Vec3 gravity = Vec3::Zero();          // "gravity" [m/s^2]
-  SolverSettings solver;                // "solver"
+  SolverSettings solver;                // "solver"; live sessions step with solver.dt and
+                                        // ignore solver.steps (except for a "displace" ramp)
+  std::optional<SphereTool> tool;       // "tool": the probe of a live session, if any
+  std::optional<ViewSpec> view;         // "view": the live view's camera, if given
 };
 
 // Upper bound on mesh.box.cells' product, so that a typo cannot ask for more memory than a

@@ -41,6 +41,23 @@ void validate_selection(const std::string& path, const Selection& selection) {
   }
 }
 
+void validate_view(const ViewSpec& view) {
+  require_finite("view.eye", view.eye);
+  require_finite("view.target", view.target);
+  require_finite("view.up", view.up);
+  require_finite("view.fov_y_deg", view.fov_y_deg);
+  const Vec3 forward = view.target - view.eye;
+  if (!(forward.norm() > 0)) throw SceneError("view.target", "must differ from view.eye");
+  // A camera basis needs an up direction with a component across the line of sight.
+  if (!(forward.normalized().cross(view.up).norm() > 1e-6 * view.up.norm())) {
+    throw SceneError("view.up", "must not be zero or parallel to target - eye");
+  }
+  if (!(view.fov_y_deg > 0 && view.fov_y_deg < 180)) {
+    throw SceneError("view.fov_y_deg",
+                     "must be in (0, 180) (got " + format_number(view.fov_y_deg) + ")");
+  }
+}
+
 }  // namespace
 
 std::string format_number(Real value) {
@@ -91,6 +108,17 @@ void validate_scene(const Scene& scene) {
     require_finite(path + ".force", scene.loads[l].force);
   }
   require_finite("gravity", scene.gravity);
+
+  if (scene.tool) {
+    require_positive("tool.radius", scene.tool->radius);
+    require_positive("tool.stiffness", scene.tool->stiffness);
+    require_finite("tool.damping", scene.tool->damping);
+    if (!(scene.tool->damping >= 0)) {
+      throw SceneError("tool.damping",
+                       "must not be negative (got " + format_number(scene.tool->damping) + ")");
+    }
+  }
+  if (scene.view) validate_view(*scene.view);
 
   require_positive("solver.dt", scene.solver.dt);
   if (scene.solver.steps < 1) {

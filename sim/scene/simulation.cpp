@@ -86,10 +86,56 @@ void Simulation::update_prescribed_positions() {
 
 void Simulation::step() {
   forces_ = external_forces_;
+  advance();
+}
+
+void Simulation::step(const Points& additional_forces) {
+  if (additional_forces.rows() != mesh_.num_nodes()) {
+    throw std::invalid_argument("additional forces have " +
+                                std::to_string(additional_forces.rows()) + " rows for " +
+                                std::to_string(mesh_.num_nodes()) + " nodes");
+  }
+  forces_ = external_forces_ + additional_forces;
+  advance();
+}
+
+// The rest of a step once forces_ holds the external forces.
+void Simulation::advance() {
   model_.add_forces(mesh_.x, mesh_.v, forces_);
   update_prescribed_positions();
   symplectic_euler_step(dt_, gravity_, inv_mass_, prescribed_, forces_, mesh_.x, mesh_.v);
   ++steps_taken_;
+}
+
+SimulationState Simulation::save_state() const {
+  return {mesh_.x, mesh_.v, steps_taken_};
+}
+
+void Simulation::restore_state(const SimulationState& state) {
+  const auto check = [this](const Points& array, const char* name) {
+    if (array.rows() != mesh_.num_nodes()) {
+      throw std::invalid_argument(std::string("state ") + name + " have " +
+                                  std::to_string(array.rows()) + " rows for " +
+                                  std::to_string(mesh_.num_nodes()) + " nodes");
+    }
+  };
+  check(state.positions, "positions");
+  check(state.velocities, "velocities");
+  if (state.steps_taken < 0) {
+    throw std::invalid_argument("state steps_taken is negative (" +
+                                std::to_string(state.steps_taken) + ")");
+  }
+  mesh_.x = state.positions;  // same size: no allocation
+  mesh_.v = state.velocities;
+  steps_taken_ = state.steps_taken;
+  // The prescribed positions as the uninterrupted run left them after step steps_taken - 1 (the
+  // rest before the first step); the same expression as update_prescribed_positions, so that the
+  // values are bitwise the same.
+  if (ramping_) {
+    const std::int64_t ramped = std::min(steps_taken_, ramp_steps_);
+    const Real scale = static_cast<Real>(ramped) / static_cast<Real>(ramp_steps_);
+    prescribed_.position.noalias() = mesh_.rest + scale * prescribed_displacement_;
+  }
 }
 
 Real Simulation::max_speed() const {

@@ -22,7 +22,10 @@ json good_scene() {
     ],
     "loads": [{"where": {"box": [[0, 0, 0.03], [0.1, 0.02, 0.03]]}, "force": [0, 0, -0.5]}],
     "gravity": [0, 0, -9.81],
-    "solver": {"integrator": "symplectic_euler", "dt": 1e-4, "steps": 10000}
+    "solver": {"integrator": "symplectic_euler", "dt": 1e-4, "steps": 10000},
+    "tool": {"radius": 0.004, "stiffness": 250, "damping": 0.01},
+    "view": {"eye": [0.05, -0.1, 0.1], "target": [0.05, 0.01, 0.015], "up": [0, 0, 1],
+             "fov_y_deg": 35}
   })");
 }
 
@@ -49,6 +52,29 @@ TEST(ParseScene, ReadsEveryMember) {
   EXPECT_EQ(scene.solver.integrator, Integrator::symplectic_euler);
   EXPECT_EQ(scene.solver.dt, 1e-4);
   EXPECT_EQ(scene.solver.steps, 10000);
+  ASSERT_TRUE(scene.tool.has_value());
+  EXPECT_EQ(scene.tool->radius, 0.004);
+  EXPECT_EQ(scene.tool->stiffness, 250);
+  EXPECT_EQ(scene.tool->damping, 0.01);
+  ASSERT_TRUE(scene.view.has_value());
+  EXPECT_EQ(scene.view->eye, Vec3(0.05, -0.1, 0.1));
+  EXPECT_EQ(scene.view->target, Vec3(0.05, 0.01, 0.015));
+  EXPECT_EQ(scene.view->up, Vec3(0, 0, 1));
+  EXPECT_EQ(scene.view->fov_y_deg, 35);
+}
+
+TEST(ParseScene, ToolAndViewMembersHaveDefaults) {
+  json value = good_scene();
+  value["tool"] = json::object();
+  value["view"].erase("up");
+  value["view"].erase("fov_y_deg");
+  const Scene scene = parse_scene(value);
+  ASSERT_TRUE(scene.tool.has_value());
+  EXPECT_EQ(scene.tool->radius, SphereTool{}.radius);
+  EXPECT_EQ(scene.tool->stiffness, SphereTool{}.stiffness);
+  EXPECT_EQ(scene.tool->damping, SphereTool{}.damping);
+  EXPECT_EQ(scene.view->up, Vec3::UnitZ());
+  EXPECT_EQ(scene.view->fov_y_deg, 45);
 }
 
 TEST(ParseScene, OptionalMembersHaveDefaults) {
@@ -58,7 +84,11 @@ TEST(ParseScene, OptionalMembersHaveDefaults) {
   value.erase("gravity");
   value["material"].erase("damping");
   value["solver"]["steps"] = 1e4;  // an integral float counts as an integer
+  value.erase("tool");
+  value.erase("view");
   const Scene scene = parse_scene(value);
+  EXPECT_FALSE(scene.tool.has_value());
+  EXPECT_FALSE(scene.view.has_value());
   EXPECT_TRUE(scene.constraints.empty());
   EXPECT_TRUE(scene.loads.empty());
   EXPECT_EQ(scene.gravity, Vec3::Zero());
@@ -152,9 +182,26 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"/solver/steps", "\"many\"", "solver.steps: must be an integer (got \"many\")"},
         BadCase{"/solver/order", "2",
                 "solver.order: unknown key (expected one of: integrator, dt, steps)"},
+        BadCase{"/tool", "0.005", "tool: must be an object (got 0.005)"},
+        BadCase{"/tool/radius", "0", "tool.radius: must be positive (got 0)"},
+        BadCase{"/tool/radius", "\"big\"", "tool.radius: must be a number (got \"big\")"},
+        BadCase{"/tool/stiffness", "-300", "tool.stiffness: must be positive (got -300)"},
+        BadCase{"/tool/damping", "-0.1", "tool.damping: must not be negative (got -0.1)"},
+        BadCase{"/tool/shape", "\"sphere\"",
+                "tool.shape: unknown key (expected one of: radius, stiffness, damping)"},
+        BadCase{"/view/eye", nullptr, "view.eye: is required"},
+        BadCase{"/view/target", "[0, 0]", "view.target: must be an array of 3 numbers (got [0,0])"},
+        BadCase{"/view/target", "[0.05, -0.1, 0.1]", "view.target: must differ from view.eye"},
+        BadCase{"/view/up", "[0, 0, 0]", "view.up: must not be zero or parallel to target - eye"},
+        BadCase{"/view/up", "[0, -0.11, 0.085]",
+                "view.up: must not be zero or parallel to target - eye"},
+        BadCase{"/view/fov_y_deg", "180", "view.fov_y_deg: must be in (0, 180) (got 180)"},
+        BadCase{"/view/fov_y_deg", "0", "view.fov_y_deg: must be in (0, 180) (got 0)"},
+        BadCase{"/view/near", "0.01",
+                "view.near: unknown key (expected one of: eye, target, up, fov_y_deg)"},
         BadCase{"/extra", "1",
                 "extra: unknown key (expected one of: mesh, material, constraints, loads, "
-                "gravity, solver)"}));
+                "gravity, solver, tool, view)"}));
 
 TEST(ParseSceneText, MalformedJsonSaysWhere) {
   try {
@@ -187,8 +234,11 @@ TEST(ReadSceneFile, ReadsAFileAndReportsAMissingOne) {
   }
 }
 
-TEST(ReadSceneFile, TheExampleSceneIsValid) {
+TEST(ReadSceneFile, TheExampleScenesAreValid) {
   EXPECT_NO_THROW(read_scene_file(INCISE_SCENES_DIR "/clamped_box.json"));
+  const Scene palpation = read_scene_file(INCISE_SCENES_DIR "/palpation.json");
+  EXPECT_TRUE(palpation.tool.has_value());
+  EXPECT_TRUE(palpation.view.has_value());
 }
 
 }  // namespace

@@ -72,6 +72,40 @@ TEST(ValidateScene, NamesTheKeyAndTheProblem) {
             "gravity[2]: must be finite (got nan)");
 }
 
+TEST(ValidateScene, ToolAndViewAreCheckedWhenPresent) {
+  constexpr Real kNaN = std::numeric_limits<Real>::quiet_NaN();
+  const auto with_tool = [](const std::function<void(SphereTool&)>& edit) {
+    return [edit](Scene& s) {
+      s.tool = SphereTool{};
+      edit(*s.tool);
+    };
+  };
+  const auto with_view = [](const std::function<void(ViewSpec&)>& edit) {
+    return [edit](Scene& s) {
+      s.view = ViewSpec{Vec3(0, -1, 1), Vec3::Zero(), Vec3::UnitZ(), 45};
+      edit(*s.view);
+    };
+  };
+  EXPECT_EQ(error_after(with_tool([](SphereTool&) {})), "no error");
+  EXPECT_EQ(error_after(with_view([](ViewSpec&) {})), "no error");
+  EXPECT_EQ(error_after(with_tool([](SphereTool& t) { t.radius = kNaN; })),
+            "tool.radius: must be finite (got nan)");
+  EXPECT_EQ(error_after(with_tool([](SphereTool& t) { t.stiffness = 0; })),
+            "tool.stiffness: must be positive (got 0)");
+  EXPECT_EQ(error_after(with_tool([](SphereTool& t) { t.damping = kNaN; })),
+            "tool.damping: must be finite (got nan)");
+  EXPECT_EQ(error_after(with_tool([](SphereTool& t) { t.damping = -1; })),
+            "tool.damping: must not be negative (got -1)");
+  EXPECT_EQ(error_after(with_view([](ViewSpec& v) { v.eye.y() = kNaN; })),
+            "view.eye[1]: must be finite (got nan)");
+  EXPECT_EQ(error_after(with_view([](ViewSpec& v) { v.target = v.eye; })),
+            "view.target: must differ from view.eye");
+  EXPECT_EQ(error_after(with_view([](ViewSpec& v) { v.up = Vec3(0, 2, -2); })),
+            "view.up: must not be zero or parallel to target - eye");
+  EXPECT_EQ(error_after(with_view([](ViewSpec& v) { v.fov_y_deg = -10; })),
+            "view.fov_y_deg: must be in (0, 180) (got -10)");
+}
+
 TEST(FormatNumber, ShortestRoundTrip) {
   EXPECT_EQ(format_number(-3), "-3");
   EXPECT_EQ(format_number(0.1), "0.1");

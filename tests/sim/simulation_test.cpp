@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 #include "sim/scene/node_selection.h"
@@ -171,6 +172,103 @@ TEST(Simulation, TetsTooSmallToHaveAVolumeAreSceneErrors) {
     EXPECT_EQ(error.path(), "mesh");
     EXPECT_NE(error.reason().find("non-positive rest volume"), std::string::npos);
   }
+}
+
+bool same_state(const Simulation& a, const Simulation& b) {
+  return (a.mesh().x.array() == b.mesh().x.array()).all() &&
+         (a.mesh().v.array() == b.mesh().v.array()).all() && a.steps_taken() == b.steps_taken();
+}
+
+// A cube clamped at x = 0 and pulled at x = L over a ramp of 50 steps, under gravity.
+Scene ramped_cube() {
+  Scene scene = clamped_cube_under_gravity();
+  scene.solver.steps = 100;
+  scene.constraints = {
+      {select(Vec3::Zero(), Vec3(0, kSide, kSide)), {true, true, true}, Vec3::Zero()},
+      {select(Vec3(kSide, 0, 0), Vec3::Constant(kSide)), {true, false, false}, Vec3(0.004, 0, 0)}};
+  return scene;
+}
+
+TEST(Simulation, RestoredStateStepsOnBitForBitLikeTheUninterruptedRun) {
+  const Scene scene = ramped_cube();
+  // Saved inside the ramp (20), at its end (50) and after it (70); restored into a simulation
+  // that has run elsewhere (its ramp further along or not started).
+  for (const int saved_at : {0, 20, 50, 70}) {
+    Simulation reference(scene);
+    for (int step = 0; step < saved_at; ++step)
+      reference.step();
+    const SimulationState state = reference.save_state();
+    EXPECT_EQ(state.steps_taken, saved_at);
+    for (const int other_steps : {0, 35, 90}) {
+      Simulation restored(scene);
+      for (int step = 0; step < other_steps; ++step)
+        restored.step();
+      const Real* x_data = restored.mesh().x.data();
+      restored.restore_state(state);
+      EXPECT_EQ(restored.mesh().x.data(), x_data);  // copied into place
+      ASSERT_TRUE(same_state(restored, reference));
+      EXPECT_TRUE(
+          (restored.prescribed().position.array() == reference.prescribed().position.array())
+              .all());
+      Simulation uninterrupted = reference;
+      for (int step = 0; step < 60; ++step) {
+        uninterrupted.step();
+        restored.step();
+        ASSERT_TRUE(same_state(restored, uninterrupted))
+            << "saved at " << saved_at << ", other " << other_steps << ", step " << step;
+      }
+    }
+  }
+}
+
+TEST(Simulation, RestoreRejectsAStateOfAnotherSizeAndKeepsItsOwn) {
+  Simulation simulation(free_cube());
+  simulation.step();
+  const SimulationState before = simulation.save_state();
+  SimulationState wrong = before;
+  wrong.positions = Points::Zero(7, 3);
+  EXPECT_THROW(simulation.restore_state(wrong), std::invalid_argument);
+  wrong = before;
+  wrong.velocities = Points::Zero(before.velocities.rows() + 1, 3);
+  EXPECT_THROW(simulation.restore_state(wrong), std::invalid_argument);
+  wrong = before;
+  wrong.steps_taken = -1;
+  EXPECT_THROW(simulation.restore_state(wrong), std::invalid_argument);
+  EXPECT_TRUE((simulation.mesh().x.array() == before.positions.array()).all());
+  EXPECT_EQ(simulation.steps_taken(), 1);
+}
+
+TEST(Simulation, AdditionalForcesActForOneStepOnly) {
+  Scene scene = free_cube();
+  scene.gravity = Vec3(0, 0, -9.81);
+  Simulation plain(scene);
+  Simulation pushed(scene);
+  const int n = plain.mesh().num_nodes();
+  // Zero additional forces change nothing, bit for bit.
+  for (int step = 0; step < 10; ++step) {
+    plain.step();
+    pushed.step(Points::Zero(n, 3));
+  }
+  ASSERT_TRUE(same_state(plain, pushed));
+  // A push on one node changes its velocity by dt f / m in that step...
+  const int node = n - 1;  // the top corner
+  const Vec3 force(0.01, 0, -0.02);
+  Points push = Points::Zero(n, 3);
+  push.row(node) = force.transpose();
+  plain.step();
+  pushed.step(push);
+  const Vec3 dv = scene.solver.dt * force / pushed.model().masses()(node);
+  EXPECT_LT((row3(pushed.mesh().v, node) - row3(plain.mesh().v, node) - dv).norm(),
+            1e-12 * dv.norm());
+  // ...and then acts no more: internal forces cancel, so the momenta differ by its impulse only.
+  for (int step = 0; step < 50; ++step) {
+    plain.step();
+    pushed.step();
+  }
+  const VecX& m = plain.model().masses();
+  const Vec3 impulse = pushed.mesh().v.transpose() * m - plain.mesh().v.transpose() * m;
+  EXPECT_LT((impulse - scene.solver.dt * force).norm(), 1e-9 * scene.solver.dt * force.norm());
+  EXPECT_THROW(pushed.step(Points::Zero(n - 1, 3)), std::invalid_argument);
 }
 
 TEST(Simulation, SameSceneGivesBitwiseSameState) {
