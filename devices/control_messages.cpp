@@ -1,4 +1,5 @@
-// JSON control messages of the agent <-> server protocol (hello, welcome); see protocol.h.
+// JSON control messages of the agent <-> server protocol (hello, welcome, session); see
+// protocol.h.
 
 #include <limits>
 
@@ -93,6 +94,12 @@ bool is_positive_int64(const json& value) {
 
 }  // namespace
 
+std::string build_session_notice(const SessionNotice& notice) {
+  const json message = {
+      {"type", "session"}, {"session_id", notice.session_id}, {"state", notice.state}};
+  return message.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
 std::string build_hello(const Hello& hello) {
   const json message = {{"type", "hello"},
                         {"protocol", kProtocolVersion},
@@ -141,6 +148,53 @@ ParseResult<Welcome> parse_welcome(std::string_view text) {
   }
   if (!error.empty()) return ParseResult<Welcome>::failure(clip(std::move(error)));
   return ParseResult<Welcome>::success(std::move(welcome));
+}
+
+ParseResult<SessionNotice> parse_session_notice(std::string_view text) {
+  using Result = ParseResult<SessionNotice>;
+  const std::string what = "session: ";
+  json object;
+  try {
+    object = json::parse(text);
+  } catch (const json::parse_error& e) {
+    return Result::failure("session: not valid JSON (syntax error at byte " +
+                           std::to_string(e.byte) + ")");
+  }
+  if (!object.is_object()) {
+    return Result::failure(what + "expected a JSON object, got " + object.type_name());
+  }
+  for (const char* key : {"type", "session_id", "state"}) {
+    if (!object.contains(key)) return Result::failure(what + "missing key \"" + key + "\"");
+  }
+  const json& type = object["type"];
+  if (!type.is_string()) {
+    return Result::failure(what + "\"type\" must be a string, got " + type.type_name());
+  }
+  if (type.get_ref<const std::string&>() != "session") {
+    return Result::failure(clip(what + "\"type\" is " + excerpt(type) + ", expected \"session\""));
+  }
+  const json& state = object["state"];
+  if (!state.is_string()) {
+    return Result::failure(what + "\"state\" must be a string, got " + state.type_name());
+  }
+  SessionNotice notice;
+  notice.state = state.get<std::string>();
+  if (notice.state != "running" && notice.state != "paused" && notice.state != "idle") {
+    return Result::failure(
+        clip(what + "\"state\" is " + excerpt(state) + ", expected running, paused or idle"));
+  }
+  const json& id = object["session_id"];
+  const bool none = id.is_number_integer() && id.get<int64_t>() == 0;
+  if (none && notice.state != "idle") {
+    return Result::failure(what + "\"session_id\" 0 (no session) needs state idle, got " +
+                           notice.state);
+  }
+  if (!none && !is_positive_int64(id)) {
+    return Result::failure(what + "\"session_id\" must be a positive integer, got " +
+                           (id.is_number_integer() ? excerpt(id) : id.type_name()));
+  }
+  notice.session_id = none ? 0 : id.get<int64_t>();
+  return Result::success(std::move(notice));
 }
 
 }  // namespace incise::devices

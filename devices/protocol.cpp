@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
+#include <optional>
+#include <utility>
 
 #include "devices/little_endian.h"
 
@@ -27,12 +29,90 @@ constexpr std::size_t kPositionAt = 6;
 constexpr std::size_t kOrientationAt = 30;
 static_assert(kOrientationAt + 4 * 8 == kDeviceStatePayloadSize);
 
+// ForceModel payload field offsets, from the payload start.
+constexpr std::size_t kModelDeviceIndexAt = 0;
+constexpr std::size_t kReferenceAt = 1;
+constexpr std::size_t kForceAt = 25;
+constexpr std::size_t kStiffnessAt = 49;
+constexpr std::size_t kStateTimestampAt = 121;
+constexpr std::size_t kSimTimeAt = 129;
+static_assert(kSimTimeAt + 8 == kForceModelPayloadSize);
+
 void store_header(const FrameHeader& header, uint8_t* out) {
   store_le(static_cast<uint16_t>(header.type), out + kTypeAt);
   store_le(header.flags, out + kFlagsAt);
   store_le(header.payload_length, out + kPayloadLengthAt);
   store_le(header.sequence, out + kSequenceAt);
   store_le(header.timestamp_us, out + kTimestampAt);
+}
+
+void store_vec3(const Vec3& v, uint8_t* out) {
+  store_le_f64(v.x, out);
+  store_le_f64(v.y, out + 8);
+  store_le_f64(v.z, out + 16);
+}
+
+Vec3 load_vec3(const uint8_t* in) {
+  return {load_le_f64(in), load_le_f64(in + 8), load_le_f64(in + 16)};
+}
+
+const char* type_name(uint16_t type) {
+  switch (static_cast<MessageType>(type)) {
+    case MessageType::DeviceState:
+      return "DeviceState";
+    case MessageType::ForceModel:
+      return "ForceModel";
+    case MessageType::Control:
+      return "Control";
+  }
+  return "unknown";
+}
+
+// Checks what every frame shares: size, length field, type (expected is the one type this side
+// accepts, receiver names this side for the error), flags. On success fills header and returns
+// nullopt; else the failure.
+template <typename Result>
+std::optional<Result> check_header(std::span<const uint8_t> frame, MessageType expected,
+                                   const char* receiver, FrameHeader& header) {
+  if (frame.size() < kHeaderSize) {
+    return Result::failure(DecodeErrc::TooShort, "frame too short: %zu bytes, header is %zu",
+                           frame.size(), kHeaderSize);
+  }
+  const uint8_t* in = frame.data();
+  const uint16_t type = load_le<uint16_t>(in + kTypeAt);
+  header.type = static_cast<MessageType>(type);
+  header.flags = load_le<uint16_t>(in + kFlagsAt);
+  header.payload_length = load_le<uint32_t>(in + kPayloadLengthAt);
+  header.sequence = load_le<uint32_t>(in + kSequenceAt);
+  header.timestamp_us = load_le<uint64_t>(in + kTimestampAt);
+
+  const std::size_t carried = frame.size() - kHeaderSize;
+  if (header.payload_length != carried) {
+    return Result::failure(DecodeErrc::LengthMismatch,
+                           "length mismatch: header says %u payload bytes, frame has %zu",
+                           header.payload_length, carried);
+  }
+  switch (header.type) {
+    case MessageType::Control:
+      return Result::failure(DecodeErrc::UnsupportedType,
+                             "message type %u (Control) is reserved, not accepted in protocol %d",
+                             type, kProtocolVersion);
+    case MessageType::DeviceState:
+    case MessageType::ForceModel:
+      if (header.type == expected) break;
+      return Result::failure(
+          DecodeErrc::UnsupportedType, "message type %u (%s) goes %s, not accepted by the %s", type,
+          type_name(type),
+          header.type == MessageType::DeviceState ? "agent -> server" : "server -> agent",
+          receiver);
+    default:
+      return Result::failure(DecodeErrc::UnknownType, "unknown message type %u", type);
+  }
+  if (header.flags != 0) {
+    return Result::failure(DecodeErrc::BadFlags, "flags 0x%04x set, protocol %d defines none",
+                           header.flags, kProtocolVersion);
+  }
+  return std::nullopt;
 }
 
 // The first non-finite value of the state, named as in the docs, or nullptr.
@@ -66,8 +146,7 @@ DecodeResult decode_device_state(const FrameHeader& header, const uint8_t* paylo
   s.device_index = payload[kDeviceIndexAt];
   s.buttons = payload[kButtonsAt];
   s.jaw = load_le_f32(payload + kJawAt);
-  s.position = {load_le_f64(payload + kPositionAt), load_le_f64(payload + kPositionAt + 8),
-                load_le_f64(payload + kPositionAt + 16)};
+  s.position = load_vec3(payload + kPositionAt);
   s.orientation = {load_le_f64(payload + kOrientationAt), load_le_f64(payload + kOrientationAt + 8),
                    load_le_f64(payload + kOrientationAt + 16),
                    load_le_f64(payload + kOrientationAt + 24)};
@@ -90,6 +169,72 @@ DecodeResult decode_device_state(const FrameHeader& header, const uint8_t* paylo
   return DecodeResult::success({header, s});
 }
 
+// The first non-finite value of the model, named as in the docs ("stiffness[4]"), or nullptr.
+// name holds the text of an indexed name.
+const char* first_non_finite(const ForceModel& m, double& value, std::array<char, 16>& name) {
+  const std::pair<const char*, double> vectors[] = {
+      {"reference_position.x", m.reference_position.x},
+      {"reference_position.y", m.reference_position.y},
+      {"reference_position.z", m.reference_position.z},
+      {"force.x", m.force.x},
+      {"force.y", m.force.y},
+      {"force.z", m.force.z},
+      {"sim_time_s", m.sim_time_s},
+  };
+  for (const auto& [field, v] : vectors) {
+    if (!std::isfinite(v)) {
+      value = v;
+      return field;
+    }
+  }
+  for (std::size_t i = 0; i < m.stiffness.size(); ++i) {
+    if (!std::isfinite(m.stiffness[i])) {
+      value = m.stiffness[i];
+      std::snprintf(name.data(), name.size(), "stiffness[%zu]", i);
+      return name.data();
+    }
+  }
+  return nullptr;
+}
+
+ForceModelDecodeResult decode_model_payload(const FrameHeader& header, const uint8_t* payload) {
+  using Result = ForceModelDecodeResult;
+  if (header.payload_length != kForceModelPayloadSize) {
+    return Result::failure(DecodeErrc::BadPayloadSize,
+                           "ForceModel payload is %u bytes, expected %zu", header.payload_length,
+                           kForceModelPayloadSize);
+  }
+  ForceModel m;
+  m.device_index = payload[kModelDeviceIndexAt];
+  m.reference_position = load_vec3(payload + kReferenceAt);
+  m.force = load_vec3(payload + kForceAt);
+  for (std::size_t i = 0; i < m.stiffness.size(); ++i) {
+    m.stiffness[i] = load_le_f64(payload + kStiffnessAt + 8 * i);
+  }
+  m.state_timestamp_us = load_le<uint64_t>(payload + kStateTimestampAt);
+  m.sim_time_s = load_le_f64(payload + kSimTimeAt);
+
+  double bad = 0.0;
+  std::array<char, 16> name_buffer{};
+  if (const char* name = first_non_finite(m, bad, name_buffer)) {
+    return Result::failure(DecodeErrc::NonFinite, "%s is not finite (%g)", name, bad);
+  }
+  const Vec3& f = m.force;
+  const double magnitude = std::sqrt(f.x * f.x + f.y * f.y + f.z * f.z);
+  if (!(magnitude <= kMaxModelForce)) {
+    return Result::failure(DecodeErrc::ForceOutOfRange, "|force| %g N exceeds %g N", magnitude,
+                           kMaxModelForce);
+  }
+  for (std::size_t i = 0; i < m.stiffness.size(); ++i) {
+    if (!(std::abs(m.stiffness[i]) <= kMaxModelStiffness)) {
+      return Result::failure(DecodeErrc::StiffnessOutOfRange,
+                             "stiffness[%zu] %g N/m outside [-%g, %g]", i, m.stiffness[i],
+                             kMaxModelStiffness, kMaxModelStiffness);
+    }
+  }
+  return Result::success({header, m});
+}
+
 }  // namespace
 
 std::size_t encode(const DeviceState& state, uint32_t sequence, uint64_t timestamp_us,
@@ -102,9 +247,7 @@ std::size_t encode(const DeviceState& state, uint32_t sequence, uint64_t timesta
   payload[kDeviceIndexAt] = state.device_index;
   payload[kButtonsAt] = state.buttons;
   store_le_f32(state.jaw, payload + kJawAt);
-  store_le_f64(state.position.x, payload + kPositionAt);
-  store_le_f64(state.position.y, payload + kPositionAt + 8);
-  store_le_f64(state.position.z, payload + kPositionAt + 16);
+  store_vec3(state.position, payload + kPositionAt);
   store_le_f64(state.orientation.w, payload + kOrientationAt);
   store_le_f64(state.orientation.x, payload + kOrientationAt + 8);
   store_le_f64(state.orientation.y, payload + kOrientationAt + 16);
@@ -112,52 +255,52 @@ std::size_t encode(const DeviceState& state, uint32_t sequence, uint64_t timesta
   return kDeviceStateFrameSize;
 }
 
-DecodeResult decode(std::span<const uint8_t> frame) {
-  if (frame.size() < kHeaderSize) {
-    return DecodeResult::failure(DecodeErrc::TooShort, "frame too short: %zu bytes, header is %zu",
-                                 frame.size(), kHeaderSize);
+std::size_t encode(const ForceModel& model, uint32_t sequence, uint64_t timestamp_us,
+                   std::span<uint8_t> out) {
+  if (out.size() < kForceModelFrameSize) return 0;
+  uint8_t* frame = out.data();
+  store_header({MessageType::ForceModel, 0, kForceModelPayloadSize, sequence, timestamp_us}, frame);
+  uint8_t* payload = frame + kHeaderSize;
+  payload[kModelDeviceIndexAt] = model.device_index;
+  store_vec3(model.reference_position, payload + kReferenceAt);
+  store_vec3(model.force, payload + kForceAt);
+  for (std::size_t i = 0; i < model.stiffness.size(); ++i) {
+    store_le_f64(model.stiffness[i], payload + kStiffnessAt + 8 * i);
   }
-  const uint8_t* in = frame.data();
-  const uint16_t type = load_le<uint16_t>(in + kTypeAt);
-  FrameHeader header;
-  header.type = static_cast<MessageType>(type);
-  header.flags = load_le<uint16_t>(in + kFlagsAt);
-  header.payload_length = load_le<uint32_t>(in + kPayloadLengthAt);
-  header.sequence = load_le<uint32_t>(in + kSequenceAt);
-  header.timestamp_us = load_le<uint64_t>(in + kTimestampAt);
-
-  const std::size_t carried = frame.size() - kHeaderSize;
-  if (header.payload_length != carried) {
-    return DecodeResult::failure(DecodeErrc::LengthMismatch,
-                                 "length mismatch: header says %u payload bytes, frame has %zu",
-                                 header.payload_length, carried);
-  }
-  switch (header.type) {
-    case MessageType::DeviceState:
-      break;
-    case MessageType::ForceModel:
-    case MessageType::Control:
-      return DecodeResult::failure(DecodeErrc::UnsupportedType,
-                                   "message type %u (%s) is reserved, not accepted in protocol %d",
-                                   type, type == 2 ? "ForceModel" : "Control", kProtocolVersion);
-    default:
-      return DecodeResult::failure(DecodeErrc::UnknownType, "unknown message type %u", type);
-  }
-  if (header.flags != 0) {
-    return DecodeResult::failure(DecodeErrc::BadFlags, "flags 0x%04x set, protocol %d defines none",
-                                 header.flags, kProtocolVersion);
-  }
-  return decode_device_state(header, in + kHeaderSize);
+  store_le(model.state_timestamp_us, payload + kStateTimestampAt);
+  store_le_f64(model.sim_time_s, payload + kSimTimeAt);
+  return kForceModelFrameSize;
 }
 
-DecodeResult DecodeResult::success(const DeviceStateMessage& message) {
-  DecodeResult result;
+DecodeResult decode(std::span<const uint8_t> frame) {
+  FrameHeader header;
+  if (auto failure =
+          check_header<DecodeResult>(frame, MessageType::DeviceState, "server", header)) {
+    return *failure;
+  }
+  return decode_device_state(header, frame.data() + kHeaderSize);
+}
+
+ForceModelDecodeResult decode_force_model(std::span<const uint8_t> frame) {
+  FrameHeader header;
+  if (auto failure =
+          check_header<ForceModelDecodeResult>(frame, MessageType::ForceModel, "agent", header)) {
+    return *failure;
+  }
+  return decode_model_payload(header, frame.data() + kHeaderSize);
+}
+
+template <typename Message>
+BasicDecodeResult<Message> BasicDecodeResult<Message>::success(const Message& message) {
+  BasicDecodeResult result;
   result.message_ = message;
   return result;
 }
 
-DecodeResult DecodeResult::failure(DecodeErrc error, const char* format, ...) {
-  DecodeResult result;
+template <typename Message>
+BasicDecodeResult<Message> BasicDecodeResult<Message>::failure(DecodeErrc error, const char* format,
+                                                               ...) {
+  BasicDecodeResult result;
   result.error_ = error;
   va_list args;
   va_start(args, format);
@@ -167,5 +310,8 @@ DecodeResult DecodeResult::failure(DecodeErrc error, const char* format, ...) {
   result.reason_size_ = std::min<std::size_t>(written < 0 ? 0 : written, kMaxCloseReasonSize);
   return result;
 }
+
+template class BasicDecodeResult<DeviceStateMessage>;
+template class BasicDecodeResult<ForceModelMessage>;
 
 }  // namespace incise::devices

@@ -5,6 +5,14 @@
 // welcome or closes with 1008 (policy) and a reason:
 //   {"type": "hello", "protocol": 1, "station_token": s, "agent": s}
 //   {"type": "welcome", "protocol": 1, "station_id": n, "station_name": s}
+// After welcome the server tells the agent whenever the station's live session changes state:
+//   {"type": "session", "session_id": n, "state": "running" | "paused" | "idle"}
+// (session_id >= 1; 0 only with "idle", for a station that has no session).
+//
+// Message directions after welcome: agent -> server DeviceState frames at the agent's send rate
+// (250..1000 Hz); server -> agent ForceModel frames (typically one per received state, each
+// echoing that state's timestamp) and session notices. Whoever receives a malformed message
+// closes with 1007 and the decode error's reason.
 //
 // Binary frames carry one message each: a fixed header, then the payload. All fields are
 // little-endian whatever the host, packed without padding:
@@ -17,15 +25,31 @@
 //       12    8  timestamp_us    sample time on the sender's monotonic clock [us]; arbitrary
 //                                epoch (the agent's start), so only differences are meaningful
 //
-//   offset size  DeviceState payload (62 bytes; offsets from the payload start)
+//   offset size  DeviceState payload (62 bytes; offsets from the payload start), agent -> server
 //        0    1  device_index    u8
 //        1    1  buttons         u8, bit i set = button i pressed
 //        2    4  jaw             f32 in [0, 1]
 //        6   24  position        3 x f64: tool tip x, y, z [m]
 //       30   32  orientation     4 x f64: unit quaternion w, x, y, z (|q| within 1e-3 of 1)
 //
-// encode() and decode() never allocate: the agent calls them at the device rate, the server once
-// per received frame. A decode error's reason() is meant to be the WebSocket close reason (1007).
+//   offset size  ForceModel payload (137 bytes), server -> agent
+//        0    1  device_index        u8
+//        1   24  reference_position  3 x f64: tool tip x, y, z the model linearises about [m]
+//       25   24  force               3 x f64: force on the hand at reference_position [N],
+//                                    |force| <= kMaxModelForce (100 N)
+//       49   72  stiffness           9 x f64: K row-major, K[3 * row + column] [N/m],
+//                                    each |K_ij| <= kMaxModelStiffness (1e5 N/m)
+//      121    8  state_timestamp_us  u64: timestamp_us of the agent's DeviceState frame the model
+//                                    answers (its header field, echoed for the round trip)
+//      129    8  sim_time_s          f64: the server's simulation time of the model [s]
+//
+// The agent renders force(x) = force - K (x - reference_position) at every haptic tick, so the
+// 1 kHz loop never waits for the network. The header timestamp_us of a ForceModel is the server's
+// own clock (its epoch is arbitrary too); the round trip uses state_timestamp_us, which is ours.
+//
+// encode() and the decoders never allocate: the agent calls them at the device rate, the server
+// once per received frame. A decode error's reason() is meant to be the WebSocket close reason
+// (1007).
 
 #include <array>
 #include <cstddef>
@@ -43,13 +67,20 @@ inline constexpr int kProtocolVersion = 1;
 
 enum class MessageType : uint16_t {
   DeviceState = 1,  // agent -> server
-  ForceModel = 2,   // reserved: server -> agent local force model (linearised contact)
+  ForceModel = 2,   // server -> agent: local force model (linearised contact)
   Control = 3,      // reserved
 };
 
 inline constexpr std::size_t kHeaderSize = 20;
 inline constexpr std::size_t kDeviceStatePayloadSize = 62;
 inline constexpr std::size_t kDeviceStateFrameSize = kHeaderSize + kDeviceStatePayloadSize;
+inline constexpr std::size_t kForceModelPayloadSize = 137;
+inline constexpr std::size_t kForceModelFrameSize = kHeaderSize + kForceModelPayloadSize;
+
+// Bounds of a ForceModel. Far above what a desktop haptic device renders (a few N, stiffness of
+// a few kN/m), so only corrupt or runaway models are refused; the device clamps to its own limits.
+inline constexpr double kMaxModelForce = 100.0;      // |force| [N]
+inline constexpr double kMaxModelStiffness = 1.0e5;  // |K_ij| [N/m]
 
 // Read limit for every message on the /agent socket, text or binary, in either direction.
 inline constexpr std::size_t kMaxMessageSize = 4096;
@@ -80,17 +111,37 @@ struct FrameHeader {
 [[nodiscard]] std::size_t encode(const DeviceState& state, uint32_t sequence, uint64_t timestamp_us,
                                  std::span<uint8_t> out);
 
+// The local force model: a linearisation of the tool contact the agent evaluates every ms:
+//   force(x) = force - K (x - reference_position),  K = stiffness (row-major 3x3, N/m).
+struct ForceModel {
+  uint8_t device_index = 0;
+  Vec3 reference_position;            // tool tip the model linearises about [m], station frame
+  Vec3 force;                         // force on the hand at reference_position [N]
+  std::array<double, 9> stiffness{};  // row-major K [N/m]
+  uint64_t state_timestamp_us = 0;    // timestamp_us of the agent DeviceState this answers
+  double sim_time_s = 0.0;            // server simulation time of the model
+  friend bool operator==(const ForceModel&, const ForceModel&) = default;
+};
+
+// Writes the ForceModel frame (kForceModelFrameSize bytes) to the front of out; as for
+// DeviceState, the model is written as given, returns the bytes written or 0 if out is too small.
+[[nodiscard]] std::size_t encode(const ForceModel& model, uint32_t sequence, uint64_t timestamp_us,
+                                 std::span<uint8_t> out);
+
 enum class DecodeErrc {
   None,
-  TooShort,           // fewer bytes than the header
-  LengthMismatch,     // payload_length disagrees with the bytes that follow the header
-  UnknownType,        // a type protocol 1 does not define
-  UnsupportedType,    // a reserved type (ForceModel, Control) that is not accepted yet
-  BadFlags,           // a flag bit set; protocol 1 defines none
-  BadPayloadSize,     // the payload has the wrong size for its type
-  NonFinite,          // NaN or infinity in jaw, position or orientation
-  JawOutOfRange,      // jaw outside [0, 1]
-  NotUnitQuaternion,  // | |q| - 1 | > kUnitQuaternionTolerance
+  TooShort,            // fewer bytes than the header
+  LengthMismatch,      // payload_length disagrees with the bytes that follow the header
+  UnknownType,         // a type protocol 1 does not define
+  UnsupportedType,     // a type this side does not accept: the other direction's (DeviceState
+                       // at the agent, ForceModel at the server) or a reserved one (Control)
+  BadFlags,            // a flag bit set; protocol 1 defines none
+  BadPayloadSize,      // the payload has the wrong size for its type
+  NonFinite,           // NaN or infinity in a floating-point field
+  JawOutOfRange,       // jaw outside [0, 1]
+  NotUnitQuaternion,   // | |q| - 1 | > kUnitQuaternionTolerance
+  ForceOutOfRange,     // ForceModel |force| > kMaxModelForce
+  StiffnessOutOfRange  // ForceModel |K_ij| > kMaxModelStiffness
 };
 
 struct DeviceStateMessage {
@@ -98,13 +149,19 @@ struct DeviceStateMessage {
   DeviceState state;
 };
 
+struct ForceModelMessage {
+  FrameHeader header;
+  ForceModel model;
+};
+
 // A decoded message, or why the frame was rejected. Holds its reason text inline so that
 // decoding never allocates.
-class DecodeResult {
+template <typename Message>
+class BasicDecodeResult {
  public:
-  static DecodeResult success(const DeviceStateMessage& message);
+  static BasicDecodeResult success(const Message& message);
   // reason is printf-formatted and clipped to kMaxCloseReasonSize bytes.
-  static DecodeResult failure(DecodeErrc error, const char* format, ...)
+  static BasicDecodeResult failure(DecodeErrc error, const char* format, ...)
       __attribute__((format(printf, 2, 3)));
 
   bool ok() const { return error_ == DecodeErrc::None; }
@@ -113,17 +170,25 @@ class DecodeResult {
   // Empty when ok(); else e.g. `jaw 1.5 outside [0, 1]`, at most kMaxCloseReasonSize bytes.
   std::string_view reason() const { return {reason_.data(), reason_size_}; }
   // Precondition: ok().
-  const DeviceStateMessage& message() const { return message_; }
+  const Message& message() const { return message_; }
 
  private:
   DecodeErrc error_ = DecodeErrc::None;
-  DeviceStateMessage message_{};
+  Message message_{};
   std::array<char, kMaxCloseReasonSize + 1> reason_{};
   std::size_t reason_size_ = 0;
 };
 
-// Parses and validates one binary frame.
+using DecodeResult = BasicDecodeResult<DeviceStateMessage>;
+using ForceModelDecodeResult = BasicDecodeResult<ForceModelMessage>;
+extern template class BasicDecodeResult<DeviceStateMessage>;
+extern template class BasicDecodeResult<ForceModelMessage>;
+
+// Server side: parses and validates one binary frame from an agent (a DeviceState).
 DecodeResult decode(std::span<const uint8_t> frame);
+
+// Agent side: parses and validates one binary frame from the server (a ForceModel).
+ForceModelDecodeResult decode_force_model(std::span<const uint8_t> frame);
 
 // JSON control messages. Builders produce compact JSON for a text frame; parsers accept any
 // key order, ignore keys they do not know (so newer peers may add information) and report the
@@ -141,12 +206,22 @@ struct Welcome {
   friend bool operator==(const Welcome&, const Welcome&) = default;
 };
 
+// The state of the station's live session, server -> agent after welcome.
+struct SessionNotice {
+  int64_t session_id = 0;  // >= 1; 0 only with state "idle" (no session)
+  std::string state;       // "running", "paused" or "idle"
+  friend bool operator==(const SessionNotice&, const SessionNotice&) = default;
+};
+
 std::string build_hello(const Hello& hello);
 std::string build_welcome(const Welcome& welcome);
+std::string build_session_notice(const SessionNotice& notice);
 
 // Server side. A version mismatch reads `protocol 2 not supported (server speaks 1)`.
 ParseResult<Hello> parse_hello(std::string_view text);
 // Agent side. A version mismatch reads `protocol 2 not supported (agent speaks 1)`.
 ParseResult<Welcome> parse_welcome(std::string_view text);
+// Agent side. Errors read e.g. `session: "state" is "done", expected running, paused or idle`.
+ParseResult<SessionNotice> parse_session_notice(std::string_view text);
 
 }  // namespace incise::devices

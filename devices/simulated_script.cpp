@@ -170,22 +170,30 @@ std::string check_simulated_script(const SimulatedScript& script) {
 }
 
 std::string_view default_simulated_script() {
-  // Approach, probe, grasp and retract in a 6 cm workspace around (0, 0, 0.10) m; the last
-  // waypoint equals the first so the loop is seamless.
+  // Palpates the demo scene's tissue block (x, y in [0, 0.08] m, top surface at z = 0.03 m) with
+  // a 5 mm tip: from rest above the block centre, press until the tip centre is at z = 0.029
+  // (6 mm into the surface), slide 2.2 cm, lift, grasp and slide at a second site, return.
+  // Station frame = scene frame. The last waypoint equals the first so the 20 s loop is seamless.
   return R"({
   "seed": 1,
   "loop": true,
   "jitter": 0.0002,
   "orientation": [1, 0, 0, 0],
   "waypoints": [
-    {"t": 0.0, "position": [0.00, 0.00, 0.10], "jaw": 0.0},
-    {"t": 1.0, "position": [0.02, 0.01, 0.08], "jaw": 0.0},
-    {"t": 2.0, "position": [0.02, 0.01, 0.06], "jaw": 0.8},
-    {"t": 2.5, "position": [0.02, 0.01, 0.055], "jaw": 0.1},
-    {"t": 3.5, "position": [-0.01, 0.02, 0.07], "jaw": 0.1},
-    {"t": 4.0, "position": [-0.01, 0.02, 0.07], "jaw": 0.6},
-    {"t": 5.0, "position": [-0.03, -0.01, 0.09], "jaw": 0.0},
-    {"t": 6.0, "position": [0.00, 0.00, 0.10], "jaw": 0.0}
+    {"t": 0.0, "position": [0.040, 0.040, 0.060], "jaw": 0.0},
+    {"t": 2.0, "position": [0.040, 0.040, 0.036], "jaw": 0.0},
+    {"t": 3.0, "position": [0.040, 0.040, 0.029], "jaw": 0.0},
+    {"t": 4.0, "position": [0.040, 0.040, 0.029], "jaw": 0.0},
+    {"t": 7.0, "position": [0.060, 0.050, 0.029], "jaw": 0.0},
+    {"t": 8.0, "position": [0.060, 0.050, 0.045], "jaw": 0.0},
+    {"t": 9.5, "position": [0.020, 0.025, 0.045], "jaw": 0.0},
+    {"t": 10.5, "position": [0.020, 0.025, 0.040], "jaw": 0.8},
+    {"t": 11.5, "position": [0.020, 0.025, 0.029], "jaw": 0.8},
+    {"t": 12.0, "position": [0.020, 0.025, 0.029], "jaw": 0.1},
+    {"t": 14.5, "position": [0.030, 0.055, 0.029], "jaw": 0.1},
+    {"t": 15.5, "position": [0.030, 0.055, 0.050], "jaw": 0.6},
+    {"t": 17.5, "position": [0.040, 0.040, 0.060], "jaw": 0.0},
+    {"t": 20.0, "position": [0.040, 0.040, 0.060], "jaw": 0.0}
   ]
 })";
 }

@@ -44,8 +44,9 @@ ParseResult<SimulatedScript> parse_simulated_script(std::string_view json_text);
 // The first rule of the format above that script breaks, as `<key path>: <problem>`, or "".
 std::string check_simulated_script(const SimulatedScript& script);
 
-// A few seconds of probing and grasping in front of the station origin, looping, with a little
-// tremor: the agent plays it when no script file is given.
+// 20 s of pressing, sliding and grasping on the demo scene's tissue block (x, y in [0, 0.08] m,
+// top surface z = 0.03 m), looping, with a little tremor: the agent plays it when no script file
+// is given.
 std::string_view default_simulated_script();
 
 }  // namespace incise::devices

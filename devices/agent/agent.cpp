@@ -1,8 +1,12 @@
 #include "devices/agent/agent.h"
 
+#include <cmath>
 #include <csignal>
+#include <cstdio>
 #include <cstring>
 #include <string>
+
+#include <boost/asio/post.hpp>
 
 #include "devices/agent/log.h"
 
@@ -28,15 +32,18 @@ LinkSettings make_settings(const AgentOptions& options, const Device& device) {
       --end;
     agent.resize(end);
   }
-  settings.send_period = std::chrono::duration_cast<Clock::duration>(
-      std::chrono::duration<double>(1.0 / options.rate_hz));
   settings.epoch = Clock::now();
   return settings;
 }
 
-std::string rate_text(Clock::duration period) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g Hz", 1.0 / std::chrono::duration<double>(period).count());
+// The haptic loop hands every k-th state to the network: k = round(1000 Hz / rate).
+int send_every(double rate_hz) {
+  return std::max(1, static_cast<int>(std::lround(1000.0 / rate_hz)));
+}
+
+std::string format(const char* format, auto... values) {
+  char text[256];
+  std::snprintf(text, sizeof text, format, values...);
   return text;
 }
 
@@ -46,21 +53,59 @@ Agent::Agent(asio::io_context& io, const AgentOptions& options, Device& device)
     : io_(io),
       settings_(make_settings(options, device)),
       device_(device),
+      loop_(device, channel_, send_every(options.rate_hz), settings_.epoch),
       signals_(io, SIGINT, SIGTERM),
-      retry_timer_(io) {}
+      stats_signal_(io, SIGUSR1),
+      retry_timer_(io),
+      send_rate_hz_(1000.0 / send_every(options.rate_hz)) {}
 
 void Agent::start() {
-  log_line(std::string(device_.name()) + " device, sending its state at " +
-           rate_text(settings_.send_period) + " to " + settings_.server.url());
+  log_line(std::string(device_.name()) + " device, haptic loop at 1000 Hz, sending its state at " +
+           format("%g Hz", send_rate_hz_) + " to " + settings_.server.url());
+  loop_.start();
   signals_.async_wait(
       [this](beast::error_code ec, int signal_number) { on_signal(ec, signal_number); });
+  do_wait_stats_signal();
   do_connect();
+}
+
+void Agent::request_stop() {
+  asio::post(io_, [this] { stop(); });
+}
+
+void Agent::finish() {
+  loop_.stop();
+  log_line(stats_line());
+  log_summary();
+}
+
+void Agent::do_wait_stats_signal() {
+  stats_signal_.async_wait([this](beast::error_code ec, int) {
+    if (ec || stopping_) return;
+    log_line(stats_line());
+    do_wait_stats_signal();
+  });
+}
+
+std::string Agent::stats_line() const {
+  const LoopSummary loop = loop_.summary();
+  const Histogram& round_trip = stats_.round_trip_us;
+  return format(
+      "stats: loop %.1f Hz, period p50 %.0f us p99 %.0f us, max jitter %.0f us, %llu overruns; "
+      "round trip p50 %.2f ms p99 %.2f ms (%llu models); states sent %llu, dropped %llu; force "
+      "models received %llu",
+      loop.rate_hz, loop.period_p50_us, loop.period_p99_us, loop.max_jitter_us,
+      static_cast<unsigned long long>(loop.overruns), round_trip.percentile(50) / 1000.0,
+      round_trip.percentile(99) / 1000.0, static_cast<unsigned long long>(round_trip.count()),
+      static_cast<unsigned long long>(stats_.states_sent),
+      static_cast<unsigned long long>(channel_.states.dropped()),
+      static_cast<unsigned long long>(stats_.models_received));
 }
 
 void Agent::do_connect() {
   ++attempt_;
   link_ = std::make_shared<StationLink>(
-      io_, settings_, device_, [this](const Welcome& welcome) { on_welcome(welcome); },
+      io_, settings_, channel_, stats_, [this](const Welcome& welcome) { on_welcome(welcome); },
       [this](const LinkEnd& end) { on_link_end(end); });
   link_->run();
 }
@@ -125,6 +170,7 @@ void Agent::stop() {
   beast::error_code ignored;
   signals_.clear(ignored);
   signals_.cancel(ignored);
+  stats_signal_.cancel(ignored);
   retry_timer_.cancel();
   if (link_) link_->stop();
 }

@@ -1,15 +1,19 @@
 #pragma once
-// The agent's supervisor: keeps one StationLink to the server alive, reconnecting with backoff,
-// stops on SIGINT/SIGTERM, and keeps the totals for the summary line.
+// The agent's supervisor: runs the haptic loop on its own thread for the agent's whole life,
+// keeps one StationLink to the server alive, reconnecting with backoff, stops on SIGINT/SIGTERM,
+// logs the bridge statistics on SIGUSR1 and at exit, and keeps the totals for the summary line.
 
 #include <cstdint>
 #include <memory>
+#include <string>
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
 #include <boost/asio/steady_timer.hpp>
 
 #include "devices/agent/backoff.h"
+#include "devices/agent/haptic_channel.h"
+#include "devices/agent/haptic_loop.h"
 #include "devices/agent/options.h"
 #include "devices/agent/station_link.h"
 #include "devices/device.h"
@@ -27,11 +31,25 @@ class Agent {
   // device must outlive the agent. Nothing happens until start().
   Agent(asio::io_context& io, const AgentOptions& options, Device& device);
 
-  // Connects and keeps connecting; the io_context runs out of work once the agent has stopped.
+  // Starts the haptic loop, connects and keeps connecting; the io_context runs out of work once
+  // the agent has stopped.
   void start();
+  // Stops as SIGTERM does; any thread.
+  void request_stop();
+  // After the io_context has run out of work: stops the haptic loop (the force fades out), then
+  // logs the statistics and the summary.
+  void finish();
 
   int exit_code() const { return exit_code_; }
-  void log_summary() const;
+
+  // io thread, or after finish().
+  const BridgeStats& bridge_stats() const { return stats_; }
+  uint64_t states_dropped() const { return channel_.states.dropped(); }
+  // Any thread.
+  LoopSummary loop_summary() const { return loop_.summary(); }
+
+  // One line: loop rate and timing, round trip, states sent and dropped, models received.
+  std::string stats_line() const;
 
  private:
   void do_connect();
@@ -40,12 +58,18 @@ class Agent {
   void do_retry(Backoff::Duration delay);
   void on_retry(beast::error_code ec);
   void on_signal(beast::error_code ec, int signal_number);
+  void do_wait_stats_signal();
   void stop();
+  void log_summary() const;
 
   asio::io_context& io_;
   LinkSettings settings_;
   Device& device_;
+  HapticChannel channel_;
+  HapticLoop loop_;
+  BridgeStats stats_;
   asio::signal_set signals_;
+  asio::signal_set stats_signal_;  // SIGUSR1
   asio::steady_timer retry_timer_;
   Backoff backoff_;
   std::shared_ptr<StationLink> link_;
@@ -56,6 +80,7 @@ class Agent {
   int connections_ = 0;
   uint64_t messages_sent_ = 0;
   Clock::duration connected_for_{};
+  double send_rate_hz_ = 0.0;  // 1000 Hz / k
 };
 
 }  // namespace incise::devices::agent

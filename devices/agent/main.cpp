@@ -62,7 +62,7 @@ int run(int argc, char** argv) {
   Agent agent(io, *options.value, device);
   agent.start();
   io.run();
-  agent.log_summary();
+  agent.finish();
   return agent.exit_code();
 }
 

@@ -88,9 +88,9 @@ ParseResult<AgentOptions> parse_agent_options(std::span<const char* const> args,
       token_given = true;
     } else if (flag == "--script") {
       options.script_path = value;
-    } else if (!parse_rate(value, options.rate_hz) || options.rate_hz <= 0.0 ||
+    } else if (!parse_rate(value, options.rate_hz) || options.rate_hz < kMinRateHz ||
                options.rate_hz > kMaxRateHz) {
-      return Result::failure("--rate " + value + ": must be a number of Hz in (0, 1000]");
+      return Result::failure("--rate " + value + ": must be a number of Hz in [250, 1000]");
     }
   }
   if (!token_given && env_token != nullptr) options.token = env_token;
@@ -103,14 +103,18 @@ ParseResult<AgentOptions> parse_agent_options(std::span<const char* const> args,
 std::string agent_usage() {
   return R"(usage: incise-agent [--server URL] [--token TOKEN] [--script FILE] [--rate HZ]
 
-Bridges this station's haptic device to the Incise server: sends the device state over the
-server's /agent WebSocket and reconnects (0.25 s backoff doubling to 5 s) when the link drops.
+Bridges this station's haptic device to the Incise server. A 1 kHz haptic loop polls the device
+and renders the latest local force model the server sent (fading the force to zero within 10 ms
+when the link drops or the model is older than 100 ms); the device state goes to the server over
+its /agent WebSocket, which is reconnected (0.25 s backoff doubling to 5 s) when it drops.
+SIGUSR1 logs the loop and link statistics (they are also logged at exit).
 
   --server URL     the server's agent endpoint (default ws://127.0.0.1:8080/agent)
   --token TOKEN    the station token shown when the station was created; prefer the
                    INCISE_STATION_TOKEN environment variable, which other users cannot see in ps
   --script FILE    JSON script for the simulated device (default: a built-in looping script)
-  --rate HZ        device-state messages per second, (0, 1000] (default 100)
+  --rate HZ        device-state messages per second, [250, 1000] (default 500); the loop
+                   sends every round(1000 / HZ)-th sample
   --help           print this help
 
 Exit status: 0 stopped by SIGINT/SIGTERM, 2 bad command line or script, 3 refused by the server

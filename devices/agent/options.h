@@ -21,10 +21,13 @@ struct AgentOptions {
   ServerAddress server;
   std::string token;        // station token: --token, else $INCISE_STATION_TOKEN
   std::string script_path;  // empty: the built-in script
-  double rate_hz = 100.0;   // device-state messages per second
+  double rate_hz = 500.0;   // device-state messages per second, kMinRateHz..kMaxRateHz
   bool help = false;        // --help: print usage, do nothing else
 };
 
+// The server's simulation wants the hand at >= 250 Hz; above 1000 Hz there is nothing new to
+// send, the haptic loop samples the device at 1 kHz.
+inline constexpr double kMinRateHz = 250.0;
 inline constexpr double kMaxRateHz = 1000.0;
 
 // "ws://host[:port][/path]"; the port defaults to 80, the path to "/". wss:// is refused: this

@@ -4,6 +4,8 @@
 #include <boost/asio/strand.hpp>
 #include <boost/beast/http.hpp>
 
+#include "devices/agent/log.h"
+
 namespace incise::devices::agent {
 namespace {
 
@@ -28,16 +30,17 @@ std::string describe(const websocket::close_reason& reason) {
 
 }  // namespace
 
-StationLink::StationLink(asio::io_context& io, const LinkSettings& settings, Device& device,
-                         WelcomeHandler on_welcome, EndHandler on_end)
+StationLink::StationLink(asio::io_context& io, const LinkSettings& settings, HapticChannel& channel,
+                         BridgeStats& stats, WelcomeHandler on_welcome, EndHandler on_end)
     : settings_(settings),
-      device_(device),
+      channel_(channel),
+      stats_(stats),
       on_welcome_(std::move(on_welcome)),
       on_end_(std::move(on_end)),
       resolver_(asio::make_strand(io)),
       ws_(resolver_.get_executor()),
       welcome_timer_(resolver_.get_executor()),
-      tick_timer_(resolver_.get_executor()),
+      drain_timer_(resolver_.get_executor()),
       hello_text_(build_hello(settings.hello)) {}
 
 void StationLink::run() {
@@ -135,33 +138,37 @@ void StationLink::on_welcome(beast::error_code ec, std::size_t) {
   welcomed_at_ = Clock::now();
   on_welcome_(*welcome.value);
   ws_.binary(true);
-  next_send_ = welcomed_at_;
+  // States queued while no link was up (at most a few, from the end of the previous link) are
+  // stale; from now on the haptic loop queues them for this link.
+  TimedState stale;
+  while (channel_.states.pop(stale)) {
+  }
+  channel_.link_up.store(true, std::memory_order_release);
+  next_drain_ = welcomed_at_;
   do_read();
-  do_tick();
+  do_drain();
 }
 
-void StationLink::do_tick() {
-  // An absolute deadline, like sleep_until: the rate does not drift with handler latency.
-  tick_timer_.expires_at(next_send_);
-  tick_timer_.async_wait(beast::bind_front_handler(&StationLink::on_tick, shared_from_this()));
+void StationLink::do_drain() {
+  // An absolute deadline, like sleep_until: the period does not drift with handler latency.
+  drain_timer_.expires_at(next_drain_);
+  drain_timer_.async_wait(beast::bind_front_handler(&StationLink::on_drain, shared_from_this()));
 }
 
-void StationLink::on_tick(beast::error_code ec) {
-  if (ec || stopping_ || finished_) return;
-  // With the previous frame still in flight (a congested link) this sample is dropped: the
-  // server wants the latest state, not a queue of old ones.
+void StationLink::on_drain(beast::error_code ec) {
+  if (ec || stopping_ || rejecting_ || finished_) return;
   if (!write_in_flight_) do_send();
-  next_send_ += settings_.send_period;
-  // After a stall (suspend, overload) resume from now instead of bursting to catch up.
-  if (const auto now = Clock::now(); next_send_ < now) next_send_ = now + settings_.send_period;
-  do_tick();
+  next_drain_ += kDrainPeriod;
+  // After a stall (suspend, overload) resume from now instead of firing back to back.
+  if (const auto now = Clock::now(); next_drain_ < now) next_drain_ = now + kDrainPeriod;
+  do_drain();
 }
 
 void StationLink::do_send() {
-  const Clock::duration since_epoch = Clock::now() - settings_.epoch;
-  const DeviceState state = device_.poll(std::chrono::duration<double>(since_epoch).count());
-  const auto t_us = std::chrono::duration_cast<std::chrono::microseconds>(since_epoch).count();
-  const std::size_t size = encode(state, sequence_, static_cast<uint64_t>(t_us), frame_);
+  TimedState queued;
+  if (!channel_.states.pop(queued)) return;
+  const std::size_t size = encode(queued.state, sequence_, queued.timestamp_us, frame_);
+  sent_timestamps_[sequence_ % sent_timestamps_.size()] = queued.timestamp_us;
   ++sequence_;
   write_in_flight_ = true;
   ws_.async_write(asio::buffer(frame_.data(), size),
@@ -172,7 +179,11 @@ void StationLink::on_sent(beast::error_code ec, std::size_t) {
   write_in_flight_ = false;
   if (ec) return fail(ec, "send device state");
   ++messages_sent_;
-  if (stopping_) do_close();
+  ++stats_.states_sent;
+  if (stopping_ || rejecting_) return do_close();
+  // The next queued state goes at once: with a backlog (a slow write) the link catches up at
+  // the speed of the network instead of one state per drain period.
+  do_send();
 }
 
 void StationLink::do_read() {
@@ -182,17 +193,69 @@ void StationLink::do_read() {
 
 void StationLink::on_read(beast::error_code ec, std::size_t) {
   if (ec) return fail(ec, "read");
-  // Protocol 1 has no server -> agent messages after welcome; newer servers' (force models) are
-  // skipped until this agent learns them.
-  read_buffer_.consume(read_buffer_.size());
+  if (stopping_ || rejecting_) return;
+  const auto bytes = read_buffer_.cdata();
+  const bool text = ws_.got_text();
+  if (text) {
+    const auto notice = parse_session_notice(
+        std::string_view(static_cast<const char*>(bytes.data()), bytes.size()));
+    read_buffer_.consume(read_buffer_.size());
+    if (!notice) return reject(notice.error);
+    on_session_notice(*notice.value);
+  } else {
+    const ForceModelDecodeResult result = decode_force_model(
+        std::span<const uint8_t>(static_cast<const uint8_t*>(bytes.data()), bytes.size()));
+    read_buffer_.consume(read_buffer_.size());
+    if (!result) return reject(result.reason());
+    on_force_model(result.message().model);
+  }
   do_read();
+}
+
+void StationLink::on_force_model(const ForceModel& model) {
+  const Clock::time_point now = Clock::now();
+  channel_.model.publish({model, now});
+  ++stats_.models_received;
+  if (sent_recently(model.state_timestamp_us)) {
+    const auto now_us =
+        std::chrono::duration_cast<std::chrono::microseconds>(now - settings_.epoch).count();
+    stats_.round_trip_us.add(static_cast<uint64_t>(now_us) - model.state_timestamp_us);
+  }
+}
+
+bool StationLink::sent_recently(uint64_t timestamp_us) const {
+  // Newest first: the server echoes a recent state, and timestamps only grow, so the search
+  // stops at the first older one.
+  const uint64_t kept = std::min<uint64_t>(sequence_, sent_timestamps_.size());
+  for (uint64_t back = 1; back <= kept; ++back) {
+    const uint64_t sent = sent_timestamps_[(sequence_ - back) % sent_timestamps_.size()];
+    if (sent == timestamp_us) return true;
+    if (sent < timestamp_us) return false;
+  }
+  return false;
+}
+
+void StationLink::on_session_notice(const SessionNotice& notice) {
+  log_line(notice.session_id == 0
+               ? "no session (" + notice.state + ")"
+               : "session " + std::to_string(notice.session_id) + " " + notice.state);
+}
+
+void StationLink::reject(std::string_view reason) {
+  rejecting_ = true;
+  reject_reason_ = std::string(reason);
+  channel_.link_up.store(false, std::memory_order_release);
+  drain_timer_.cancel();
+  // Only one write may be in flight; on_sent closes after it.
+  if (!write_in_flight_) do_close();
 }
 
 void StationLink::do_stop() {
   if (stopping_ || finished_) return;
   stopping_ = true;
+  channel_.link_up.store(false, std::memory_order_release);
   welcome_timer_.cancel();
-  tick_timer_.cancel();
+  drain_timer_.cancel();
   if (!ws_open_) {
     // Resolving, connecting or upgrading: abandon; the pending handler reports Stopped.
     resolver_.cancel();
@@ -211,11 +274,18 @@ void StationLink::do_close() {
   timeouts.idle_timeout = websocket::stream_base::none();
   timeouts.keep_alive_pings = false;
   ws_.set_option(timeouts);
-  ws_.async_close(websocket::close_code::normal,
-                  beast::bind_front_handler(&StationLink::on_close, shared_from_this()));
+  const bool invalid = rejecting_ && !stopping_;
+  const websocket::close_reason reason =
+      invalid ? websocket::close_reason(websocket::close_code::bad_payload, reject_reason_)
+              : websocket::close_reason(websocket::close_code::normal);
+  ws_.async_close(reason, beast::bind_front_handler(&StationLink::on_close, shared_from_this()));
 }
 
 void StationLink::on_close(beast::error_code ec) {
+  if (rejecting_ && !stopping_) {
+    return finish(LinkEnd::Kind::Dropped,
+                  "bad message from the server, closed with 1007: " + reject_reason_);
+  }
   finish(LinkEnd::Kind::Stopped, ec ? "close: " + ec.message() : "");
 }
 
@@ -226,6 +296,11 @@ void StationLink::fail(beast::error_code ec, const char* what) {
     // completing is not the end yet: on_close reports it.
     if (closing_) return;
     return finish(LinkEnd::Kind::Stopped, "");
+  }
+  if (rejecting_) {
+    if (closing_) return;  // likewise, on_close reports the end
+    return finish(LinkEnd::Kind::Dropped,
+                  "bad message from the server, closed with 1007: " + reject_reason_);
   }
   const LinkEnd::Kind lost = welcomed_ ? LinkEnd::Kind::Dropped : LinkEnd::Kind::Failed;
   if (ec == websocket::error::closed) {
@@ -242,8 +317,9 @@ void StationLink::fail(beast::error_code ec, const char* what) {
 void StationLink::finish(LinkEnd::Kind kind, std::string reason) {
   if (finished_) return;
   finished_ = true;
+  channel_.link_up.store(false, std::memory_order_release);
   welcome_timer_.cancel();
-  tick_timer_.cancel();
+  drain_timer_.cancel();
   // Abort whatever is still pending (a read after a failed write); after a clean close the
   // socket is already shut and this is a no-op.
   beast::error_code ignored;

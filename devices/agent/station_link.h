@@ -1,9 +1,14 @@
 #pragma once
 // One connection to the server's /agent WebSocket, from resolve to close: hello, welcome, then
-// device-state frames at a fixed rate. The Agent makes a new StationLink per attempt and decides
-// what to do when one ends.
+// the network half of the haptic bridge. It drains the device states the haptic loop queues in
+// the HapticChannel every kDrainPeriod and sends them as DeviceState frames, one write in
+// flight; it decodes the server's ForceModel frames and publishes each to the haptic loop, and
+// logs session notices. A malformed message from the server closes the link with 1007 and the
+// decoder's reason. The Agent makes a new StationLink per attempt and decides what to do when
+// one ends.
 //
-// All work runs on the io_context's single thread; stop() may be called from any thread.
+// All work runs on the io_context's single thread (the channel's only consumer of states and
+// only publisher of models); stop() may be called from any thread.
 
 #include <array>
 #include <chrono>
@@ -17,8 +22,9 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/websocket.hpp>
 
+#include "devices/agent/haptic_channel.h"
+#include "devices/agent/histogram.h"
 #include "devices/agent/options.h"
-#include "devices/device.h"
 #include "devices/protocol.h"
 
 namespace incise::devices::agent {
@@ -44,8 +50,20 @@ struct LinkEnd {
 struct LinkSettings {
   ServerAddress server;
   Hello hello;
-  Clock::duration send_period{};
   Clock::time_point epoch;  // t = 0 of device polls and frame timestamps
+};
+
+// How often the link looks for queued device states when no write is in flight. The haptic loop
+// queues one every 1..4 ms; a finished write sends the next queued state at once.
+inline constexpr Clock::duration kDrainPeriod = std::chrono::milliseconds(2);
+
+// Totals over all links of an agent; io thread only.
+struct BridgeStats {
+  uint64_t states_sent = 0;
+  uint64_t models_received = 0;
+  // now - state_timestamp_us of every model that echoes a state this agent sent [us]: 10 us bins
+  // up to 100 ms.
+  Histogram round_trip_us{10, 10000};
 };
 
 class StationLink : public std::enable_shared_from_this<StationLink> {
@@ -53,9 +71,9 @@ class StationLink : public std::enable_shared_from_this<StationLink> {
   using WelcomeHandler = std::function<void(const Welcome&)>;
   using EndHandler = std::function<void(const LinkEnd&)>;
 
-  // device and the handlers must outlive the link. on_end is called exactly once.
-  StationLink(asio::io_context& io, const LinkSettings& settings, Device& device,
-              WelcomeHandler on_welcome, EndHandler on_end);
+  // channel, stats and the handlers must outlive the link. on_end is called exactly once.
+  StationLink(asio::io_context& io, const LinkSettings& settings, HapticChannel& channel,
+              BridgeStats& stats, WelcomeHandler on_welcome, EndHandler on_end);
 
   void run();
   // Closes with 1000 (normal) if connected, else abandons the attempt; on_end reports Stopped.
@@ -69,21 +87,27 @@ class StationLink : public std::enable_shared_from_this<StationLink> {
   void on_hello_sent(beast::error_code ec, std::size_t bytes);
   void on_welcome(beast::error_code ec, std::size_t bytes);
   void on_welcome_timeout(beast::error_code ec);
-  void do_tick();
-  void on_tick(beast::error_code ec);
+  void do_drain();
+  void on_drain(beast::error_code ec);
   void do_send();
   void on_sent(beast::error_code ec, std::size_t bytes);
   void do_read();
   void on_read(beast::error_code ec, std::size_t bytes);
+  void on_force_model(const ForceModel& model);
+  void on_session_notice(const SessionNotice& notice);
+  // Closes with 1007 (invalid payload) and reason; the link ends as Dropped.
+  void reject(std::string_view reason);
   void do_stop();
   void do_close();
   void on_close(beast::error_code ec);
+  bool sent_recently(uint64_t timestamp_us) const;
 
   void fail(beast::error_code ec, const char* what);
   void finish(LinkEnd::Kind kind, std::string reason);
 
   LinkSettings settings_;
-  Device& device_;
+  HapticChannel& channel_;
+  BridgeStats& stats_;
   WelcomeHandler on_welcome_;
   EndHandler on_end_;
 
@@ -92,9 +116,12 @@ class StationLink : public std::enable_shared_from_this<StationLink> {
   websocket::response_type upgrade_response_;
   beast::flat_buffer read_buffer_;
   asio::steady_timer welcome_timer_;
-  asio::steady_timer tick_timer_;
+  asio::steady_timer drain_timer_;
   std::string hello_text_;
   std::array<uint8_t, kDeviceStateFrameSize> frame_{};  // the one buffer every frame reuses
+  // Timestamps of the last states sent, oldest overwritten first, to recognise a model's echo.
+  std::array<uint64_t, 1024> sent_timestamps_{};
+  std::string reject_reason_;  // set once a bad message made us close with 1007
 
   bool ws_open_ = false;
   bool welcomed_ = false;
@@ -102,10 +129,11 @@ class StationLink : public std::enable_shared_from_this<StationLink> {
   bool write_in_flight_ = false;
   bool stopping_ = false;
   bool closing_ = false;
+  bool rejecting_ = false;
   bool finished_ = false;
   uint32_t sequence_ = 0;
   uint64_t messages_sent_ = 0;
-  Clock::time_point next_send_;
+  Clock::time_point next_drain_;
   Clock::time_point welcomed_at_;
 };
 

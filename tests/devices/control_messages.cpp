@@ -152,5 +152,56 @@ TEST(ControlMessages, ErrorsFitACloseReasonEvenForHugeInput) {
   EXPECT_EQ(hello_error(h), "hello: \"type\" is \"\\u00fc\\u00fc\", expected \"hello\"");
 }
 
+TEST(ControlMessages, SessionNoticeRoundTrip) {
+  for (const SessionNotice& notice :
+       {SessionNotice{3, "running"}, SessionNotice{9007199254740993, "paused"},
+        SessionNotice{3, "idle"}, SessionNotice{0, "idle"}}) {
+    const std::string text = build_session_notice(notice);
+    const auto parsed = parse_session_notice(text);
+    ASSERT_TRUE(parsed) << parsed.error;
+    EXPECT_EQ(*parsed.value, notice);
+    EXPECT_EQ(
+        json::parse(text),
+        (json{{"type", "session"}, {"session_id", notice.session_id}, {"state", notice.state}}));
+  }
+  // Extra keys from a newer server are ignored.
+  const auto extended =
+      parse_session_notice(R"({"state": "running", "task": "palpation", "type": "session",
+                               "session_id": 4})");
+  ASSERT_TRUE(extended) << extended.error;
+  EXPECT_EQ(*extended.value, (SessionNotice{4, "running"}));
+}
+
+TEST(ControlMessages, SessionNoticeErrors) {
+  const std::pair<const char*, const char*> bad[] = {
+      {"{", "session: not valid JSON (syntax error at byte 2)"},
+      {"[1]", "session: expected a JSON object, got array"},
+      {R"({"session_id": 1, "state": "running"})", "session: missing key \"type\""},
+      {R"({"type": "session", "state": "running"})", "session: missing key \"session_id\""},
+      {R"({"type": "session", "session_id": 1})", "session: missing key \"state\""},
+      {R"({"type": "welcome", "session_id": 1, "state": "running"})",
+       "session: \"type\" is \"welcome\", expected \"session\""},
+      {R"({"type": 5, "session_id": 1, "state": "running"})",
+       "session: \"type\" must be a string, got number"},
+      {R"({"type": "session", "session_id": 1, "state": "done"})",
+       "session: \"state\" is \"done\", expected running, paused or idle"},
+      {R"({"type": "session", "session_id": 1, "state": true})",
+       "session: \"state\" must be a string, got boolean"},
+      {R"({"type": "session", "session_id": -2, "state": "paused"})",
+       "session: \"session_id\" must be a positive integer, got -2"},
+      {R"({"type": "session", "session_id": "7", "state": "paused"})",
+       "session: \"session_id\" must be a positive integer, got string"},
+      {R"({"type": "session", "session_id": 1.5, "state": "paused"})",
+       "session: \"session_id\" must be a positive integer, got number"},
+      {R"({"type": "session", "session_id": 0, "state": "running"})",
+       "session: \"session_id\" 0 (no session) needs state idle, got running"},
+  };
+  for (const auto& [text, error] : bad) {
+    const auto parsed = parse_session_notice(text);
+    EXPECT_FALSE(parsed) << text;
+    EXPECT_EQ(parsed.error, error) << text;
+  }
+}
+
 }  // namespace
 }  // namespace incise::devices

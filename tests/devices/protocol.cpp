@@ -186,11 +186,13 @@ TEST(Protocol, UnknownAndReservedTypes) {
   }
   Frame force_model = encoded(sample_state());
   store_le(uint16_t{2}, force_model.data());
+  // A ForceModel goes the other way: the server never accepts one.
   expect_error(force_model, DecodeErrc::UnsupportedType,
-               "message type 2 (ForceModel) is reserved, not accepted in protocol 1");
+               "message type 2 (ForceModel) goes server -> agent, not accepted by the server");
   Frame control = encoded(sample_state());
   store_le(uint16_t{3}, control.data());
-  expect_error(control, DecodeErrc::UnsupportedType);
+  expect_error(control, DecodeErrc::UnsupportedType,
+               "message type 3 (Control) is reserved, not accepted in protocol 1");
 }
 
 TEST(Protocol, FlagsMustBeZero) {

@@ -131,7 +131,7 @@ TEST(SimulatedDevice, OrientationIsConstantAndEveryStateIsValidOnTheWire) {
   ASSERT_TRUE(script);
   SimulatedDevice device(*script.value);
   std::array<uint8_t, kDeviceStateFrameSize> frame{};
-  for (int i = 0; i < 1500; ++i) {  // two laps of the default script at 100 Hz
+  for (int i = 0; i < 4000; ++i) {  // two laps of the default script at 100 Hz
     const DeviceState s = device.poll(i * 0.01);
     EXPECT_EQ(s.orientation, script.value->orientation);
     ASSERT_EQ(encode(s, i, i, frame), frame.size());

@@ -4,6 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
+#include "devices/simulated_device.h"
+
 namespace incise::devices {
 namespace {
 
@@ -16,6 +21,56 @@ TEST(SimulatedScript, DefaultScriptIsValidAndLoops) {
   ASSERT_GE(script.waypoints.size(), 2u);
   EXPECT_EQ(script.waypoints.front().position, script.waypoints.back().position);
   EXPECT_EQ(check_simulated_script(script), "");
+}
+
+// The demo scene (sim/): a tissue block over x, y in [0, 0.08] m, z in [0, 0.03] m, probed by a
+// tool tip sphere of radius 0.005 m; station frame = scene frame.
+constexpr double kBlockSide = 0.08;
+constexpr double kBlockTop = 0.03;
+constexpr double kTipRadius = 0.005;
+
+TEST(SimulatedScript, DefaultScriptPressesAndSlidesOnTheDemoTissue) {
+  const auto parsed = parse_simulated_script(default_simulated_script());
+  ASSERT_TRUE(parsed) << parsed.error;
+  EXPECT_EQ(parsed.value->waypoints.back().t, 20.0);  // the loop period
+  SimulatedDevice device(*parsed.value);
+  const DeviceState start = device.state_at(0.0);
+  EXPECT_NEAR(start.position.x, 0.04, 1e-3);
+  EXPECT_NEAR(start.position.y, 0.04, 1e-3);
+  EXPECT_NEAR(start.position.z, 0.06, 1e-3);
+
+  double deepest = 1.0;
+  double sliding = 0.0;  // tip path length while in contact [m]
+  float widest_jaw = 0.0f;
+  std::vector<Vec3> touch_downs;  // where each contact began
+  bool in_contact = false;
+  Vec3 previous = start.position;
+  for (int ms = 0; ms <= 20000; ++ms) {
+    const DeviceState s = device.state_at(ms * 1e-3);
+    const Vec3& p = s.position;
+    // Always over the block, never deeper than the intended ~6 mm (plus tremor).
+    ASSERT_GE(p.x, 0.0) << ms;
+    ASSERT_LE(p.x, kBlockSide) << ms;
+    ASSERT_GE(p.y, 0.0) << ms;
+    ASSERT_LE(p.y, kBlockSide) << ms;
+    ASSERT_GE(p.z, kBlockTop + kTipRadius - 0.0065) << ms;
+    const bool contact = p.z < kBlockTop + kTipRadius;
+    if (contact && !in_contact) touch_downs.push_back(p);
+    if (contact && in_contact) sliding += std::hypot(p.x - previous.x, p.y - previous.y);
+    in_contact = contact;
+    previous = p;
+    deepest = std::min(deepest, p.z);
+    widest_jaw = std::max(widest_jaw, s.jaw);
+  }
+  EXPECT_NEAR(deepest, 0.029, 0.0004);  // 6 mm overlap, give or take the tremor
+  EXPECT_GE(sliding, 0.04);             // two slides of a few cm
+  ASSERT_GE(touch_downs.size(), 2u);
+  double farthest = 0.0;  // between touch-downs: pressed in two places
+  for (const Vec3& p : touch_downs) {
+    farthest = std::max(farthest, std::hypot(p.x - touch_downs[0].x, p.y - touch_downs[0].y));
+  }
+  EXPECT_GE(farthest, 0.02);
+  EXPECT_GE(widest_jaw, 0.5f);  // and still grasps
 }
 
 TEST(SimulatedScript, OptionalKeysHaveDefaults) {

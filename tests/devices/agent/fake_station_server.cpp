@@ -1,5 +1,6 @@
 #include "fake_station_server.h"
 
+#include <array>
 #include <mutex>
 #include <span>
 
@@ -64,7 +65,40 @@ class Session : public std::enable_shared_from_this<Session> {
 
   void on_welcome_sent(beast::error_code ec, std::size_t) {
     if (ec) return fail(ec, "write welcome");
+    if (!state_->behaviour.session_notice.empty()) {
+      return ws_.async_write(
+          asio::buffer(state_->behaviour.session_notice),
+          beast::bind_front_handler(&Session::on_notice_sent, shared_from_this()));
+    }
+    on_notice_sent({}, 0);
+  }
+
+  void on_notice_sent(beast::error_code ec, std::size_t) {
+    if (ec) return fail(ec, "write session notice");
+    ws_.binary(true);
     do_read();
+  }
+
+  // Answers the state stamped timestamp_us with a model, or with a bad one when told to.
+  void maybe_send_model(uint64_t timestamp_us) {
+    const FakeStationBehaviour& b = state_->behaviour;
+    const bool bad =
+        connection_ == 1 && b.bad_model_after > 0 && frames_ >= b.bad_model_after && !bad_sent_;
+    if (write_in_flight_ || (!b.force_model && !bad)) return;
+    bad_sent_ = bad_sent_ || bad;
+    ForceModel model = b.force_model.value_or(ForceModel{});
+    model.state_timestamp_us = timestamp_us;
+    if (bad) model.force = {150.0, 0.0, 0.0};
+    const std::size_t size = encode(model, model_sequence_++, timestamp_us, model_frame_);
+    write_in_flight_ = true;
+    ws_.async_write(asio::buffer(model_frame_.data(), size),
+                    beast::bind_front_handler(&Session::on_model_sent, shared_from_this()));
+  }
+
+  void on_model_sent(beast::error_code ec, std::size_t) {
+    write_in_flight_ = false;
+    if (ec) return fail(ec, "write model");
+    state_->update([](FakeStationRecord& r) { ++r.models_sent; });
   }
 
   void do_read() {
@@ -89,10 +123,12 @@ class Session : public std::enable_shared_from_this<Session> {
             {connection_, h.sequence, h.timestamp_us, std::chrono::steady_clock::now()});
       }
     });
+    ++frames_;
     const int drop_after = state_->behaviour.drop_first_connection_after;
-    if (connection_ == 1 && drop_after > 0 && ++frames_ == drop_after) {
+    if (connection_ == 1 && drop_after > 0 && frames_ == drop_after) {
       return do_close(websocket::close_code::going_away, "test drops the link");
     }
+    if (result) maybe_send_model(result.message().header.timestamp_us);
     do_read();
   }
 
@@ -105,8 +141,11 @@ class Session : public std::enable_shared_from_this<Session> {
 
   void fail(beast::error_code ec, const char* what) {
     if (ec == websocket::error::closed) {
-      const int code = ws_.reason().code;
-      state_->update([&](FakeStationRecord& r) { r.agent_close_codes.push_back(code); });
+      const websocket::close_reason& reason = ws_.reason();
+      state_->update([&](FakeStationRecord& r) {
+        r.agent_close_codes.push_back(reason.code);
+        r.agent_close_reasons.emplace_back(reason.reason.data(), reason.reason.size());
+      });
       return;
     }
     // The agent vanishing (killed, or dropping a refused link) is part of the tests.
@@ -122,6 +161,10 @@ class Session : public std::enable_shared_from_this<Session> {
   std::shared_ptr<FakeStationServer::State> state_;
   beast::flat_buffer buffer_;
   std::string welcome_;
+  std::array<uint8_t, kForceModelFrameSize> model_frame_{};
+  uint32_t model_sequence_ = 0;
+  bool write_in_flight_ = false;
+  bool bad_sent_ = false;
   int connection_ = 0;
   int frames_ = 0;
 };

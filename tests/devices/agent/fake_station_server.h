@@ -1,12 +1,14 @@
 #pragma once
 // The server side of the /agent WebSocket, in-process, for testing the real agent: accepts a
 // hello with a known token (else closes 1008 "unknown station token"), answers with a welcome,
-// then decodes and records every device-state frame. Runs on its own thread on 127.0.0.1 at a
+// then decodes and records every device-state frame, and optionally answers each with a force
+// model echoing its timestamp, as the real server does. Runs on its own thread on 127.0.0.1 at a
 // port the OS picks.
 
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -14,12 +16,22 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
 
+#include "devices/protocol.h"
+
 namespace incise::devices::agent::testing {
 
 struct FakeStationBehaviour {
   std::string accepted_token = "good-token";
   // Close the first connection with 1001 (going away) after this many frames; 0 = never.
   int drop_first_connection_after = 0;
+  // Answer each device state with this model (state_timestamp_us set to the state's timestamp),
+  // unless the previous answer is still being written.
+  std::optional<ForceModel> force_model;
+  // Sent as a text frame right after the welcome, unless empty.
+  std::string session_notice;
+  // After this many frames on the first connection send a ForceModel frame with |force| 150 N
+  // (invalid) instead of force_model; 0 = never.
+  int bad_model_after = 0;
 };
 
 struct ReceivedFrame {
@@ -35,6 +47,8 @@ struct FakeStationRecord {
   std::vector<ReceivedFrame> frames;   // device states that decoded cleanly, in order
   std::vector<std::string> errors;     // anything that should not happen: bad hello, bad frame
   std::vector<int> agent_close_codes;  // close codes the agent sent, one per closed connection
+  std::vector<std::string> agent_close_reasons;  // and their reasons
+  int models_sent = 0;
 };
 
 class FakeStationServer {
