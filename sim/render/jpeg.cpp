@@ -2,6 +2,7 @@
 
 #include <turbojpeg.h>
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -29,6 +30,13 @@ JpegEncoder::JpegEncoder() : handle_(tjInitCompress()) {
 
 std::vector<std::uint8_t> JpegEncoder::encode(std::span<const std::uint8_t> rgb, int width,
                                               int height, int quality) {
+  std::vector<std::uint8_t> jpeg;
+  encode(rgb, width, height, quality, jpeg);
+  return jpeg;
+}
+
+void JpegEncoder::encode(std::span<const std::uint8_t> rgb, int width, int height, int quality,
+                         std::vector<std::uint8_t>& jpeg) {
   if (width < 1 || width > max_side || height < 1 || height > max_side) {
     throw std::invalid_argument(
         "JPEG size " + std::to_string(width) + "x" + std::to_string(height) +
@@ -45,15 +53,14 @@ std::vector<std::uint8_t> JpegEncoder::encode(std::span<const std::uint8_t> rgb,
   }
 
   // tjBufSize is the worst case for any content, so compressing in place never reallocates.
-  std::vector<std::uint8_t> jpeg(tjBufSize(width, height, TJSAMP_420));
-  unsigned char* output = jpeg.data();
-  unsigned long size = jpeg.size();
+  scratch_.resize(tjBufSize(width, height, TJSAMP_420));
+  unsigned char* output = scratch_.data();
+  unsigned long size = scratch_.size();
   if (tjCompress2(handle_.get(), rgb.data(), width, 0, height, TJPF_RGB, &output, &size, TJSAMP_420,
                   quality, TJFLAG_NOREALLOC) != 0) {
     throw JpegError("tjCompress2 failed: " + turbojpeg_message(handle_.get()));
   }
-  jpeg.resize(size);
-  return jpeg;
+  jpeg.assign(scratch_.begin(), scratch_.begin() + static_cast<std::ptrdiff_t>(size));
 }
 
 std::vector<std::uint8_t> encode_jpeg(std::span<const std::uint8_t> rgb, int width, int height,

@@ -40,9 +40,16 @@ class JpegEncoder {
   // quality outside 1..100; JpegError if compression fails.
   std::vector<std::uint8_t> encode(std::span<const std::uint8_t> rgb, int width, int height,
                                    int quality);
+  // The same into jpeg, which is overwritten. A caller that keeps jpeg (and this encoder) from
+  // frame to frame of one size allocates nothing per frame.
+  void encode(std::span<const std::uint8_t> rgb, int width, int height, int quality,
+              std::vector<std::uint8_t>& jpeg);
 
  private:
   std::unique_ptr<void, TurbojpegHandleDeleter> handle_;
+  // Worst-case output buffer for the last size (tjBufSize), compressed into without reallocation
+  // and then copied out: cheaper per frame than growing the caller's vector to the worst case.
+  std::vector<std::uint8_t> scratch_;
 };
 
 // One-off encode with a temporary JpegEncoder; see JpegEncoder::encode.

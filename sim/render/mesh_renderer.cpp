@@ -35,7 +35,7 @@ void main() {
 }
 )";
 
-constexpr GLsizei floats_per_vertex = 6;  // position xyz, normal xyz
+constexpr int floats_per_vertex = GlMesh::floats_per_vertex;  // position xyz, normal xyz
 
 }  // namespace
 
@@ -45,29 +45,7 @@ MeshRenderer::MeshRenderer()
       albedo_location_(program_.uniform_location("albedo")),
       to_light_location_(program_.uniform_location("to_light")),
       ambient_location_(program_.uniform_location("ambient")),
-      diffuse_location_(program_.uniform_location("diffuse")) {
-  glGenVertexArrays(1, &vertex_array_);
-  glGenBuffers(1, &vertex_buffer_);
-  glGenBuffers(1, &index_buffer_);
-
-  glBindVertexArray(vertex_array_);
-  glBindBuffer(GL_ARRAY_BUFFER, vertex_buffer_);
-  const GLsizei stride = floats_per_vertex * sizeof(float);
-  glEnableVertexAttribArray(0);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
-  glEnableVertexAttribArray(1);
-  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride,
-                        reinterpret_cast<const void*>(3 * sizeof(float)));
-  // The element buffer binding is part of the vertex array state.
-  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, index_buffer_);
-  glBindVertexArray(0);
-}
-
-MeshRenderer::~MeshRenderer() {
-  glDeleteBuffers(1, &index_buffer_);
-  glDeleteBuffers(1, &vertex_buffer_);
-  glDeleteVertexArrays(1, &vertex_array_);
-}
+      diffuse_location_(program_.uniform_location("diffuse")) {}
 
 void MeshRenderer::set_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXd& N,
                             const Eigen::MatrixXi& F) {
@@ -95,13 +73,8 @@ void MeshRenderer::set_mesh(const Eigen::MatrixXd& V, const Eigen::MatrixXd& N,
       indices[f * 3 + k] = static_cast<std::uint32_t>(F(f, k));
   }
 
-  glBindVertexArray(vertex_array_);
-  glBindBuffer(GL_ARRAY_BUFFER, vertex_buffer_);
-  glBufferData(GL_ARRAY_BUFFER, vertices.size() * sizeof(float), vertices.data(), GL_DYNAMIC_DRAW);
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER, indices.size() * sizeof(std::uint32_t), indices.data(),
-               GL_DYNAMIC_DRAW);
-  glBindVertexArray(0);
-  index_count_ = static_cast<int>(indices.size());
+  mesh_.set_vertices(vertices);
+  mesh_.set_indices(indices);
 }
 
 void MeshRenderer::render(const Framebuffer& target, const Camera& camera,
@@ -113,7 +86,7 @@ void MeshRenderer::render(const Framebuffer& target, const Camera& camera,
   const Eigen::Vector3f to_light = shading.to_light.normalized().cast<float>();
 
   target.clear(shading.background);
-  if (index_count_ == 0) return;
+  if (mesh_.index_count() == 0) return;
 
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -125,9 +98,7 @@ void MeshRenderer::render(const Framebuffer& target, const Camera& camera,
   glUniform3fv(to_light_location_, 1, to_light.data());
   glUniform1f(ambient_location_, shading.ambient);
   glUniform1f(diffuse_location_, shading.diffuse);
-  glBindVertexArray(vertex_array_);
-  glDrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
-  glBindVertexArray(0);
+  mesh_.draw();
 }
 
 }  // namespace incise::render

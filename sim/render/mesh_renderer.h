@@ -4,6 +4,7 @@
 
 #include "sim/render/camera.h"
 #include "sim/render/framebuffer.h"
+#include "sim/render/gl_mesh.h"
 #include "sim/render/shader_program.h"
 
 namespace incise::render {
@@ -26,7 +27,6 @@ struct Shading {
 class MeshRenderer {
  public:
   MeshRenderer();  // compiles the shader; throws RenderError if it does not build
-  ~MeshRenderer();
   MeshRenderer(const MeshRenderer&) = delete;
   MeshRenderer& operator=(const MeshRenderer&) = delete;
 
@@ -48,11 +48,7 @@ class MeshRenderer {
   int to_light_location_;
   int ambient_location_;
   int diffuse_location_;
-  // GL object names: vertex array, interleaved position + normal buffer, index buffer.
-  unsigned int vertex_array_ = 0;
-  unsigned int vertex_buffer_ = 0;
-  unsigned int index_buffer_ = 0;
-  int index_count_ = 0;
+  GlMesh mesh_;
 };
 
 }  // namespace incise::render

@@ -69,6 +69,20 @@ TEST(Jpeg, EncoderIsReusableAndDeterministic) {
   EXPECT_EQ(decode_jpeg(b).width, 48);
 }
 
+// The overload that writes into the caller's vector gives the same bytes, replaces whatever the
+// vector held, and keeps its storage when it has room.
+TEST(Jpeg, EncodeIntoCallersVectorOverwritesIt) {
+  JpegEncoder encoder;
+  const RgbImage image = quadrants(64, 48);
+  std::vector<std::uint8_t> jpeg(100000, 0xAB);
+  const std::uint8_t* storage = jpeg.data();
+  encoder.encode(image.rgb, 64, 48, 80, jpeg);
+  EXPECT_EQ(jpeg, encoder.encode(image.rgb, 64, 48, 80));
+  EXPECT_EQ(jpeg.data(), storage);
+  EXPECT_EQ(decode_jpeg(jpeg).width, 64);
+  EXPECT_THROW(encoder.encode(image.rgb, 64, 47, 80, jpeg), std::invalid_argument);
+}
+
 TEST(Jpeg, LowerQualityGivesSmallerFiles) {
   RgbImage noise{64, 64, std::vector<std::uint8_t>(64 * 64 * 3)};
   std::uint32_t state = 12345;  // fixed LCG: the test must not depend on a random seed

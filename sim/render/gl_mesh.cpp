@@ -1,0 +1,65 @@
+#include "sim/render/gl_mesh.h"
+
+#include "sim/render/gl_api.h"
+
+namespace incise::render {
+namespace {
+
+// Same size: overwrite in place. Otherwise (re)allocate; GL_DYNAMIC_DRAW since the tissue's
+// contents change every frame.
+void upload(GLenum target, const void* data, std::size_t bytes, std::size_t& allocated) {
+  if (bytes == allocated && bytes > 0) {
+    glBufferSubData(target, 0, static_cast<GLsizeiptr>(bytes), data);
+  } else {
+    glBufferData(target, static_cast<GLsizeiptr>(bytes), data, GL_DYNAMIC_DRAW);
+    allocated = bytes;
+  }
+}
+
+}  // namespace
+
+GlMesh::GlMesh() {
+  glGenVertexArrays(1, &vertex_array_);
+  glGenBuffers(1, &vertex_buffer_);
+  glGenBuffers(1, &index_buffer_);
+
+  glBindVertexArray(vertex_array_);
+  glBindBuffer(GL_ARRAY_BUFFER, vertex_buffer_);
+  const GLsizei stride = floats_per_vertex * sizeof(float);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride,
+                        reinterpret_cast<const void*>(3 * sizeof(float)));
+  // The element buffer binding is part of the vertex array state.
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, index_buffer_);
+  glBindVertexArray(0);
+}
+
+GlMesh::~GlMesh() {
+  glDeleteBuffers(1, &index_buffer_);
+  glDeleteBuffers(1, &vertex_buffer_);
+  glDeleteVertexArrays(1, &vertex_array_);
+}
+
+void GlMesh::set_vertices(std::span<const float> interleaved) {
+  glBindBuffer(GL_ARRAY_BUFFER, vertex_buffer_);
+  upload(GL_ARRAY_BUFFER, interleaved.data(), interleaved.size_bytes(), vertex_bytes_);
+  glBindBuffer(GL_ARRAY_BUFFER, 0);
+}
+
+void GlMesh::set_indices(std::span<const std::uint32_t> indices) {
+  glBindVertexArray(vertex_array_);
+  upload(GL_ELEMENT_ARRAY_BUFFER, indices.data(), indices.size_bytes(), index_bytes_);
+  glBindVertexArray(0);
+  index_count_ = static_cast<int>(indices.size());
+}
+
+void GlMesh::draw() const {
+  if (index_count_ == 0) return;
+  glBindVertexArray(vertex_array_);
+  glDrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
+  glBindVertexArray(0);
+}
+
+}  // namespace incise::render
