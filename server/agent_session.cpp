@@ -1,5 +1,6 @@
 #include "server/agent_session.h"
 
+#include <chrono>
 #include <iostream>
 #include <mutex>
 
@@ -11,6 +12,16 @@ namespace incise::server {
 namespace beast = boost::beast;
 namespace websocket = beast::websocket;
 namespace net = boost::asio;
+
+namespace {
+constexpr std::size_t kBeastReadLimit = 64 * 1024;
+
+std::uint64_t monotonic_us() {
+  return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(
+                                        std::chrono::steady_clock::now().time_since_epoch())
+                                        .count());
+}
+}  // namespace
 
 AgentSession::AgentSession(net::ip::tcp::socket&& socket, std::shared_ptr<AppState> app)
     : ws_(std::move(socket)), app_(std::move(app)) {}
@@ -24,7 +35,8 @@ AgentSession::~AgentSession() {
 
 void AgentSession::run(beast::http::request<beast::http::string_body> upgrade) {
   ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
-  ws_.read_message_max(devices::kMaxMessageSize);
+  // Beast's own limit closes with 1009 but no reason; a higher one lets on_read say why.
+  ws_.read_message_max(kBeastReadLimit);
   ws_.async_accept(upgrade,
                    beast::bind_front_handler(&AgentSession::on_accept, shared_from_this()));
 }
@@ -39,13 +51,14 @@ void AgentSession::do_read() {
   ws_.async_read(buffer_, beast::bind_front_handler(&AgentSession::on_read, shared_from_this()));
 }
 
-void AgentSession::on_read(beast::error_code ec, std::size_t) {
-  if (ec == websocket::error::message_too_big) {
-    return do_close(websocket::close_code::too_big,
-                    "message exceeds " + std::to_string(devices::kMaxMessageSize) + " bytes");
-  }
+void AgentSession::on_read(beast::error_code ec, std::size_t bytes) {
   if (ec) return;  // closed, timed out or reset: the destructor marks the station offline
   if (closing_) return;
+  if (bytes > devices::kMaxMessageSize) {
+    return do_close(websocket::close_code::too_big, "message of " + std::to_string(bytes) +
+                                                        " bytes exceeds " +
+                                                        std::to_string(devices::kMaxMessageSize));
+  }
   if (station_id_ == 0) return handle_hello();
   if (ws_.got_text()) {
     return do_close(websocket::close_code::policy_error,
@@ -72,15 +85,52 @@ void AgentSession::handle_hello() {
   app_->agent_joined(station_id_, shared_from_this());
   std::cerr << "incise-server: station " << station->id << " (" << station->name
             << ") agent connected: " << hello.value->agent << "\n";
-  outgoing_ = devices::build_welcome({station->id, station->name});
-  ws_.text(true);
-  ws_.async_write(net::buffer(outgoing_),
-                  beast::bind_front_handler(&AgentSession::on_write, shared_from_this()));
+  texts_.push_back(devices::build_welcome({station->id, station->name}));
+  do_write();
+  do_read();
+}
+
+void AgentSession::send_force_model(const devices::ForceModel& model) {
+  net::post(ws_.get_executor(), [self = shared_from_this(), model] {
+    self->pending_model_ = model;
+    self->model_pending_ = true;
+    self->do_write();
+  });
+}
+
+void AgentSession::send_text(std::string text) {
+  net::post(ws_.get_executor(), [self = shared_from_this(), text = std::move(text)]() mutable {
+    if (self->texts_.size() >= kMaxQueuedTexts) self->texts_.pop_front();
+    self->texts_.push_back(std::move(text));
+    self->do_write();
+  });
+}
+
+void AgentSession::do_write() {
+  if (writing_ || closing_ || station_id_ == 0 || !ws_.is_open()) return;
+  if (!texts_.empty()) {
+    text_in_flight_ = std::move(texts_.front());
+    texts_.pop_front();
+    writing_ = true;
+    ws_.text(true);
+    return ws_.async_write(net::buffer(text_in_flight_),
+                           beast::bind_front_handler(&AgentSession::on_write, shared_from_this()));
+  }
+  if (model_pending_) {
+    model_pending_ = false;
+    const auto size =
+        devices::encode(pending_model_, send_sequence_++, monotonic_us(), model_frame_);
+    writing_ = true;
+    ws_.binary(true);
+    return ws_.async_write(net::buffer(model_frame_.data(), size),
+                           beast::bind_front_handler(&AgentSession::on_write, shared_from_this()));
+  }
 }
 
 void AgentSession::on_write(beast::error_code ec, std::size_t) {
+  writing_ = false;
   if (ec) return;
-  do_read();
+  do_write();
 }
 
 void AgentSession::handle_device_state() {
@@ -90,8 +140,9 @@ void AgentSession::handle_device_state() {
   if (!result) {
     return do_close(websocket::close_code::bad_payload, std::string(result.reason()));
   }
-  // The simulation session (next issue) consumes these; for now the link counts them.
   last_sequence_ = result.message().header.sequence;
+  app_->live_sessions().on_device_state(station_id_, result.message().state,
+                                        result.message().header.timestamp_us);
   ++states_received_;
   do_read();
 }

@@ -1,16 +1,21 @@
 #pragma once
 // A station agent's WebSocket (/agent). Protocol (docs/api.md, devices/protocol.h): the agent
 // says hello with its station token; the server answers welcome or closes with 1008 and the
-// reason; then binary DeviceState frames follow. A malformed frame closes this link with 1007 and
-// the decoder's reason; other connections are never disturbed.
+// reason; then binary DeviceState frames follow, which go to the station's running session. The
+// server sends binary ForceModel frames (the local force model) and JSON session notices back. A
+// malformed frame closes this link with 1007 and the decoder's reason, a message over
+// kMaxMessageSize with 1009 and the size; other connections are never disturbed.
+#include <array>
 #include <boost/asio.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <string>
 
+#include "devices/protocol.h"
 #include "server/app_state.h"
 
 namespace incise::server {
@@ -24,6 +29,12 @@ class AgentSession : public std::enable_shared_from_this<AgentSession> {
   // Thread-safe: closes the link with 1001 (going away) and `reason`.
   void close(std::string reason);
 
+  // Thread-safe. Only the newest force model waits to be sent: a slow link gets fewer, never a
+  // queue.
+  void send_force_model(const devices::ForceModel& model);
+  // Thread-safe: a JSON text message (session notices); at most kMaxQueuedTexts wait.
+  void send_text(std::string text);
+
   std::int64_t device_states_received() const { return states_received_; }
 
  private:
@@ -33,12 +44,22 @@ class AgentSession : public std::enable_shared_from_this<AgentSession> {
   void handle_hello();
   void handle_device_state();
   void do_close(boost::beast::websocket::close_code code, std::string reason);
+  void do_write();
   void on_write(boost::beast::error_code ec, std::size_t bytes);
+
+  static constexpr std::size_t kMaxQueuedTexts = 8;
 
   boost::beast::websocket::stream<boost::beast::tcp_stream> ws_;
   boost::beast::flat_buffer buffer_;
   std::shared_ptr<AppState> app_;
-  std::string outgoing_;  // the welcome; one write in flight at most
+  // Writes: one in flight at most; texts first, then the newest force model.
+  bool writing_ = false;
+  std::deque<std::string> texts_;
+  std::string text_in_flight_;
+  bool model_pending_ = false;
+  devices::ForceModel pending_model_;
+  std::array<std::uint8_t, devices::kForceModelFrameSize> model_frame_{};
+  std::uint32_t send_sequence_ = 0;
   std::int64_t station_id_ = 0;
   bool closing_ = false;
   std::int64_t states_received_ = 0;

@@ -15,13 +15,38 @@ AppState::AppState(db::Database& db, ServerConfig config)
       }) {}
 
 void AppState::agent_joined(std::int64_t station_id, const std::shared_ptr<AgentSession>& session) {
-  std::lock_guard lock(agents_mutex_);
-  agents_[session.get()] = AgentEntry{station_id, session};
+  {
+    std::lock_guard lock(agents_mutex_);
+    agents_[session.get()] = AgentEntry{station_id, session, ++joins_};
+  }
+  live_sessions_.on_agent(station_id, true);
 }
 
 void AppState::agent_left(const AgentSession* session) {
+  std::int64_t station_id = 0;
+  {
+    std::lock_guard lock(agents_mutex_);
+    const auto it = agents_.find(session);
+    if (it == agents_.end()) return;
+    station_id = it->second.station_id;
+    agents_.erase(it);
+  }
+  // During a reconnect the station may already have its new link: then it stays online.
+  if (!station_online(station_id)) live_sessions_.on_agent(station_id, false);
+}
+
+std::shared_ptr<AgentSession> AppState::agent_for_station(std::int64_t station_id) const {
   std::lock_guard lock(agents_mutex_);
-  agents_.erase(session);
+  std::shared_ptr<AgentSession> newest;
+  std::uint64_t newest_join = 0;
+  for (const auto& [_, entry] : agents_) {
+    if (entry.station_id != station_id || entry.joined < newest_join) continue;
+    if (auto s = entry.session.lock()) {
+      newest = std::move(s);
+      newest_join = entry.joined;
+    }
+  }
+  return newest;
 }
 
 bool AppState::station_online(std::int64_t station_id) const {

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "db/database.h"
+#include "server/live_sessions.h"
 #include "server/login_limiter.h"
 
 namespace incise::server {
@@ -19,6 +20,7 @@ class AgentSession;
 
 struct ServerConfig {
   std::filesystem::path web_root;  // the built dashboard (web/dist)
+  std::filesystem::path db_path;   // the database file; live sessions open their own connection
   std::int64_t session_ttl_s = 12 * 3600;
   std::size_t api_body_limit = 64 * 1024;
   bool secure_cookies = false;  // set behind TLS
@@ -41,8 +43,12 @@ class AppState {
   void agent_joined(std::int64_t station_id, const std::shared_ptr<AgentSession>& session);
   void agent_left(const AgentSession* session);
   bool station_online(std::int64_t station_id) const;
+  // The station's most recently connected agent, or nullptr.
+  std::shared_ptr<AgentSession> agent_for_station(std::int64_t station_id) const;
   // Closes every agent link (shutdown).
   void close_all_agents();
+
+  LiveSessions& live_sessions() { return live_sessions_; }
 
  private:
   db::Database& db_;
@@ -54,7 +60,10 @@ class AppState {
   struct AgentEntry {
     std::int64_t station_id;
     std::weak_ptr<AgentSession> session;
+    std::uint64_t joined = 0;  // join order, to find the newest agent of a station
   };
+  std::uint64_t joins_ = 0;
+  LiveSessions live_sessions_;
   std::map<const AgentSession*, AgentEntry> agents_;
 };
 

@@ -13,7 +13,8 @@ std::optional<std::string> check_slot(std::int64_t starts_at, std::int64_t ends_
     return "a slot lasts from " + std::to_string(rules.min_length_s / 60) + " minutes to " +
            std::to_string(rules.max_length_s / 3600) + " hours";
   }
-  if (starts_at < now) return "starts_at is in the past";
+  // The quarter hour in progress may still be booked, so that a trainee can walk up and train.
+  if (starts_at + rules.granularity_s <= now) return "starts_at is in the past";
   if (starts_at > now + rules.horizon_s) {
     return "bookings open at most " + std::to_string(rules.horizon_s / 86400) + " days ahead";
   }

@@ -5,7 +5,9 @@
 
 #include "server/agent_session.h"
 #include "server/api/router.h"
+#include "server/api/view_endpoints.h"
 #include "server/static_files.h"
+#include "server/view_session.h"
 
 namespace incise::server {
 
@@ -61,6 +63,16 @@ void HttpSession::on_read(beast::error_code ec, std::size_t) {
     if (target == "/agent") {
       return std::make_shared<AgentSession>(stream_.release_socket(), app_)
           ->run(parser_->release());
+    }
+    if (is_view_path(target)) {
+      auto resolved = resolve_view(request, *app_, client_);
+      if (auto* error = std::get_if<Response>(&resolved)) return send(std::move(*error));
+      auto& view = std::get<ViewTarget>(resolved);
+      auto session =
+          view.replay
+              ? std::make_shared<ViewSession>(stream_.release_socket(), std::move(view.replay))
+              : std::make_shared<ViewSession>(stream_.release_socket(), std::move(view.live));
+      return session->run(parser_->release());
     }
     return send(json_error(http::status::not_found,
                            "no WebSocket endpoint at " + std::string(target), 11, false));

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "db/migrations.h"
+#include "db/recordings_repo.h"
 #include "server/app_state.h"
 #include "server/demo_data.h"
 #include "server/listener.h"
@@ -32,6 +33,13 @@ int main(int argc, char** argv) {
     database = std::make_unique<db::Database>(options.data_dir / "incise.db");
     const int applied = db::apply_migrations(*database);
     if (applied > 0) std::cerr << "incise-server: applied " << applied << " migration(s)\n";
+    // Recordings a crash left open keep every committed chunk: close them as they are.
+    db::RecordingsRepo recordings(*database);
+    for (const auto& open : recordings.unfinished()) {
+      recordings.finish(open.id, open.duration_s);
+      std::cerr << "incise-server: closed recording " << open.id << " left open by a crash ("
+                << open.duration_s << " s kept)\n";
+    }
   } catch (const std::exception& e) {
     std::cerr << "incise-server: " << e.what() << "\n";
     return 1;
@@ -39,6 +47,7 @@ int main(int argc, char** argv) {
 
   server::ServerConfig config;
   config.web_root = options.web_root;
+  config.db_path = options.data_dir / "incise.db";
   auto app = std::make_shared<server::AppState>(*database, config);
   if (options.demo) {
     try {
@@ -77,6 +86,8 @@ int main(int argc, char** argv) {
     std::cerr << "incise-server: caught signal " << signal << ", shutting down\n";
     listener->stop();
     app->close_all_agents();
+    // Each live session closes its recording and stores its score before the process ends.
+    app->live_sessions().stop_all("server shutting down");
     grace.expires_after(std::chrono::milliseconds(500));
     grace.async_wait([&](const boost::system::error_code&) { ioc.stop(); });
   });

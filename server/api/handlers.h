@@ -24,5 +24,10 @@ ApiResponse list_sessions(ApiContext& ctx);
 ApiResponse list_recordings(ApiContext& ctx);
 ApiResponse list_scores(ApiContext& ctx);
 ApiResponse list_curricula(ApiContext& ctx);
+ApiResponse start_session(ApiContext& ctx);
+ApiResponse get_session(ApiContext& ctx);
+ApiResponse pause_session(ApiContext& ctx);
+ApiResponse resume_session(ApiContext& ctx);
+ApiResponse stop_session(ApiContext& ctx);
 
 }  // namespace incise::server::api

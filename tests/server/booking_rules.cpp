@@ -54,9 +54,10 @@ TEST(BookingRules, SlotsOffTheQuarterHourGridAreRefused) {
 TEST(BookingRules, PastSlotsAreRefused) {
   EXPECT_EQ(check_slot(kNow - kQuarter, kNow + kQuarter, kNow), "starts_at is in the past");
   EXPECT_EQ(check_slot(kNow - kDay, kNow - kDay + kHour, kNow), "starts_at is in the past");
-  // A slot that starts this very second is not in the past.
+  // The quarter hour in progress may be booked (a walk-up slot), up to its last second.
   EXPECT_EQ(check_slot(kNow, kNow + kQuarter, kNow), std::nullopt);
-  EXPECT_EQ(check_slot(kNow, kNow + kQuarter, kNow + 1), "starts_at is in the past");
+  EXPECT_EQ(check_slot(kNow, kNow + kQuarter, kNow + kQuarter - 1), std::nullopt);
+  EXPECT_EQ(check_slot(kNow, kNow + kHour, kNow + kQuarter), "starts_at is in the past");
 }
 
 TEST(BookingRules, SlotsBeyondTheHorizonAreRefused) {

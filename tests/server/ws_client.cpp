@@ -14,7 +14,8 @@ namespace {
 constexpr auto kTimeout = std::chrono::seconds(10);
 }  // namespace
 
-WsClient::WsClient(const std::string& host, unsigned short port, const std::string& target)
+WsClient::WsClient(const std::string& host, unsigned short port, const std::string& target,
+                   const std::vector<std::pair<std::string, std::string>>& headers)
     : ws_(io_) {
   beast::error_code result;
   bool done = false;
@@ -28,6 +29,10 @@ WsClient::WsClient(const std::string& host, unsigned short port, const std::stri
   if (result) throw beast::system_error(result, "connect");
   beast::get_lowest_layer(ws_).expires_never();
   ws_.set_option(websocket::stream_base::timeout{kTimeout, kTimeout, false});
+  ws_.set_option(websocket::stream_base::decorator([headers](websocket::request_type& request) {
+    for (const auto& [name, value] : headers)
+      request.set(name, value);
+  }));
   done = false;
   ws_.async_handshake(host + ":" + std::to_string(port), target, [&](beast::error_code ec) {
     result = ec;

@@ -7,6 +7,7 @@
 #include <boost/beast/websocket.hpp>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace incise::server::test {
@@ -24,7 +25,9 @@ struct WsEvent {
 class WsClient {
  public:
   // Connects and completes the WebSocket handshake on `target`; throws boost::system::system_error.
-  WsClient(const std::string& host, unsigned short port, const std::string& target = "/agent");
+  // `headers` are added to the upgrade request (e.g. the login cookie).
+  WsClient(const std::string& host, unsigned short port, const std::string& target = "/agent",
+           const std::vector<std::pair<std::string, std::string>>& headers = {});
   ~WsClient();
 
   void send_text(const std::string& text);

@@ -1,0 +1,181 @@
+// Live sessions: start, inspect, pause, resume, stop (docs/api.md, "Live sessions").
+#include <mutex>
+
+#include "curriculum/curriculum_json.h"
+#include "db/bookings_repo.h"
+#include "db/curricula_repo.h"
+#include "db/recordings_repo.h"
+#include "db/training_repo.h"
+#include "devices/protocol.h"
+#include "server/agent_session.h"
+#include "server/api/api_error.h"
+#include "server/api/handlers.h"
+#include "server/api/json_views.h"
+#include "server/api/live_access.h"
+#include "server/api/request_fields.h"
+#include "server/live/scene_library.h"
+#include "sim/io/scene_json.h"
+#include "sim/scene/scene_error.h"
+
+namespace incise::server::api {
+
+namespace {
+
+constexpr double kTickHz = 500;
+
+nlohmann::json live_json(const std::shared_ptr<live::LiveSession>& session) {
+  if (!session) return nullptr;
+  return {{"state", live::to_string(session->state())},
+          {"reason", session->reason()},
+          {"sim_time_s", session->sim_time_s()},
+          {"agent_online", session->agent_online()},
+          {"recording_id", session->recording_id()}};
+}
+
+ApiResponse session_response(ApiContext& ctx, std::int64_t session_id, const nlohmann::json& live,
+                             http::status status = http::status::ok) {
+  const auto record = db::TrainingRepo(ctx.app.db()).find_session(session_id);
+  if (!record) throw ApiError(http::status::not_found, "no session " + std::to_string(session_id));
+  auto out = to_json(*record);
+  out["live"] = live;
+  return {status, out, {}};
+}
+
+// The curriculum task with this key, from the first curriculum that has it.
+std::optional<curriculum::Task> find_task(db::Database& db, const std::string& key) {
+  for (const auto& record : db::CurriculaRepo(db).list()) {
+    const auto c = curriculum::parse_curriculum_text(record.definition_json);
+    if (const auto* task = curriculum::find_task(c, key)) return *task;
+  }
+  return std::nullopt;
+}
+
+void notify_agent(AppState& app, std::int64_t station_id, std::int64_t session_id,
+                  const char* state) {
+  if (auto agent = app.agent_for_station(station_id)) {
+    agent->send_text(devices::build_session_notice({session_id, state}));
+  }
+}
+
+// The live session behind the URL, for its owner, instructors and admins.
+std::shared_ptr<live::LiveSession> controllable_session(ApiContext& ctx) {
+  const auto& user = ctx.user();
+  const auto record = db::TrainingRepo(ctx.app.db()).find_session(ctx.path_id);
+  if (!record) throw ApiError(http::status::not_found, "no session " + std::to_string(ctx.path_id));
+  check_session_access(user, *record);
+  auto session = ctx.app.live_sessions().find(ctx.path_id);
+  if (!session || session->state() == live::LiveState::finished) {
+    throw ApiError(http::status::conflict, "session " + std::to_string(ctx.path_id) +
+                                               " is not running (" + record->state + ")");
+  }
+  return session;
+}
+
+}  // namespace
+
+ApiResponse start_session(ApiContext& ctx) {
+  const auto& user = ctx.user();
+  const auto body = ctx.json_body();
+  const RequestFields fields(body, {"station_id", "task"});
+  const auto station_id = fields.integer("station_id");
+  const auto task_key = fields.string("task");
+  auto& db = ctx.app.db();
+  const auto station = db::StationsRepo(db).find(station_id);
+  if (!station) {
+    throw ApiError(http::status::not_found, "no station " + std::to_string(station_id));
+  }
+  const auto task = find_task(db, task_key);
+  if (!task) throw ApiError(http::status::not_found, "no task \"" + task_key + "\"");
+  if (user.role == db::Role::trainee) {
+    bool booked = false;
+    for (const auto& b : db::BookingsRepo(db).list(user.id)) {
+      booked |= b.station_id == station_id && b.status == "active" && b.starts_at <= ctx.now &&
+                ctx.now < b.ends_at;
+    }
+    if (!booked) {
+      throw ApiError(http::status::forbidden,
+                     "no booking of station " + std::to_string(station_id) + " covers now");
+    }
+  }
+  if (const auto busy = ctx.app.live_sessions().active_at(station_id)) {
+    throw ApiError(http::status::conflict, "station " + std::to_string(station_id) +
+                                               " is busy with session " +
+                                               std::to_string(busy->session_id()));
+  }
+  if (!ctx.app.station_online(station_id)) {
+    throw ApiError(http::status::conflict,
+                   "station " + std::to_string(station_id) + " agent is offline");
+  }
+  const auto scene_source = live::find_scene(task->scene);
+  if (!scene_source) {
+    throw ApiError(http::status::unprocessable_entity, "task \"" + task_key + "\" needs scene \"" +
+                                                           task->scene +
+                                                           "\", which this server does not have");
+  }
+
+  live::LiveSessionParams params;
+  try {
+    params.scene = sim::parse_scene_text(scene_source->text);
+  } catch (const std::exception& e) {
+    throw ApiError(http::status::unprocessable_entity,
+                   "scene \"" + task->scene + "\" is invalid: " + e.what());
+  }
+  db::TrainingRepo training(db);
+  params.session_id = training.create_session(user.id, station_id, task_key, ctx.now);
+  training.set_session_state(params.session_id, "running", ctx.now);
+  params.station_id = station_id;
+  params.recording_id = db::RecordingsRepo(db).create(
+      params.session_id, task->scene, live::scene_version(scene_source->text), 0, kTickHz, ctx.now);
+  params.task = *task;
+  params.db_path = ctx.app.config().db_path;
+  params.tick_hz = kTickHz;
+
+  AppState* app = &ctx.app;
+  auto session = std::make_shared<live::LiveSession>(
+      std::move(params), [app, station_id](const devices::ForceModel& model) {
+        if (auto agent = app->agent_for_station(station_id)) agent->send_force_model(model);
+      });
+  session->start();
+  ctx.app.live_sessions().add(session);
+  notify_agent(ctx.app, station_id, session->session_id(), "running");
+  return session_response(ctx, session->session_id(), live_json(session), http::status::created);
+}
+
+ApiResponse get_session(ApiContext& ctx) {
+  const auto& user = ctx.user();
+  const auto record = db::TrainingRepo(ctx.app.db()).find_session(ctx.path_id);
+  if (!record) throw ApiError(http::status::not_found, "no session " + std::to_string(ctx.path_id));
+  check_session_access(user, *record);
+  return session_response(ctx, ctx.path_id, live_json(ctx.app.live_sessions().find(ctx.path_id)));
+}
+
+ApiResponse pause_session(ApiContext& ctx) {
+  const auto session = controllable_session(ctx);
+  if (const auto why = session->pause("paused by " + ctx.user().username); !why.empty()) {
+    throw ApiError(http::status::conflict, why);
+  }
+  notify_agent(ctx.app, session->station_id(), session->session_id(), "paused");
+  return session_response(ctx, ctx.path_id, live_json(session));
+}
+
+ApiResponse resume_session(ApiContext& ctx) {
+  const auto session = controllable_session(ctx);
+  if (const auto why = session->resume(); !why.empty()) {
+    throw ApiError(http::status::conflict, why);
+  }
+  notify_agent(ctx.app, session->station_id(), session->session_id(), "running");
+  return session_response(ctx, ctx.path_id, live_json(session));
+}
+
+ApiResponse stop_session(ApiContext& ctx) {
+  const auto session = controllable_session(ctx);
+  // Waits for the session thread to close the recording and store the score; that thread has
+  // its own database connection, so holding the request's lock here cannot block it.
+  session->stop("stopped by " + ctx.user().username);
+  const auto live = live_json(session);
+  ctx.app.live_sessions().remove(session->session_id());
+  notify_agent(ctx.app, session->station_id(), session->session_id(), "idle");
+  return session_response(ctx, ctx.path_id, live);
+}
+
+}  // namespace incise::server::api

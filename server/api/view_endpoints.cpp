@@ -1,0 +1,109 @@
+#include "server/api/view_endpoints.h"
+
+#include <charconv>
+#include <mutex>
+
+#include "db/recordings_repo.h"
+#include "db/training_repo.h"
+#include "server/api/api_error.h"
+#include "server/api/live_access.h"
+#include "server/api/router.h"
+#include "server/live/scene_library.h"
+#include "server/live/scoring.h"
+#include "sim/io/scene_json.h"
+
+namespace incise::server {
+namespace {
+
+// "/api/sessions/7/view" -> 7 with prefix "/api/sessions/" and suffix "/view"; 0 if no match.
+std::int64_t id_between(std::string_view path, std::string_view prefix, std::string_view suffix) {
+  if (!path.starts_with(prefix) || !path.ends_with(suffix) ||
+      path.size() <= prefix.size() + suffix.size()) {
+    return 0;
+  }
+  const auto digits = path.substr(prefix.size(), path.size() - prefix.size() - suffix.size());
+  std::int64_t id = 0;
+  const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), id);
+  return ec == std::errc{} && end == digits.data() + digits.size() && id > 0 ? id : 0;
+}
+
+std::string_view path_of(std::string_view target) {
+  return target.substr(0, target.find('?'));
+}
+
+ViewTarget live_target(ApiContext& ctx, std::int64_t session_id) {
+  const auto& user = ctx.user();
+  const auto record = db::TrainingRepo(ctx.app.db()).find_session(session_id);
+  if (!record) throw ApiError(http::status::not_found, "no session " + std::to_string(session_id));
+  api::check_session_access(user, *record);
+  auto session = ctx.app.live_sessions().find(session_id);
+  if (!session) {
+    throw ApiError(http::status::conflict, "session " + std::to_string(session_id) +
+                                               " is not live (" + record->state +
+                                               "); open its recording instead");
+  }
+  return {std::move(session), nullptr};
+}
+
+ViewTarget replay_target(ApiContext& ctx, std::int64_t recording_id) {
+  const auto& user = ctx.user();
+  auto& db = ctx.app.db();
+  const auto meta = db::RecordingsRepo(db).find(recording_id);
+  if (!meta) {
+    throw ApiError(http::status::not_found, "no recording " + std::to_string(recording_id));
+  }
+  const auto record = db::TrainingRepo(db).find_session(meta->session_id);
+  if (!record) throw ApiError(http::status::not_found, "recording without a session");
+  api::check_session_access(user, *record);
+  const auto name = "recording " + std::to_string(recording_id);
+  if (meta->state != "complete") {
+    throw ApiError(http::status::conflict, name + " is still being recorded");
+  }
+  if (meta->scene.empty()) {
+    throw ApiError(http::status::conflict, name + " holds no recorded input (demo data)");
+  }
+  const auto scene = live::find_scene(meta->scene);
+  if (!scene) {
+    throw ApiError(http::status::conflict,
+                   name + " needs scene \"" + meta->scene + "\", which this server does not have");
+  }
+  const auto version = live::scene_version(scene->text);
+  if (version != meta->scene_version) {
+    throw ApiError(http::status::conflict, name + " was made with scene version " +
+                                               meta->scene_version + "; the scene is now " +
+                                               version + ", so it cannot be replayed exactly");
+  }
+  auto ticks = live::load_tick_records(db, recording_id);
+  if (ticks.empty()) throw ApiError(http::status::conflict, name + " is empty");
+  auto replay = std::make_unique<live::ReplaySession>(sim::parse_scene_text(scene->text),
+                                                      1.0 / meta->tick_hz, std::move(ticks));
+  return {nullptr, std::move(replay)};
+}
+
+}  // namespace
+
+bool is_view_path(std::string_view target) {
+  const auto path = path_of(target);
+  return id_between(path, "/api/sessions/", "/view") != 0 ||
+         id_between(path, "/api/recordings/", "/replay") != 0;
+}
+
+std::variant<ViewTarget, Response> resolve_view(const Request& request, AppState& app,
+                                                const std::string& client) {
+  const auto path = path_of(request.target());
+  try {
+    std::lock_guard lock(app.db_mutex());
+    ApiContext ctx(request, app, client);
+    if (const auto id = id_between(path, "/api/sessions/", "/view")) return live_target(ctx, id);
+    if (const auto id = id_between(path, "/api/recordings/", "/replay")) {
+      return replay_target(ctx, id);
+    }
+    throw ApiError(http::status::not_found, "no WebSocket endpoint at " + std::string(path));
+  } catch (const ApiError& e) {
+    return json_error(e.status(), e.what(), request.version(), false);
+  } catch (const std::exception& e) {
+    return json_error(http::status::internal_server_error, e.what(), request.version(), false);
+  }
+}
+
+}  // namespace incise::server

@@ -1,0 +1,28 @@
+#pragma once
+// The view WebSockets' doors (docs/api.md, "View WebSocket"): who may open which stream, checked
+// on the upgrade request so that a refusal is a plain HTTP error with a JSON body.
+#include <memory>
+#include <optional>
+#include <string>
+#include <variant>
+
+#include "server/api/api_context.h"
+#include "server/live/live_session.h"
+#include "server/live/replay_session.h"
+
+namespace incise::server {
+
+struct ViewTarget {
+  std::shared_ptr<live::LiveSession> live;      // /api/sessions/{id}/view
+  std::unique_ptr<live::ReplaySession> replay;  // /api/recordings/{id}/replay (not started)
+};
+
+// Whether target is one of the view paths (so that other upgrades get a 404).
+bool is_view_path(std::string_view target);
+
+// The stream to attach, or the error response (401/403/404/409) for the upgrade request.
+// Takes the database lock itself.
+std::variant<ViewTarget, Response> resolve_view(const Request& request, AppState& app,
+                                                const std::string& client);
+
+}  // namespace incise::server

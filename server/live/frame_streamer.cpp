@@ -1,0 +1,146 @@
+#include "server/live/frame_streamer.h"
+
+#include <cstring>
+#include <iostream>
+#include <map>
+
+#include "sim/render/egl_context.h"
+#include "sim/render/frame_encoder.h"
+#include "sim/render/scene_renderer.h"
+
+namespace incise::server::live {
+namespace {
+
+// How often the render thread looks for due viewers when nothing pokes it.
+constexpr auto kIdleWait = std::chrono::milliseconds(5);
+
+std::shared_ptr<std::vector<std::uint8_t>> frame_message(std::uint32_t frame_number, int width,
+                                                         int height, double sim_time_s,
+                                                         const std::vector<std::uint8_t>& jpeg) {
+  auto message = std::make_shared<std::vector<std::uint8_t>>(kFrameHeaderSize + jpeg.size());
+  auto* p = message->data();
+  const auto w = static_cast<std::uint16_t>(width);
+  const auto h = static_cast<std::uint16_t>(height);
+  std::memcpy(p, &frame_number, 4);
+  std::memcpy(p + 4, &w, 2);
+  std::memcpy(p + 6, &h, 2);
+  std::memcpy(p + 8, &sim_time_s, 8);
+  std::memcpy(p + kFrameHeaderSize, jpeg.data(), jpeg.size());
+  return message;
+}
+
+}  // namespace
+
+FrameStreamer::FrameStreamer(const StreamSource& source, render::Camera camera)
+    : source_(source), camera_(std::move(camera)), thread_([this] { run(); }) {}
+
+FrameStreamer::~FrameStreamer() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  thread_.join();
+}
+
+void FrameStreamer::add(const std::shared_ptr<FrameSink>& sink) {
+  {
+    std::lock_guard lock(mutex_);
+    sinks_.push_back({sink});
+  }
+  poke();
+}
+
+void FrameStreamer::poke() {
+  {
+    std::lock_guard lock(mutex_);
+    poked_ = true;
+  }
+  wake_.notify_all();
+}
+
+std::string FrameStreamer::error() const {
+  std::lock_guard lock(mutex_);
+  return error_;
+}
+
+void FrameStreamer::run() {
+  // The GL objects must die before the context, on this thread: hence the nesting.
+  std::optional<render::EglContext> context;
+  try {
+    context.emplace();
+  } catch (const std::exception& e) {
+    std::lock_guard lock(mutex_);
+    error_ = std::string("rendering unavailable: ") + e.what();
+    std::cerr << "incise-server: " << error_ << "\n";
+    return;
+  }
+  {
+    render::SceneRenderer renderer;
+    std::map<std::pair<int, int>, render::FrameEncoder> encoders;
+    std::vector<std::uint8_t> jpeg;
+    sim::Points V, N;
+    while (true) {
+      {
+        std::unique_lock lock(mutex_);
+        wake_.wait_for(lock, kIdleWait, [this] { return stop_ || poked_; });
+        if (stop_) break;
+        poked_ = false;
+      }
+      const auto snapshot = source_.snapshot();
+      if (!snapshot) continue;
+      const auto now = SteadyClock::now();
+      // Collect the viewers that want this snapshot, without holding the lock while rendering.
+      struct Job {
+        std::shared_ptr<FrameSink> sink;
+        FrameSink::Request request;
+        std::uint32_t frame_number;
+      };
+      std::vector<Job> jobs;
+      {
+        std::lock_guard lock(mutex_);
+        std::erase_if(sinks_, [](const Entry& e) { return e.sink.expired(); });
+        for (auto& entry : sinks_) {
+          if (entry.last_tick == snapshot->tick) continue;
+          auto sink = entry.sink.lock();
+          if (!sink) continue;
+          const auto request = sink->frame_wanted(now);
+          if (!request) continue;
+          entry.last_tick = snapshot->tick;
+          jobs.push_back({std::move(sink), *request, entry.next_frame++});
+        }
+      }
+      if (jobs.empty()) continue;
+      sim::surface_vertices(*snapshot->surface, snapshot->positions, V, N);
+      const render::TissueView tissue{&V, &N, &snapshot->surface->faces};
+      render::ToolView tool;
+      tool.tip = snapshot->tool_tip;
+      tool.radius = snapshot->tool_radius;
+      tool.in_contact = snapshot->contact;
+      // Viewers asking for the same size share one rendering.
+      std::map<std::pair<int, int>, std::shared_ptr<const std::vector<std::uint8_t>>> rendered;
+      for (auto& job : jobs) {
+        const std::pair size{job.request.width, job.request.height};
+        auto& jpeg_of_size = rendered[size];
+        if (!jpeg_of_size) {
+          auto it = encoders.find(size);
+          if (it == encoders.end()) {
+            it = encoders
+                     .emplace(std::piecewise_construct, std::forward_as_tuple(size),
+                              std::forward_as_tuple(size.first, size.second))
+                     .first;
+          }
+          it->second.render_jpeg(renderer, camera_, tissue, tool, jpeg);
+          ++frames_rendered_;
+          jpeg_of_size = std::make_shared<const std::vector<std::uint8_t>>(jpeg);
+        }
+        job.sink->deliver(job.frame_number,
+                          frame_message(job.frame_number, size.first, size.second,
+                                        snapshot->sim_time_s, *jpeg_of_size),
+                          snapshot->published_at);
+      }
+    }
+  }
+}
+
+}  // namespace incise::server::live

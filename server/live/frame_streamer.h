@@ -1,0 +1,78 @@
+#pragma once
+// Renders a session's snapshots for its viewers on one thread with its own EGL context, and hands
+// each viewer the newest frame at that viewer's size and rate. Flow control is the viewer's: it
+// says when it wants a frame (its rate is due and fewer than 2 frames are unacknowledged), so a
+// slow viewer simply gets fewer frames and nothing queues here.
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "server/live/snapshot.h"
+#include "sim/render/camera.h"
+
+namespace incise::server::live {
+
+using SteadyClock = std::chrono::steady_clock;
+
+// The 16-byte little-endian header before each JPEG on the view socket (docs/api.md).
+inline constexpr std::size_t kFrameHeaderSize = 16;
+
+class FrameSink {
+ public:
+  struct Request {
+    int width = 640;
+    int height = 480;
+  };
+  virtual ~FrameSink() = default;
+  // Called by the render thread: the size wanted if a frame is wanted now, else nullopt.
+  virtual std::optional<Request> frame_wanted(SteadyClock::time_point now) = 0;
+  // Called by the render thread with the whole message (header + JPEG) for frame_number.
+  virtual void deliver(std::uint32_t frame_number,
+                       std::shared_ptr<const std::vector<std::uint8_t>> message,
+                       SteadyClock::time_point published_at) = 0;
+};
+
+class FrameStreamer {
+ public:
+  // Starts the render thread. source must outlive the streamer.
+  FrameStreamer(const StreamSource& source, render::Camera camera);
+  ~FrameStreamer();  // stops and joins the render thread
+  FrameStreamer(const FrameStreamer&) = delete;
+  FrameStreamer& operator=(const FrameStreamer&) = delete;
+
+  void add(const std::shared_ptr<FrameSink>& sink);
+  // Wakes the render thread (a new snapshot or a viewer acknowledged a frame).
+  void poke();
+
+  // Empty while rendering works; else why it stopped (e.g. no EGL display), for the metrics.
+  std::string error() const;
+  std::int64_t frames_rendered() const { return frames_rendered_.load(); }
+
+ private:
+  void run();
+
+  const StreamSource& source_;
+  render::Camera camera_;
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stop_ = false;
+  bool poked_ = false;
+  struct Entry {
+    std::weak_ptr<FrameSink> sink;
+    std::int64_t last_tick = -1;
+    std::uint32_t next_frame = 1;
+  };
+  std::vector<Entry> sinks_;
+  std::string error_;
+  std::atomic<std::int64_t> frames_rendered_{0};
+  std::thread thread_;
+};
+
+}  // namespace incise::server::live

@@ -1,0 +1,358 @@
+#include "server/live/live_session.h"
+
+#include <chrono>
+#include <iostream>
+
+#include "db/database.h"
+#include "db/recordings_repo.h"
+#include "db/training_repo.h"
+#include "server/live/scoring.h"
+#include "server/live/tick_record.h"
+
+namespace incise::server::live {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Beyond this much behind schedule the session stops catching up and drops the missed ticks
+// (counted as late_ticks), so a stall never makes the tool race afterwards.
+constexpr auto kMaxLag = std::chrono::milliseconds(100);
+
+std::int64_t unix_now() {
+  return std::chrono::duration_cast<std::chrono::seconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+Clock::duration period_of(double hz) {
+  return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / hz));
+}
+
+}  // namespace
+
+const char* to_string(LiveState state) {
+  switch (state) {
+    case LiveState::running:
+      return "running";
+    case LiveState::paused:
+      return "paused";
+    case LiveState::finished:
+      return "finished";
+  }
+  return "?";
+}
+
+render::Camera camera_for(const sim::Scene& scene) {
+  render::Camera camera;
+  if (scene.view) {
+    camera.eye = scene.view->eye;
+    camera.target = scene.view->target;
+    camera.up = scene.view->up;
+    camera.fov_y_deg = scene.view->fov_y_deg;
+  }
+  const double distance = (camera.eye - camera.target).norm();
+  camera.near_m = std::max(1e-3, distance / 100);
+  camera.far_m = distance * 10;
+  return camera;
+}
+
+// The session's recording: ticks are buffered and written as one chunk per chunk_s, each chunk in
+// its own small transaction, so a crash loses at most the chunk being filled.
+class Recorder {
+ public:
+  Recorder(db::Database& db, std::int64_t recording_id, std::int64_t ticks_per_chunk, double tick_s)
+      : repo_(db), recording_id_(recording_id), ticks_per_chunk_(ticks_per_chunk), tick_s_(tick_s) {
+    buffer_.reserve(static_cast<std::size_t>(ticks_per_chunk) * kTickRecordSize);
+  }
+  void add(const TickRecord& record) {
+    if (buffered_ == 0) first_tick_ = record.tick;
+    append_tick_record(record, buffer_);
+    ++buffered_;
+    last_tick_ = record.tick;
+    if (buffered_ >= ticks_per_chunk_) flush();
+  }
+  void flush() {
+    if (buffered_ == 0) return;
+    const auto t0_us = static_cast<std::int64_t>(static_cast<double>(first_tick_) * tick_s_ * 1e6);
+    repo_.append_chunk(recording_id_, seq_++, t0_us, buffer_, duration_s());
+    buffer_.clear();
+    buffered_ = 0;
+  }
+  double duration_s() const {
+    return seq_ == 0 && buffered_ == 0 ? 0.0 : static_cast<double>(last_tick_ + 1) * tick_s_;
+  }
+
+ private:
+  db::RecordingsRepo repo_;
+  std::int64_t recording_id_;
+  std::int64_t ticks_per_chunk_;
+  double tick_s_;
+  std::vector<std::uint8_t> buffer_;
+  std::int64_t buffered_ = 0;
+  std::int64_t seq_ = 0;
+  std::uint32_t first_tick_ = 0;
+  std::uint32_t last_tick_ = 0;
+};
+
+LiveSession::LiveSession(LiveSessionParams params, ForceSink force_sink)
+    : params_(std::move(params)),
+      force_sink_(std::move(force_sink)),
+      engine_(params_.scene, 1.0 / params_.tick_hz),
+      surface_(std::make_shared<const sim::BoundarySurface>(engine_.surface())) {
+  publish_snapshot();
+}
+
+LiveSession::~LiveSession() {
+  stop("server shutting down");
+  streamer_.reset();  // its render thread reads this session: stop it first
+}
+
+void LiveSession::start() {
+  streamer_ = std::make_unique<FrameStreamer>(*this, camera_for(params_.scene));
+  thread_ = std::thread([this] { run(); });
+}
+
+LiveState LiveSession::state() const {
+  std::lock_guard lock(mutex_);
+  return state_;
+}
+
+std::string LiveSession::reason() const {
+  std::lock_guard lock(mutex_);
+  return reason_;
+}
+
+double LiveSession::sim_time_s() const {
+  return sim_time_s_.load();
+}
+
+std::string LiveSession::pause(const std::string& reason) {
+  {
+    std::lock_guard lock(mutex_);
+    if (state_ == LiveState::finished) return "session has finished";
+    if (state_ == LiveState::paused) return "session is already paused";
+    state_ = LiveState::paused;
+    reason_ = reason;
+  }
+  wake_.notify_all();
+  return "";
+}
+
+std::string LiveSession::resume() {
+  {
+    std::lock_guard lock(mutex_);
+    if (state_ == LiveState::finished) return "session has finished";
+    if (state_ == LiveState::running) return "session is already running";
+    if (!agent_online_.load()) return "station agent is offline";
+    state_ = LiveState::running;
+    reason_.clear();
+  }
+  wake_.notify_all();
+  return "";
+}
+
+void LiveSession::stop(const std::string& reason) {
+  {
+    std::unique_lock lock(mutex_);
+    if (!stop_requested_) {
+      stop_requested_ = true;
+      if (state_ != LiveState::finished) reason_ = reason;
+    }
+  }
+  wake_.notify_all();
+  // Several callers may stop at once; one joins, the others wait for it.
+  std::lock_guard join_lock(join_mutex_);
+  if (thread_.joinable()) thread_.join();
+  // A session that never started has no thread to mark it finished.
+  std::lock_guard lock(mutex_);
+  state_ = LiveState::finished;
+}
+
+void LiveSession::on_device_state(const devices::DeviceState& state, std::uint64_t timestamp_us) {
+  std::lock_guard lock(mutex_);
+  input_ = state;
+  has_input_ = true;
+  input_timestamp_us_ = timestamp_us;
+}
+
+void LiveSession::set_agent_online(bool online) {
+  agent_online_.store(online);
+  if (!online) pause("station agent offline");
+}
+
+nlohmann::json LiveSession::status() const {
+  nlohmann::json out;
+  {
+    std::lock_guard lock(mutex_);
+    out["state"] = to_string(state_);
+    out["reason"] = reason_;
+  }
+  out["agent_online"] = agent_online_.load();
+  out["sim_rate_hz"] = sim_rate_hz_.load();
+  out["late_ticks"] = late_ticks_.load();
+  out["force_models_sent"] = force_models_sent_.load();
+  out["frame_latency_ms"] = frame_latency().median();
+  if (streamer_) {
+    const auto error = streamer_->error();
+    if (!error.empty()) out["render_error"] = error;
+  }
+  return out;
+}
+
+void LiveSession::publish_snapshot() {
+  auto s = std::make_shared<Snapshot>();
+  s->tick = engine_.ticks();
+  s->sim_time_s = engine_.time_s();
+  s->surface = surface_;
+  s->positions = engine_.simulation().mesh().x;
+  s->tool_tip = engine_.tool_tip();
+  s->tool_radius = engine_.tool().radius;
+  s->contact = engine_.contact().nodes_in_contact > 0;
+  s->force_n = engine_.contact().force_on_tool;
+  s->peak_force_n = engine_.metrics().peak_force_n;
+  s->path_length_m = engine_.metrics().path_length_m;
+  s->published_at = Clock::now();
+  snapshot_.publish(std::move(s));
+  if (streamer_) streamer_->poke();
+}
+
+void LiveSession::run() {
+  const double tick_s = engine_.tick_s();
+  const auto tick_period = period_of(params_.tick_hz);
+  const auto ticks_per_force_model =
+      std::max<std::int64_t>(1, std::llround(params_.tick_hz / params_.force_model_hz));
+  const auto ticks_per_snapshot =
+      std::max<std::int64_t>(1, std::llround(params_.tick_hz / params_.snapshot_hz));
+  const auto ticks_per_chunk =
+      std::max<std::int64_t>(1, std::llround(params_.tick_hz * params_.chunk_s));
+
+  std::optional<db::Database> db;
+  std::optional<Recorder> recorder;
+  try {
+    db.emplace(params_.db_path);
+    recorder.emplace(*db, params_.recording_id, ticks_per_chunk, tick_s);
+  } catch (const std::exception& e) {
+    std::cerr << "incise-server: session " << params_.session_id
+              << " cannot open the database: " << e.what() << "\n";
+  }
+  auto write_state = [&](LiveState state) {
+    if (!db) return;
+    try {
+      db::TrainingRepo(*db).set_session_state(params_.session_id, to_string(state), unix_now());
+    } catch (const std::exception& e) {
+      std::cerr << "incise-server: session " << params_.session_id << ": " << e.what() << "\n";
+    }
+  };
+
+  LiveState written = LiveState::running;
+  auto next = Clock::now();
+  auto rate_window_start = next;
+  std::int64_t rate_window_ticks = 0;
+  TickRecord record;
+  while (true) {
+    devices::DeviceState input;
+    std::uint64_t input_timestamp_us = 0;
+    bool has_input = false;
+    {
+      std::unique_lock lock(mutex_);
+      if (stop_requested_) break;
+      if (state_ == LiveState::paused) {
+        if (written != LiveState::paused) {
+          lock.unlock();
+          if (recorder) recorder->flush();
+          write_state(LiveState::paused);
+          written = LiveState::paused;
+          continue;
+        }
+        wake_.wait(lock, [this] { return stop_requested_ || state_ != LiveState::paused; });
+        next = Clock::now();
+        rate_window_start = next;
+        rate_window_ticks = 0;
+        continue;
+      }
+      input = input_;
+      has_input = has_input_;
+      input_timestamp_us = input_timestamp_us_;
+    }
+    if (written != LiveState::running) {
+      write_state(LiveState::running);
+      written = LiveState::running;
+    }
+
+    next += tick_period;
+    const auto now = Clock::now();
+    if (now - next > kMaxLag) {
+      late_ticks_ += (now - next) / tick_period;
+      next = now;
+    }
+    std::this_thread::sleep_until(next);
+
+    if (!has_input) {
+      // Before the first device state the tool waits above the scene, out of contact.
+      input.position = {engine_.tool_tip().x(), engine_.tool_tip().y(), engine_.tool_tip().z()};
+    }
+    engine_.tick(input);
+    record.tick = static_cast<std::uint32_t>(engine_.ticks() - 1);
+    record.input = input;
+    for (int i = 0; i < 3; ++i)
+      record.force[i] = static_cast<float>(engine_.contact().force_on_tool[i]);
+    if (recorder) {
+      try {
+        recorder->add(record);
+      } catch (const std::exception& e) {
+        std::cerr << "incise-server: session " << params_.session_id
+                  << " recording failed: " << e.what() << "\n";
+        recorder.reset();
+      }
+    }
+    sim_time_s_.store(engine_.time_s());
+
+    if (engine_.ticks() % ticks_per_force_model == 0 && force_sink_ && has_input) {
+      auto model = engine_.force_model();
+      model.state_timestamp_us = input_timestamp_us;
+      force_sink_(model);
+      ++force_models_sent_;
+    }
+    if (engine_.ticks() % ticks_per_snapshot == 0) publish_snapshot();
+
+    ++rate_window_ticks;
+    const auto window = Clock::now() - rate_window_start;
+    if (window >= std::chrono::seconds(1)) {
+      sim_rate_hz_.store(static_cast<double>(rate_window_ticks) /
+                         std::chrono::duration<double>(window).count());
+      rate_window_start = Clock::now();
+      rate_window_ticks = 0;
+    }
+    if (!engine_.state_finite()) {
+      std::lock_guard lock(mutex_);
+      stop_requested_ = true;
+      reason_ = "simulation became unstable (non-finite state); session stopped";
+    }
+  }
+
+  publish_snapshot();
+  // Close the recording and score the run.
+  if (db) {
+    try {
+      const auto now = unix_now();
+      double duration = 0;
+      if (recorder) {
+        recorder->flush();
+        duration = recorder->duration_s();
+      }
+      db::RecordingsRepo recordings(*db);
+      recordings.finish(params_.recording_id, duration, engine_.state_hash());
+      score_session(*db, params_.session_id, params_.recording_id, params_.task, tick_s, now);
+    } catch (const std::exception& e) {
+      std::cerr << "incise-server: session " << params_.session_id
+                << " could not be scored: " << e.what() << "\n";
+    }
+    write_state(LiveState::finished);
+  }
+  {
+    std::lock_guard lock(mutex_);
+    state_ = LiveState::finished;
+  }
+}
+
+}  // namespace incise::server::live

@@ -1,0 +1,116 @@
+#pragma once
+// One running session (DESIGN.md section 2): on its own thread it steps the SimEngine at a fixed
+// tick rate in real time from the station agent's latest device state, sends the agent the local
+// force model, publishes snapshots for the viewers and records every tick's input to SQLite.
+//
+// States and transitions:
+//   running --pause()/agent drops--> paused --resume() (agent online)--> running
+//   running | paused --stop()--> finished   (recording closed, score stored)
+// While paused the simulation does not advance and nothing is recorded, so the recording is a
+// gap-free sequence of ticks and a replay needs no notion of pauses.
+//
+// The session thread owns its own SQLite connection (WAL allows it beside the server's) and is
+// the only writer of its session's rows after the start, so control calls never wait on the
+// database and the REST handlers' lock never waits on the simulation.
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "curriculum/curriculum.h"
+#include "devices/device_state.h"
+#include "devices/protocol.h"
+#include "server/live/frame_streamer.h"
+#include "server/live/sim_engine.h"
+#include "server/live/snapshot.h"
+#include "sim/scene/scene.h"
+
+namespace incise::server::live {
+
+struct LiveSessionParams {
+  std::int64_t session_id = 0;
+  std::int64_t station_id = 0;
+  std::int64_t recording_id = 0;
+  sim::Scene scene;
+  curriculum::Task task;
+  std::filesystem::path db_path;
+  double tick_hz = 500;         // simulation ticks per second of real time
+  double force_model_hz = 100;  // local force models sent to the agent
+  double snapshot_hz = 60;      // snapshots for rendering and metrics
+  double chunk_s = 0.5;         // recording transaction length: at most this is lost in a crash
+};
+
+enum class LiveState { running, paused, finished };
+const char* to_string(LiveState state);
+
+class LiveSession : public StreamSource {
+ public:
+  using ForceSink = std::function<void(const devices::ForceModel&)>;
+
+  // Builds the engine (throws sim::SceneError / std::invalid_argument for a bad scene). Does not
+  // start: call start().
+  LiveSession(LiveSessionParams params, ForceSink force_sink);
+  ~LiveSession() override;  // stops (as "server shutting down") if still running
+
+  void start();
+  // Return "" or why the transition is refused (the REST layer's 409).
+  std::string pause(const std::string& reason);
+  std::string resume();
+  // Ends the session and waits until its recording and score are stored. Idempotent.
+  void stop(const std::string& reason);
+
+  // From the agent link (any thread).
+  void on_device_state(const devices::DeviceState& state, std::uint64_t timestamp_us);
+  void set_agent_online(bool online);
+
+  std::int64_t session_id() const { return params_.session_id; }
+  std::int64_t station_id() const { return params_.station_id; }
+  std::int64_t recording_id() const { return params_.recording_id; }
+  LiveState state() const;
+  std::string reason() const;
+  bool agent_online() const { return agent_online_.load(); }
+  double sim_time_s() const;
+  FrameStreamer& streamer() { return *streamer_; }
+
+  std::shared_ptr<const Snapshot> snapshot() const override { return snapshot_.latest(); }
+  nlohmann::json status() const override;
+
+ private:
+  void run();
+  void publish_snapshot();
+
+  LiveSessionParams params_;
+  ForceSink force_sink_;
+  SimEngine engine_;
+  std::shared_ptr<const sim::BoundarySurface> surface_;
+  SnapshotSlot snapshot_;
+
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  LiveState state_ = LiveState::running;
+  std::string reason_;
+  bool stop_requested_ = false;
+  devices::DeviceState input_;
+  bool has_input_ = false;
+  std::uint64_t input_timestamp_us_ = 0;
+  std::atomic<bool> agent_online_{true};
+  std::atomic<double> sim_time_s_{0};
+  std::atomic<double> sim_rate_hz_{0};
+  std::atomic<std::int64_t> late_ticks_{0};
+  std::atomic<std::int64_t> force_models_sent_{0};
+
+  std::unique_ptr<FrameStreamer> streamer_;
+  std::mutex join_mutex_;  // stop() may race with itself (REST stop, shutdown)
+  std::thread thread_;
+};
+
+// The camera a scene's view asks for (a default one looking at the scene if it has none).
+render::Camera camera_for(const sim::Scene& scene);
+
+}  // namespace incise::server::live

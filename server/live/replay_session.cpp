@@ -1,0 +1,198 @@
+#include "server/live/replay_session.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "server/live/live_session.h"
+
+namespace incise::server::live {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Longest stretch of simulation one pass of the loop runs before it looks at its controls again.
+constexpr std::int64_t kMaxTicksPerPass = 100;
+constexpr auto kSnapshotPeriod = std::chrono::milliseconds(16);
+
+}  // namespace
+
+ReplaySession::ReplaySession(const sim::Scene& scene, double tick_s, std::vector<TickRecord> ticks)
+    : engine_(scene, tick_s),
+      camera_(camera_for(scene)),
+      tick_s_(tick_s),
+      ticks_(std::move(ticks)),
+      surface_(std::make_shared<const sim::BoundarySurface>(engine_.surface())) {
+  // The first recorded input places the tool before anything is drawn.
+  checkpoints_.emplace(0, engine_.checkpoint());
+  publish_snapshot();
+}
+
+ReplaySession::~ReplaySession() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
+  streamer_.reset();
+}
+
+void ReplaySession::start() {
+  streamer_ = std::make_unique<FrameStreamer>(*this, camera_);
+  thread_ = std::thread([this] { run(); });
+}
+
+void ReplaySession::play() {
+  std::lock_guard lock(mutex_);
+  playing_ = true;
+  control_changed_ = true;
+  wake_.notify_all();
+}
+
+void ReplaySession::pause() {
+  std::lock_guard lock(mutex_);
+  playing_ = false;
+  control_changed_ = true;
+  wake_.notify_all();
+}
+
+void ReplaySession::set_speed(double speed) {
+  std::lock_guard lock(mutex_);
+  speed_ = std::clamp(std::isfinite(speed) ? speed : 1.0, kMinSpeed, kMaxSpeed);
+  control_changed_ = true;
+  wake_.notify_all();
+}
+
+void ReplaySession::seek(double t_s) {
+  std::lock_guard lock(mutex_);
+  seek_to_ = std::clamp(std::isfinite(t_s) ? t_s : 0.0, 0.0, duration_s());
+  control_changed_ = true;
+  wake_.notify_all();
+}
+
+nlohmann::json ReplaySession::status() const {
+  std::lock_guard lock(mutex_);
+  const bool ended = position_s_ >= duration_s() && !end_hash_.empty();
+  nlohmann::json out = {{"state", ended ? "ended" : (playing_ ? "playing" : "paused")},
+                        {"reason", ""},
+                        {"agent_online", false},
+                        {"duration_s", duration_s()},
+                        {"speed", speed_},
+                        {"playing", playing_},
+                        {"frame_latency_ms", frame_latency().median()}};
+  if (ended) out["state_hash"] = end_hash_;
+  if (streamer_) {
+    const auto error = streamer_->error();
+    if (!error.empty()) out["render_error"] = error;
+  }
+  return out;
+}
+
+void ReplaySession::publish_snapshot() {
+  auto s = std::make_shared<Snapshot>();
+  s->tick = engine_.ticks();
+  s->sim_time_s = engine_.time_s();
+  s->surface = surface_;
+  s->positions = engine_.simulation().mesh().x;
+  s->tool_tip = engine_.tool_tip();
+  s->tool_radius = engine_.tool().radius;
+  s->contact = engine_.contact().nodes_in_contact > 0;
+  s->force_n = engine_.contact().force_on_tool;
+  s->peak_force_n = engine_.metrics().peak_force_n;
+  s->path_length_m = engine_.metrics().path_length_m;
+  s->published_at = Clock::now();
+  snapshot_.publish(std::move(s));
+  if (streamer_) streamer_->poke();
+}
+
+void ReplaySession::advance_to(std::int64_t target) {
+  target = std::clamp<std::int64_t>(target, 0, static_cast<std::int64_t>(ticks_.size()));
+  if (target < engine_.ticks()) {
+    auto it = checkpoints_.upper_bound(target);
+    --it;  // the checkpoint at tick 0 always exists
+    engine_.restore(it->second);
+  } else {
+    // Jump forward over whole checkpoint intervals already computed.
+    auto it = checkpoints_.upper_bound(target);
+    --it;
+    if (it->first > engine_.ticks()) engine_.restore(it->second);
+  }
+  while (engine_.ticks() < target) {
+    engine_.tick(ticks_[static_cast<std::size_t>(engine_.ticks())].input);
+    if (engine_.ticks() % kCheckpointTicks == 0) {
+      checkpoints_.try_emplace(engine_.ticks(), engine_.checkpoint());
+    }
+  }
+}
+
+void ReplaySession::run() {
+  const auto total = static_cast<std::int64_t>(ticks_.size());
+  // Pacing: the tick that should be reached is origin_tick + (now - origin) * speed / tick_s.
+  auto origin = Clock::now();
+  std::int64_t origin_tick = 0;
+  auto last_snapshot = Clock::now();
+  while (true) {
+    bool playing;
+    double speed;
+    double seek_to;
+    {
+      std::unique_lock lock(mutex_);
+      if (!playing_ && seek_to_ < 0) {
+        wake_.wait(lock, [this] { return stop_ || playing_ || seek_to_ >= 0; });
+      }
+      if (stop_) return;
+      playing = playing_;
+      speed = speed_;
+      seek_to = seek_to_;
+      seek_to_ = -1;
+      if (control_changed_) {
+        control_changed_ = false;
+        origin = Clock::now();
+        origin_tick = engine_.ticks();
+      }
+    }
+    if (seek_to >= 0) {
+      advance_to(std::llround(seek_to / tick_s_));
+      publish_snapshot();
+      last_snapshot = Clock::now();
+      origin = Clock::now();
+      origin_tick = engine_.ticks();
+    }
+    if (playing) {
+      const double elapsed = std::chrono::duration<double>(Clock::now() - origin).count();
+      const auto due = std::min(
+          total, origin_tick + static_cast<std::int64_t>(std::floor(elapsed * speed / tick_s_)));
+      advance_to(std::min(due, engine_.ticks() + kMaxTicksPerPass));
+      if (Clock::now() - last_snapshot >= kSnapshotPeriod || engine_.ticks() == total) {
+        publish_snapshot();
+        last_snapshot = Clock::now();
+      }
+      if (engine_.ticks() == total) {
+        const auto hash = engine_.state_hash();
+        std::lock_guard lock(mutex_);
+        end_hash_ = hash;
+        playing_ = false;
+      } else if (due <= engine_.ticks()) {
+        std::unique_lock lock(mutex_);
+        wake_.wait_for(lock, std::chrono::milliseconds(2),
+                       [this] { return stop_ || control_changed_ || seek_to_ >= 0; });
+      }
+    }
+    {
+      std::lock_guard lock(mutex_);
+      position_s_ = engine_.time_s();
+      if (engine_.ticks() == total && end_hash_.empty()) end_hash_ = engine_.state_hash();
+    }
+  }
+}
+
+std::string ReplaySession::final_state_hash(const sim::Scene& scene, double tick_s,
+                                            const std::vector<TickRecord>& ticks) {
+  SimEngine engine(scene, tick_s);
+  for (const auto& r : ticks)
+    engine.tick(r.input);
+  return engine.state_hash();
+}
+
+}  // namespace incise::server::live

@@ -1,0 +1,77 @@
+#pragma once
+// A replay (DESIGN.md section 2, step 8): a session whose device is the recording. The same
+// SimEngine re-runs the recorded ticks, so the replay reproduces the run bit for bit, paced at
+// `speed` times real time. Checkpoints of the engine every kCheckpointTicks make seeking fast:
+// a seek restores the nearest checkpoint at or before the target and runs forward from there
+// without pacing.
+#include <condition_variable>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "server/live/frame_streamer.h"
+#include "server/live/sim_engine.h"
+#include "server/live/snapshot.h"
+#include "server/live/tick_record.h"
+
+namespace incise::server::live {
+
+class ReplaySession : public StreamSource {
+ public:
+  static constexpr std::int64_t kCheckpointTicks = 1000;  // 2 s at 500 Hz
+  static constexpr double kMinSpeed = 0.25;
+  static constexpr double kMaxSpeed = 4.0;
+
+  // Throws like SimEngine for a bad scene.
+  ReplaySession(const sim::Scene& scene, double tick_s, std::vector<TickRecord> ticks);
+  ~ReplaySession() override;
+
+  // Starts the replay thread (playing from t = 0 at 1x, as a video would) and the render thread.
+  void start();
+  void play();
+  void pause();
+  void set_speed(double speed);  // clamped to [kMinSpeed, kMaxSpeed]
+  void seek(double t_s);         // clamped to [0, duration]
+
+  double duration_s() const { return static_cast<double>(ticks_.size()) * tick_s_; }
+  FrameStreamer& streamer() { return *streamer_; }
+
+  std::shared_ptr<const Snapshot> snapshot() const override { return snapshot_.latest(); }
+  nlohmann::json status() const override;
+
+  // Runs the whole recording without pacing and returns SimEngine::state_hash() at the end.
+  static std::string final_state_hash(const sim::Scene& scene, double tick_s,
+                                      const std::vector<TickRecord>& ticks);
+
+ private:
+  void run();
+  void advance_to(std::int64_t target_tick);  // engine thread only
+  void publish_snapshot();
+
+  SimEngine engine_;
+  render::Camera camera_;
+  double tick_s_;
+  std::vector<TickRecord> ticks_;
+  std::shared_ptr<const sim::BoundarySurface> surface_;
+  std::map<std::int64_t, SimEngine::Checkpoint> checkpoints_;  // engine thread only
+  SnapshotSlot snapshot_;
+
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stop_ = false;
+  bool playing_ = true;
+  double speed_ = 1.0;
+  double seek_to_ = -1;  // >= 0: a pending seek [s]
+  bool control_changed_ = false;
+  double position_s_ = 0;
+  std::string end_hash_;  // set when the replay reaches the end
+
+  std::unique_ptr<FrameStreamer> streamer_;
+  std::thread thread_;
+};
+
+}  // namespace incise::server::live

@@ -1,0 +1,30 @@
+#pragma once
+// Scoring at the end of a session (issue 3 item 7): the curriculum computes the task's metrics
+// from the recorded stream, and the results are stored as the session's scores.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "curriculum/curriculum.h"
+#include "curriculum/metrics.h"
+#include "db/database.h"
+#include "server/live/tick_record.h"
+
+namespace incise::server::live {
+
+// Reads every chunk of the recording in order. Throws std::runtime_error naming the chunk if one
+// is malformed.
+std::vector<TickRecord> load_tick_records(db::Database& db, std::int64_t recording_id);
+
+// The recorded stream as the metrics take it: one sample per tick at t = tick * tick_s.
+std::vector<curriculum::ToolSample> tool_samples(const std::vector<TickRecord>& ticks,
+                                                 double tick_s);
+
+// Computes the task's metrics from the recording and stores them as the session's scores (one
+// transaction). Returns the results.
+std::vector<curriculum::MetricResult> score_session(db::Database& db, std::int64_t session_id,
+                                                    std::int64_t recording_id,
+                                                    const curriculum::Task& task, double tick_s,
+                                                    std::int64_t now);
+
+}  // namespace incise::server::live

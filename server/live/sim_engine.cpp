@@ -1,0 +1,106 @@
+#include "server/live/sim_engine.h"
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+namespace incise::server::live {
+namespace {
+
+sim::Vec3 to_vec(const devices::Vec3& v) {
+  return {v.x, v.y, v.z};
+}
+devices::Vec3 to_device(const sim::Vec3& v) {
+  return {v.x(), v.y(), v.z()};
+}
+
+int substeps_for(const sim::Scene& scene, double tick_s) {
+  const double dt = scene.solver.dt;
+  if (!(tick_s > 0) || !(dt > 0)) throw std::invalid_argument("tick and dt must be positive");
+  const double n = tick_s / dt;
+  const double rounded = std::round(n);
+  if (rounded < 1 || std::abs(n - rounded) > 1e-9 * rounded) {
+    throw std::invalid_argument("the tick " + std::to_string(tick_s) +
+                                " s is not a whole number of solver.dt " + std::to_string(dt) +
+                                " s");
+  }
+  return static_cast<int>(rounded);
+}
+
+}  // namespace
+
+SimEngine::SimEngine(const sim::Scene& scene, double tick_s)
+    : simulation_(scene),
+      surface_(sim::boundary_surface(simulation_.mesh())),
+      tool_(scene.tool.value_or(sim::SphereTool{})),
+      tick_s_(tick_s),
+      substeps_(substeps_for(scene, tick_s)),
+      node_forces_(sim::Points::Zero(simulation_.mesh().num_nodes(), 3)),
+      tip_(0, 0, kParkedToolHeight) {}
+
+void SimEngine::tick(const devices::DeviceState& input) {
+  const sim::Vec3 from = has_input_ ? tip_ : to_vec(input.position);
+  const sim::Vec3 to = to_vec(input.position);
+  for (int s = 1; s <= substeps_; ++s) {
+    const double a = static_cast<double>(s) / substeps_;
+    const sim::Vec3 centre = (1 - a) * from + a * to;
+    node_forces_.setZero();
+    contact_ =
+        sim::apply_sphere_contact(tool_, centre, surface_, simulation_.mesh().x, node_forces_);
+    simulation_.step(node_forces_);
+  }
+  metrics_.path_length_m += (to - from).norm();
+  const double force = contact_.force_on_tool.norm();
+  metrics_.peak_force_n = std::max(metrics_.peak_force_n, force);
+  metrics_.force_squared_time += force * force * tick_s_;
+  if (contact_.nodes_in_contact > 0) ++metrics_.contact_ticks;
+  tip_ = to;
+  has_input_ = true;
+  last_input_ = input;
+  ++ticks_;
+}
+
+devices::ForceModel SimEngine::force_model() const {
+  devices::ForceModel model;
+  model.device_index = last_input_.device_index;
+  model.reference_position = to_device(tip_);
+  sim::Vec3 force = contact_.force_on_tool;
+  const double magnitude = force.norm();
+  if (!(magnitude <= kMaxForceN)) force *= (magnitude > 0 ? kMaxForceN / magnitude : 0.0);
+  model.force = to_device(force);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      model.stiffness[static_cast<std::size_t>(3 * r + c)] = contact_.stiffness(r, c);
+  model.sim_time_s = time_s();
+  return model;
+}
+
+SimEngine::Checkpoint SimEngine::checkpoint() const {
+  return {simulation_.save_state(), tip_, has_input_, last_input_, contact_, metrics_, ticks_};
+}
+
+void SimEngine::restore(const Checkpoint& c) {
+  simulation_.restore_state(c.simulation);
+  tip_ = c.tip;
+  has_input_ = c.has_input;
+  last_input_ = c.last_input;
+  contact_ = c.contact;
+  metrics_ = c.metrics;
+  ticks_ = c.ticks;
+}
+
+std::string SimEngine::state_hash() const {
+  const auto& x = simulation_.mesh().x;
+  std::uint64_t h = 14695981039346656037ull;
+  const auto* bytes = reinterpret_cast<const unsigned char*>(x.data());
+  const std::size_t n = static_cast<std::size_t>(x.size()) * sizeof(double);
+  for (std::size_t i = 0; i < n; ++i) {
+    h ^= bytes[i];
+    h *= 1099511628211ull;
+  }
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+  return text;
+}
+
+}  // namespace incise::server::live

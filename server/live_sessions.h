@@ -1,0 +1,36 @@
+#pragma once
+// The live sessions this server runs, by session and by station, and the routing between them and
+// the station agents: device states go to the station's running session, an agent dropping out
+// pauses it.
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "devices/device_state.h"
+#include "server/live/live_session.h"
+
+namespace incise::server {
+
+class LiveSessions {
+ public:
+  void add(const std::shared_ptr<live::LiveSession>& session);
+  void remove(std::int64_t session_id);
+  std::shared_ptr<live::LiveSession> find(std::int64_t session_id) const;
+  // The station's session that has not finished, if any.
+  std::shared_ptr<live::LiveSession> active_at(std::int64_t station_id) const;
+
+  void on_device_state(std::int64_t station_id, const devices::DeviceState& state,
+                       std::uint64_t timestamp_us) const;
+  void on_agent(std::int64_t station_id, bool online) const;
+  // Stops every session (shutdown) and forgets them.
+  void stop_all(const std::string& reason);
+
+ private:
+  mutable std::mutex mutex_;
+  std::map<std::int64_t, std::shared_ptr<live::LiveSession>> sessions_;
+};
+
+}  // namespace incise::server

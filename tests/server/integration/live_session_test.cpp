@@ -1,0 +1,327 @@
+// Live sessions end to end with the real server and the real incise-agent playing its scripted
+// device: start, watch over the view WebSocket, stop, then the recording, the score and a replay
+// that ends in the very same state. Plus the ways agents and viewers misbehave.
+#include <signal.h>
+#include <sqlite3.h>
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "integration/server_fixture.h"
+#include "sim/render/jpeg.h"
+#include "ws_client.h"
+
+namespace incise::server::test {
+namespace {
+
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+
+struct Frame {
+  std::uint32_t number = 0;
+  int width = 0;
+  int height = 0;
+  double sim_time_s = 0;
+  std::vector<std::uint8_t> jpeg;
+};
+
+std::optional<Frame> parse_frame(const std::string& message) {
+  if (message.size() < 16) return std::nullopt;
+  Frame f;
+  std::uint16_t w = 0, h = 0;
+  std::memcpy(&f.number, message.data(), 4);
+  std::memcpy(&w, message.data() + 4, 2);
+  std::memcpy(&h, message.data() + 6, 2);
+  std::memcpy(&f.sim_time_s, message.data() + 8, 8);
+  f.width = w;
+  f.height = h;
+  f.jpeg.assign(message.begin() + 16, message.end());
+  return f;
+}
+
+// Mean absolute difference of two equally sized RGB images, 0..255.
+double mean_abs_difference(const render::RgbImage& a, const render::RgbImage& b) {
+  double sum = 0;
+  for (std::size_t i = 0; i < a.rgb.size(); ++i)
+    sum += std::abs(int(a.rgb[i]) - int(b.rgb[i]));
+  return sum / static_cast<double>(a.rgb.size());
+}
+
+// A viewer that acknowledges every frame, like the dashboard does.
+class Viewer {
+ public:
+  Viewer(unsigned short port, const std::string& target, const std::string& cookie)
+      : ws_("127.0.0.1", port, target, {{"Cookie", "incise_session=" + cookie}}) {}
+
+  // Reads until `done` returns true for an event or `timeout` passes. Returns whether done.
+  template <class Done>
+  bool read_until(Done done, std::chrono::milliseconds timeout) {
+    const auto deadline = Clock::now() + timeout;
+    while (Clock::now() < deadline) {
+      const auto event = ws_.read();
+      if (event.closed) {
+        closed = event;
+        return done();
+      }
+      if (event.text) {
+        auto message = nlohmann::json::parse(event.message);
+        if (message["type"] == "metrics") metrics = message;
+        if (message["type"] == "ended") ended = message;
+      } else if (auto frame = parse_frame(event.message)) {
+        ws_.send_text(nlohmann::json{{"type", "ack"}, {"frame", frame->number}}.dump());
+        frames.push_back(std::move(*frame));
+      }
+      if (done()) return true;
+    }
+    return false;
+  }
+  void send(const nlohmann::json& message) { ws_.send_text(message.dump()); }
+
+  std::vector<Frame> frames;
+  nlohmann::json metrics;
+  std::optional<nlohmann::json> ended;
+  std::optional<WsEvent> closed;
+
+ private:
+  WsClient ws_;
+};
+
+class LiveSession : public ServerTest {
+ protected:
+  std::unique_ptr<ChildProcess> start_agent() {
+    auto agent = std::make_unique<ChildProcess>(
+        std::vector<std::string>{INCISE_AGENT_BIN, "--server",
+                                 "ws://127.0.0.1:" + std::to_string(server().port()) + "/agent",
+                                 "--token", kStationToken, "--rate", "500"});
+    const auto deadline = Clock::now() + 5s;
+    while (Clock::now() < deadline && !station_online())
+      std::this_thread::sleep_for(20ms);
+    return agent;
+  }
+
+  bool station_online() {
+    for (const auto& s : as(kTrainee).get("/api/stations").json()) {
+      if (s["id"] == 1) return s["online"].get<bool>();
+    }
+    return false;
+  }
+
+  // A booking of Station 1 for the trainee covering now (the quarter hour in progress).
+  std::int64_t book_now() {
+    const auto now = std::chrono::duration_cast<std::chrono::seconds>(
+                         std::chrono::system_clock::now().time_since_epoch())
+                         .count();
+    const auto start = now - now % 900;
+    const auto response = as(kTrainee).post(
+        "/api/bookings",
+        {{"station_id", 1}, {"starts_at", utc_text(start)}, {"ends_at", utc_text(start + 3600)}});
+    EXPECT_EQ(response.status, 201) << response.body;
+    return response.json().value("id", 0);
+  }
+
+  void cancel(std::int64_t booking) {
+    as(kTrainee).del("/api/bookings/" + std::to_string(booking));
+  }
+
+  std::string cookie(const Login& login) { return *as(login).cookie("incise_session"); }
+
+  std::unique_ptr<Viewer> view(const std::string& target, const Login& login = kTrainee) {
+    return std::make_unique<Viewer>(server().port(), target, cookie(login));
+  }
+
+  static std::string db_text(const std::string& sql) {
+    sqlite3* db = nullptr;
+    sqlite3_open_v2(server().db_path().c_str(), &db, SQLITE_OPEN_READONLY, nullptr);
+    sqlite3_stmt* stmt = nullptr;
+    std::string out;
+    if (sqlite3_prepare_v2(db, sql.c_str(), -1, &stmt, nullptr) == SQLITE_OK &&
+        sqlite3_step(stmt) == SQLITE_ROW && sqlite3_column_text(stmt, 0)) {
+      out = reinterpret_cast<const char*>(sqlite3_column_text(stmt, 0));
+    }
+    sqlite3_finalize(stmt);
+    sqlite3_close(db);
+    return out;
+  }
+};
+
+TEST_F(LiveSession, RunsStreamsRecordsScoresAndReplaysToTheSameState) {
+  auto agent = start_agent();
+  ASSERT_TRUE(station_online()) << agent->stderr_text();
+  const auto booking = book_now();
+
+  auto started = as(kTrainee).post("/api/sessions", {{"station_id", 1}, {"task", "palpation"}});
+  ASSERT_EQ(started.status, 201) << started.body;
+  const auto session = started.json()["id"].get<std::int64_t>();
+  EXPECT_EQ(started.json()["live"]["state"], "running");
+  const auto recording = started.json()["live"]["recording_id"].get<std::int64_t>();
+
+  // A second start at the busy station is refused with the reason.
+  EXPECT_TRUE(
+      is_error(as(kInstructor).post("/api/sessions", {{"station_id", 1}, {"task", "palpation"}}),
+               409, "station 1 is busy with session " + std::to_string(session)));
+
+  {
+    auto viewer =
+        view("/api/sessions/" + std::to_string(session) + "/view?fps=20&width=320&height=240");
+    // Frames arrive, and the scripted device reaches the tissue: contact and force.
+    ASSERT_TRUE(
+        viewer->read_until([&] { return viewer->metrics.value("peak_force_n", 0.0) > 0.05; }, 25s))
+        << viewer->metrics.dump() << agent->stderr_text();
+    ASSERT_TRUE(viewer->read_until([&] { return viewer->frames.size() >= 20; }, 10s));
+    const auto& first = viewer->frames.front();
+    const auto& last = viewer->frames.back();
+    EXPECT_EQ(first.width, 320);
+    EXPECT_EQ(first.height, 240);
+    EXPECT_GT(last.number, first.number);
+    EXPECT_GT(last.sim_time_s, first.sim_time_s);
+    const auto a = render::decode_jpeg(first.jpeg);
+    const auto b = render::decode_jpeg(last.jpeg);
+    ASSERT_EQ(a.width, 320);
+    ASSERT_EQ(b.height, 240);
+    // The tool moved between them (the script never rests that long), so the picture changed.
+    EXPECT_GT(mean_abs_difference(a, b), 0.2);
+    EXPECT_EQ(viewer->metrics["state"], "running");
+    EXPECT_TRUE(viewer->metrics["agent_online"].get<bool>());
+    EXPECT_GT(viewer->metrics["force_models_sent"].get<int>(), 0);
+    EXPECT_GT(viewer->metrics["path_length_m"].get<double>(), 0.0);
+  }
+
+  auto stopped = as(kTrainee).post("/api/sessions/" + std::to_string(session) + "/stop",
+                                   nlohmann::json::object());
+  ASSERT_EQ(stopped.status, 200) << stopped.body;
+  EXPECT_EQ(stopped.json()["state"], "finished");
+  EXPECT_EQ(stopped.json()["live"]["state"], "finished");
+
+  // The recording is complete, and the score was computed from it.
+  const auto rid = std::to_string(recording);
+  EXPECT_EQ(db_text("SELECT state FROM recordings WHERE id = " + rid), "complete");
+  const double duration = std::stod(db_text("SELECT duration_s FROM recordings WHERE id = " + rid));
+  EXPECT_GT(duration, 1.0);
+  const auto sid = std::to_string(session);
+  EXPECT_EQ(db_int("SELECT COUNT(*) FROM scores WHERE session_id = " + sid), 3);
+  EXPECT_NEAR(std::stod(db_text("SELECT value FROM scores WHERE metric = 'completion_time_s' AND "
+                                "session_id = " +
+                                sid)),
+              duration, 0.01);
+  EXPECT_GT(std::stod(db_text(
+                "SELECT value FROM scores WHERE metric = 'peak_force_n' AND session_id = " + sid)),
+            0.05);
+  const auto final_hash = db_text("SELECT final_state_hash FROM recordings WHERE id = " + rid);
+  EXPECT_EQ(final_hash.size(), 16u);
+
+  // The instructor replays it at 4x: it ends in the very same state, bit for bit.
+  {
+    auto replay =
+        view("/api/recordings/" + rid + "/replay?fps=10&width=160&height=120", kInstructor);
+    replay->send({{"type", "speed"}, {"value", 4}});
+    replay->send({{"type", "play"}});
+    ASSERT_TRUE(
+        replay->read_until([&] { return replay->metrics.value("state", "") == "ended"; },
+                           std::chrono::milliseconds(static_cast<int>(duration * 1000)) + 20s))
+        << replay->metrics.dump();
+    EXPECT_EQ(replay->metrics["state_hash"], final_hash);
+    EXPECT_NEAR(replay->metrics["duration_s"].get<double>(), duration, 1e-9);
+    EXPECT_FALSE(replay->frames.empty());
+
+    // Seeking back to the middle shows the middle.
+    replay->send({{"type", "seek"}, {"t", duration / 2}});
+    ASSERT_TRUE(replay->read_until(
+        [&] { return std::abs(replay->metrics.value("sim_time_s", -1.0) - duration / 2) < 0.01; },
+        10s))
+        << replay->metrics.dump();
+    EXPECT_EQ(replay->metrics["state"], "paused");
+  }
+  cancel(booking);
+}
+
+TEST_F(LiveSession, AnAgentDroppingOutPausesTheSessionAndTheRecordingStaysIntact) {
+  auto agent = start_agent();
+  ASSERT_TRUE(station_online()) << agent->stderr_text();
+  const auto booking = book_now();
+  auto started = as(kTrainee).post("/api/sessions", {{"station_id", 1}, {"task", "palpation"}});
+  ASSERT_EQ(started.status, 201) << started.body;
+  const auto session = std::to_string(started.json()["id"].get<std::int64_t>());
+  const auto recording = std::to_string(started.json()["live"]["recording_id"].get<std::int64_t>());
+  std::this_thread::sleep_for(1500ms);
+
+  agent->send_signal(SIGKILL);
+  agent->wait_for_exit(3s);
+  nlohmann::json live;
+  const auto deadline = Clock::now() + 10s;
+  do {
+    std::this_thread::sleep_for(50ms);
+    live = as(kTrainee).get("/api/sessions/" + session).json()["live"];
+  } while (live["state"] != "paused" && Clock::now() < deadline);
+  EXPECT_EQ(live["state"], "paused");
+  EXPECT_EQ(live["reason"], "station agent offline");
+  EXPECT_FALSE(live["agent_online"].get<bool>());
+  // Resuming without the agent is refused with the reason; the server keeps serving.
+  EXPECT_TRUE(
+      is_error(as(kTrainee).post("/api/sessions/" + session + "/resume", nlohmann::json::object()),
+               409, "station agent is offline"));
+  EXPECT_EQ(as(kTrainee).get("/api/health").status, 200);
+  // The paused session's time stands still.
+  const double t0 = live["sim_time_s"].get<double>();
+  std::this_thread::sleep_for(300ms);
+  EXPECT_EQ(as(kTrainee).get("/api/sessions/" + session).json()["live"]["sim_time_s"], t0);
+
+  auto stopped = as(kTrainee).post("/api/sessions/" + session + "/stop", nlohmann::json::object());
+  ASSERT_EQ(stopped.status, 200) << stopped.body;
+  EXPECT_EQ(db_text("SELECT state FROM recordings WHERE id = " + recording), "complete");
+  // Every recorded tick is there: chunks of whole records whose ticks cover the duration.
+  const auto bytes =
+      db_int("SELECT SUM(LENGTH(data)) FROM recording_chunks WHERE recording_id = " + recording);
+  const double duration =
+      std::stod(db_text("SELECT duration_s FROM recordings WHERE id = " + recording));
+  EXPECT_EQ(bytes % 77, 0);
+  EXPECT_NEAR(static_cast<double>(bytes / 77) / 500.0, duration, 1e-9);
+  EXPECT_NEAR(duration, t0, 1e-9);
+  cancel(booking);
+}
+
+TEST_F(LiveSession, ViewersAreCheckedAndMalformedMessagesCloseOnlyThatViewer) {
+  auto agent = start_agent();
+  ASSERT_TRUE(station_online()) << agent->stderr_text();
+  const auto booking = book_now();
+  auto started = as(kTrainee).post("/api/sessions", {{"station_id", 1}, {"task", "palpation"}});
+  ASSERT_EQ(started.status, 201) << started.body;
+  const auto session = std::to_string(started.json()["id"].get<std::int64_t>());
+  const auto target = "/api/sessions/" + session + "/view";
+
+  // Without a login the upgrade is refused with 401 (Beast reports the HTTP status).
+  EXPECT_THROW(WsClient("127.0.0.1", server().port(), target), std::exception);
+
+  auto good = view(target);
+  auto bad = view(target);
+  bad->send({{"type", "warp"}});
+  ASSERT_TRUE(bad->read_until([&] { return bad->closed.has_value(); }, 5s));
+  EXPECT_EQ(bad->closed->close_code, 1007);
+  EXPECT_EQ(bad->closed->close_reason, "unknown message type \"warp\"");
+
+  // A viewer that never reads: the server neither stalls nor grows a queue for it.
+  WsClient lazy("127.0.0.1", server().port(), target + "?fps=60&width=1280&height=960",
+                {{"Cookie", "incise_session=" + cookie(kTrainee)}});
+  const auto frames_before = good->frames.size();
+  ASSERT_TRUE(good->read_until([&] { return good->frames.size() >= frames_before + 30; }, 10s));
+  EXPECT_EQ(good->metrics["state"], "running");
+
+  auto stopped = as(kTrainee).post("/api/sessions/" + session + "/stop", nlohmann::json::object());
+  ASSERT_EQ(stopped.status, 200) << stopped.body;
+  // The watching viewer is told, then closed normally.
+  ASSERT_TRUE(good->read_until([&] { return good->closed.has_value(); }, 5s));
+  ASSERT_TRUE(good->ended.has_value());
+  EXPECT_EQ(good->closed->close_code, 1000);
+  cancel(booking);
+}
+
+}  // namespace
+}  // namespace incise::server::test

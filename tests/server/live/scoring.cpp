@@ -1,0 +1,200 @@
+// Scoring a recorded session: server/live/scoring.h, on a real migrated SQLite file.
+#include "server/live/scoring.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "db/database.h"
+#include "db/migrations.h"
+#include "db/recordings_repo.h"
+#include "db/training_repo.h"
+#include "db/users_repo.h"
+#include "temp_dir.h"
+
+namespace incise::server::live {
+namespace {
+
+constexpr double kTickS = 0.002;
+constexpr std::int64_t kNow = 1894003200;
+
+// A wandering probe: ticks from `first`, positions and forces that change every tick.
+std::vector<TickRecord> wandering_records(std::uint32_t first, std::uint32_t count,
+                                          std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> step(-1e-3, 1e-3);
+  std::uniform_real_distribution<float> force(-2.0f, 2.0f);
+  std::vector<TickRecord> records(count);
+  double x = 0.04, y = 0.04, z = 0.04;
+  for (std::uint32_t i = 0; i < count; ++i) {
+    auto& r = records[i];
+    r.tick = first + i;
+    x += step(rng);
+    y += step(rng);
+    z += step(rng);
+    r.input.position = {x, y, z};
+    for (float& f : r.force)
+      f = force(rng);
+  }
+  return records;
+}
+
+TEST(ToolSamples, MapTicksPositionsAndForcesExactly) {
+  const auto records = wandering_records(17, 500, 1);
+  const auto samples = tool_samples(records, kTickS);
+  ASSERT_EQ(samples.size(), records.size());
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const auto& r = records[i];
+    const auto& s = samples[i];
+    EXPECT_EQ(s.t_s, static_cast<double>(r.tick) * kTickS);
+    EXPECT_EQ(s.tip_m[0], r.input.position.x);
+    EXPECT_EQ(s.tip_m[1], r.input.position.y);
+    EXPECT_EQ(s.tip_m[2], r.input.position.z);
+    for (int k = 0; k < 3; ++k)  // a float widens to a double exactly
+      EXPECT_EQ(s.force_n[static_cast<std::size_t>(k)], static_cast<double>(r.force[k]));
+  }
+  EXPECT_TRUE(tool_samples({}, kTickS).empty());
+}
+
+class ScoreSession : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    db::apply_migrations(db_);
+    trainee_ = db::UsersRepo(db_)
+                   .create({"tess", "Tess Trainee", db::Role::trainee, "a long password"}, kNow)
+                   .id;
+    session_ = db::TrainingRepo(db_).create_session(trainee_, std::nullopt, "palpation", kNow);
+    recording_ = recordings_.create(session_, "scenes/palpation.json", "0123456789abcdef", 0,
+                                    1 / kTickS, kNow);
+  }
+
+  // Appends records as chunks of `per_chunk` ticks, as the live session's recorder does.
+  void record(const std::vector<TickRecord>& records, std::size_t per_chunk) {
+    for (std::size_t at = 0; at < records.size(); at += per_chunk) {
+      std::vector<std::uint8_t> chunk;
+      const auto end = std::min(records.size(), at + per_chunk);
+      for (std::size_t i = at; i < end; ++i)
+        append_tick_record(records[i], chunk);
+      recordings_.append_chunk(recording_, seq_++,
+                               static_cast<std::int64_t>(records[at].tick * kTickS * 1e6), chunk,
+                               static_cast<double>(records[end - 1].tick + 1) * kTickS);
+    }
+  }
+
+  server::test::TempDir dir_;
+  db::Database db_{dir_.path() / "incise.db"};
+  db::RecordingsRepo recordings_{db_};
+  std::int64_t trainee_ = 0;
+  std::int64_t session_ = 0;
+  std::int64_t recording_ = 0;
+  std::int64_t seq_ = 0;
+};
+
+// The value of `key` among the metrics, which must hold it.
+double value_of(const std::vector<curriculum::MetricValue>& values, const std::string& key) {
+  const auto it = std::find_if(values.begin(), values.end(),
+                               [&](const curriculum::MetricValue& v) { return v.key == key; });
+  if (it == values.end()) throw std::logic_error("no metric " + key);
+  return it->value;
+}
+
+TEST_F(ScoreSession, StoresTheCurriculumsMetricsOfTheRecordingWithTheirPassFlags) {
+  const auto records = wandering_records(0, 1234, 2);
+  record(records, 250);  // 5 chunks, the last one short
+  const auto expected = curriculum::basic_metrics(tool_samples(records, kTickS));
+  const double time = value_of(expected, "completion_time_s");
+  const double path = value_of(expected, "path_length_m");
+  const double peak = value_of(expected, "peak_force_n");
+  const double rms = value_of(expected, "rms_force_n");
+  EXPECT_DOUBLE_EQ(time, 1233 * kTickS);
+  ASSERT_GT(path, 0);
+  ASSERT_GT(peak, 0);
+
+  // Thresholds either side of the measured values, and one exactly on it (the boundary passes).
+  curriculum::Task task;
+  task.key = "palpation";
+  task.scene = "scenes/palpation.json";
+  using curriculum::ThresholdOp;
+  task.metrics = {
+      {"completion_time_s", {ThresholdOp::at_most, time + 1}, "s"},  // passes
+      {"path_length_m", {ThresholdOp::at_most, path / 2}, "m"},      // fails
+      {"peak_force_n", {ThresholdOp::at_least, peak}, "N"},          // passes on the boundary
+      {"rms_force_n", {ThresholdOp::at_least, rms * 1.01}, "N"},     // fails
+  };
+  const auto results = score_session(db_, session_, recording_, task, kTickS, kNow + 60);
+  ASSERT_EQ(results.size(), 4u);
+  const bool expected_pass[] = {true, false, true, false};
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    EXPECT_EQ(results[i].key, task.metrics[i].key);
+    EXPECT_EQ(results[i].value, value_of(expected, task.metrics[i].key));
+    EXPECT_EQ(results[i].passed, expected_pass[i]) << results[i].key;
+    EXPECT_EQ(results[i].threshold, task.metrics[i].threshold);
+  }
+
+  auto stored = db::TrainingRepo(db_).scores();
+  ASSERT_EQ(stored.size(), 4u);
+  std::sort(stored.begin(), stored.end(),
+            [](const db::ScoreRecord& a, const db::ScoreRecord& b) { return a.id < b.id; });
+  for (std::size_t i = 0; i < stored.size(); ++i) {
+    const auto& s = stored[i];
+    EXPECT_EQ(s.session_id, session_);
+    EXPECT_EQ(s.trainee, "tess");
+    EXPECT_EQ(s.metric, task.metrics[i].key);
+    EXPECT_EQ(s.value, value_of(expected, s.metric));  // REAL columns keep doubles exactly
+    EXPECT_EQ(s.unit, task.metrics[i].unit);
+    EXPECT_EQ(s.passed, expected_pass[i]) << s.metric;
+    EXPECT_EQ(s.created_at, kNow + 60);
+  }
+}
+
+TEST_F(ScoreSession, LoadsEveryChunkInOrder) {
+  const auto records = wandering_records(0, 600, 3);
+  record(records, 7);
+  const auto loaded = load_tick_records(db_, recording_);
+  ASSERT_EQ(loaded.size(), records.size());
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    EXPECT_EQ(loaded[i].tick, records[i].tick);
+    EXPECT_EQ(loaded[i].input, records[i].input);
+  }
+  EXPECT_TRUE(load_tick_records(db_, recording_ + 1).empty());  // unknown: no chunks
+}
+
+TEST_F(ScoreSession, MalformedChunkIsNamedAndNothingIsStored) {
+  record(wandering_records(0, 20, 4), 20);
+  std::vector<std::uint8_t> truncated;
+  append_tick_record(wandering_records(20, 1, 5)[0], truncated);
+  truncated.pop_back();
+  recordings_.append_chunk(recording_, seq_++, 40'000, truncated, 0.042);
+
+  curriculum::Task task;
+  task.metrics = {{"path_length_m", {curriculum::ThresholdOp::at_most, 1}, "m"}};
+  try {
+    score_session(db_, session_, recording_, task, kTickS, kNow);
+    FAIL() << "a malformed chunk was scored";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "recording " + std::to_string(recording_) +
+                  " chunk 1: chunk of 76 bytes is not a whole number of 77-byte tick records");
+  }
+  EXPECT_TRUE(db::TrainingRepo(db_).scores().empty());
+}
+
+TEST_F(ScoreSession, GapBetweenChunksIsNamed) {
+  record(wandering_records(0, 10, 6), 10);
+  record(wandering_records(11, 10, 7), 10);
+  try {
+    load_tick_records(db_, recording_);
+    FAIL() << "a gap in the ticks was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "recording " + std::to_string(recording_) + " chunk 1: tick 11 follows tick 9");
+  }
+}
+
+}  // namespace
+}  // namespace incise::server::live

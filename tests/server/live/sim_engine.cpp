@@ -1,0 +1,278 @@
+// The deterministic session core: server/live/sim_engine.h, on the real palpation scene.
+#include "server/live/sim_engine.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "sim/scene/scene_error.h"
+#include "test_scene.h"
+
+namespace incise::server::live {
+namespace {
+
+using test::kCentreXY;
+using test::kTickS;
+using test::kToolRadius;
+using test::kTopZ;
+
+devices::DeviceState at(double x, double y, double z) {
+  devices::DeviceState s;
+  s.position = {x, y, z};
+  return s;
+}
+
+void run_script(SimEngine& engine, std::int64_t until_tick) {
+  while (engine.ticks() < until_tick)
+    engine.tick(test::scripted_input(engine.ticks()));
+}
+
+TEST(SimEngine, TickMustBeAWholeNumberOfSolverSteps) {
+  const auto scene = test::palpation_scene();  // solver.dt = 1e-4 s
+  EXPECT_EQ(SimEngine(scene, 0.002).substeps(), 20);
+  EXPECT_EQ(SimEngine(scene, 0.001).substeps(), 10);
+  EXPECT_EQ(SimEngine(scene, 1e-4).substeps(), 1);
+  EXPECT_EQ(SimEngine(scene, 0.0021).substeps(), 21);
+  for (const double bad :
+       {0.00205, 0.0019999, 5e-5, 0.0, -0.002, std::numeric_limits<double>::quiet_NaN()}) {
+    EXPECT_THROW(SimEngine(scene, bad), std::invalid_argument) << bad;
+  }
+}
+
+TEST(SimEngine, InvalidSceneThrowsSceneError) {
+  auto scene = test::palpation_scene();
+  scene.material.youngs_modulus = -3;
+  EXPECT_THROW(SimEngine(scene, kTickS), sim::SceneError);
+}
+
+TEST(SimEngine, StartsAtRestWithTheToolParked) {
+  const SimEngine engine(test::palpation_scene(), kTickS);
+  EXPECT_EQ(engine.ticks(), 0);
+  EXPECT_EQ(engine.time_s(), 0.0);
+  EXPECT_EQ(engine.tool_tip(), sim::Vec3(0, 0, kParkedToolHeight));
+  EXPECT_EQ(engine.tool().radius, kToolRadius);
+  EXPECT_EQ(engine.contact().nodes_in_contact, 0);
+  EXPECT_TRUE(test::same_bits(engine.simulation().mesh().x, engine.simulation().mesh().rest));
+}
+
+TEST(SimEngine, SameInputsGiveTheSameStateBitForBit) {
+  const auto scene = test::palpation_scene();
+  SimEngine a(scene, kTickS);
+  SimEngine b(scene, kTickS);
+  const auto initial = a.state_hash();
+  EXPECT_EQ(initial, b.state_hash());
+  run_script(a, 300);
+  run_script(b, 300);
+  EXPECT_EQ(a.ticks(), 300);
+  EXPECT_DOUBLE_EQ(a.time_s(), 0.6);
+  EXPECT_GT(a.metrics().contact_ticks, 0);  // the script did touch the tissue
+  EXPECT_EQ(a.state_hash(), b.state_hash());
+  EXPECT_TRUE(test::same_bits(a.simulation().mesh().x, b.simulation().mesh().x));
+  EXPECT_NE(a.state_hash(), initial);
+  ASSERT_EQ(a.state_hash().size(), 16u);
+
+  // One different input (a tenth of a millimetre at one tick in contact) changes the state.
+  SimEngine c(scene, kTickS);
+  while (c.ticks() < 300) {
+    auto input = test::scripted_input(c.ticks());
+    if (c.ticks() == 200) input.position.z -= 1e-4;
+    c.tick(input);
+  }
+  EXPECT_NE(c.state_hash(), a.state_hash());
+}
+
+// FNV-1a 64 with the published constants.
+std::string fnv1a_64(const unsigned char* bytes, std::size_t size) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (std::size_t i = 0; i < size; ++i) {
+    h ^= bytes[i];
+    h *= 0x100000001b3ull;
+  }
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+  return text;
+}
+
+TEST(SimEngine, StateHashIsFnv1a64OfThePositionBytes) {
+  SimEngine engine(test::palpation_scene(), kTickS);
+  run_script(engine, 20);
+  const auto& x = engine.simulation().mesh().x;
+  EXPECT_EQ(engine.state_hash(), fnv1a_64(reinterpret_cast<const unsigned char*>(x.data()),
+                                          static_cast<std::size_t>(x.size()) * sizeof(double)));
+}
+
+TEST(SimEngine, RestoringACheckpointReproducesTheRun) {
+  const auto scene = test::palpation_scene();
+  SimEngine engine(scene, kTickS);
+  run_script(engine, 150);
+  const auto checkpoint = engine.checkpoint();
+  const auto hash_at_checkpoint = engine.state_hash();
+  run_script(engine, 300);
+  const auto hash = engine.state_hash();
+  const auto x = engine.simulation().mesh().x;
+  const auto metrics = engine.metrics();
+  const auto tip = engine.tool_tip();
+  const auto force = engine.contact().force_on_tool;
+
+  engine.restore(checkpoint);
+  EXPECT_EQ(engine.ticks(), 150);
+  EXPECT_EQ(engine.state_hash(), hash_at_checkpoint);
+  run_script(engine, 300);
+  EXPECT_EQ(engine.state_hash(), hash);
+  EXPECT_TRUE(test::same_bits(engine.simulation().mesh().x, x));
+  EXPECT_EQ(engine.tool_tip(), tip);
+  EXPECT_EQ(engine.contact().force_on_tool, force);
+  EXPECT_EQ(engine.metrics().path_length_m, metrics.path_length_m);
+  EXPECT_EQ(engine.metrics().peak_force_n, metrics.peak_force_n);
+  EXPECT_EQ(engine.metrics().force_squared_time, metrics.force_squared_time);
+  EXPECT_EQ(engine.metrics().contact_ticks, metrics.contact_ticks);
+
+  // A checkpoint also carries over to another engine of the same scene.
+  SimEngine other(scene, kTickS);
+  other.restore(checkpoint);
+  run_script(other, 300);
+  EXPECT_EQ(other.state_hash(), hash);
+}
+
+TEST(SimEngine, PressingTheTopFacePushesTheToolUp) {
+  SimEngine engine(test::palpation_scene(), kTickS);
+  // Lower the probe onto the top node at the block's centre from 1 cm above contact to 6 mm
+  // below it over 0.4 s, then hold it there for 0.2 s.
+  const double z_touch = kTopZ + kToolRadius;
+  for (int i = 0; i <= 200; ++i) {
+    engine.tick(at(kCentreXY, kCentreXY, z_touch + 0.01 - 0.016 * i / 200.0));
+  }
+  for (int i = 0; i < 100; ++i)
+    engine.tick(at(kCentreXY, kCentreXY, z_touch - 0.006));
+
+  const auto& contact = engine.contact();
+  ASSERT_GT(contact.nodes_in_contact, 0);
+  const sim::Vec3 f = contact.force_on_tool;
+  EXPECT_GT(f.z(), 0);
+  EXPECT_GT(f.z(), 0.9 * f.norm());            // pressing straight down: the reaction points up
+  EXPECT_LT(f.norm(), SimEngine::kMaxForceN);  // so the force model carries it unclamped
+
+  const auto model = engine.force_model();
+  EXPECT_EQ(model.force, (devices::Vec3{f.x(), f.y(), f.z()}));
+  EXPECT_EQ(model.reference_position, (devices::Vec3{kCentreXY, kCentreXY, z_touch - 0.006}));
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      EXPECT_EQ(model.stiffness[static_cast<std::size_t>(3 * r + c)], contact.stiffness(r, c));
+  EXPECT_GT(model.stiffness[8], 0);  // pushing further down would push back harder
+  EXPECT_EQ(model.sim_time_s, engine.time_s());
+  EXPECT_DOUBLE_EQ(model.sim_time_s, 301 * kTickS);
+}
+
+// The palpation tissue is far too soft to push back with kMaxForceN, so this uses the palpation
+// block with every node fixed and a stiff probe: then the reaction has a closed form. With the
+// probe centre h above the top centre node (and every other node more than a radius away), the
+// one node in contact is r - h deep and the tool is pushed up by stiffness (r - h).
+class FixedBlock : public ::testing::Test {
+ protected:
+  static constexpr double kStiffness = 1e4;  // [N/m]
+
+  static sim::Scene scene() {
+    auto json = nlohmann::json::parse(test::palpation_text());
+    json["constraints"] =
+        nlohmann::json::array({{{"where", {{"box", {{-1, -1, -1}, {1, 1, 1}}}}}, {"fix", "xyz"}}});
+    json["tool"]["stiffness"] = kStiffness;
+    return sim::parse_scene(json);
+  }
+
+  SimEngine engine_{scene(), kTickS};
+};
+
+TEST_F(FixedBlock, ForceBelowTheLimitIsPassedOnAsIs) {
+  const double h = 0.0045;  // 0.5 mm deep: 5 N
+  engine_.tick(at(kCentreXY, kCentreXY, kTopZ + h));
+  ASSERT_EQ(engine_.contact().nodes_in_contact, 1);
+  const sim::Vec3 f = engine_.contact().force_on_tool;
+  EXPECT_NEAR(f.x(), 0, 1e-12);
+  EXPECT_NEAR(f.y(), 0, 1e-12);
+  EXPECT_NEAR(f.z(), kStiffness * (kToolRadius - h), 1e-9);
+  EXPECT_EQ(engine_.force_model().force, (devices::Vec3{f.x(), f.y(), f.z()}));
+}
+
+TEST_F(FixedBlock, ForceAboveTheLimitIsClampedToItAlongTheSameDirection) {
+  // 1 mm above the node, 4 mm deep: 40 N, twice the limit.
+  engine_.tick(at(kCentreXY, kCentreXY, kTopZ + 0.001));
+  ASSERT_EQ(engine_.contact().nodes_in_contact, 1);
+  const sim::Vec3 f = engine_.contact().force_on_tool;
+  EXPECT_NEAR(f.z(), kStiffness * (kToolRadius - 0.001), 1e-9);
+
+  const auto model = engine_.force_model();
+  const sim::Vec3 clamped(model.force.x, model.force.y, model.force.z);
+  EXPECT_NEAR(clamped.norm(), SimEngine::kMaxForceN, 1e-12);
+  EXPECT_NEAR(clamped.normalized().dot(f.normalized()), 1.0, 1e-15);
+  // The stiffness is not scaled with the force: it is the contact's.
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      EXPECT_EQ(model.stiffness[static_cast<std::size_t>(3 * r + c)],
+                engine_.contact().stiffness(r, c));
+  EXPECT_NEAR(model.stiffness[8], kStiffness, 1e-9);  // k n n^T with n = +z
+  // The metrics keep the unclamped force.
+  EXPECT_EQ(engine_.metrics().peak_force_n, f.norm());
+}
+
+TEST(SimEngine, PathLengthOfAStraightLineIsItsLength) {
+  SimEngine engine(test::palpation_scene(), kTickS);
+  // Well above the tissue, so no contact: 50 inputs evenly along a straight line.
+  const sim::Vec3 from(0.01, 0.02, 0.06);
+  const sim::Vec3 to(0.07, 0.05, 0.09);
+  constexpr int kInputs = 50;
+  double sum_of_steps = 0;
+  sim::Vec3 previous = from;
+  for (int i = 0; i < kInputs; ++i) {
+    const sim::Vec3 p = from + (to - from) * (static_cast<double>(i) / (kInputs - 1));
+    engine.tick(at(p.x(), p.y(), p.z()));
+    sum_of_steps += (p - previous).norm();
+    previous = p;
+    EXPECT_EQ(engine.tool_tip(), p);
+  }
+  // The first input places the tool: the path starts there, not at the parking position.
+  EXPECT_NEAR(engine.metrics().path_length_m, (to - from).norm(), 1e-15);
+  EXPECT_NEAR(engine.metrics().path_length_m, sum_of_steps, 1e-15);
+  EXPECT_EQ(engine.metrics().peak_force_n, 0);
+  EXPECT_EQ(engine.metrics().force_squared_time, 0);
+  EXPECT_EQ(engine.metrics().contact_ticks, 0);
+}
+
+TEST(SimEngine, RunningMetricsFollowTheContactForce) {
+  SimEngine engine(test::palpation_scene(), kTickS);
+  double peak = 0;
+  double force_squared_time = 0;
+  std::int64_t contact_ticks = 0;
+  double path = 0;
+  // The script for 0.5 s (one dip into the tissue and out), then 50 ticks held above it.
+  for (std::int64_t i = 0; i < 300; ++i) {
+    const auto input = i < 250 ? test::scripted_input(i) : test::scripted_input(249);
+    const sim::Vec3 before = engine.tool_tip();
+    engine.tick(input);
+    if (i > 0) path += (engine.tool_tip() - before).norm();
+    const double force = engine.contact().force_on_tool.norm();
+    peak = std::max(peak, force);
+    force_squared_time += force * force * kTickS;
+    if (engine.contact().nodes_in_contact > 0) ++contact_ticks;
+
+    const auto& m = engine.metrics();
+    ASSERT_GE(m.peak_force_n, force) << "tick " << i;
+    ASSERT_EQ(m.peak_force_n, peak) << "tick " << i;
+    ASSERT_EQ(m.contact_ticks, contact_ticks) << "tick " << i;
+    ASSERT_NEAR(m.force_squared_time, force_squared_time, 1e-12 * force_squared_time);
+    ASSERT_NEAR(m.path_length_m, path, 1e-12);
+  }
+  EXPECT_GT(peak, 0);
+  EXPECT_GT(contact_ticks, 0);
+  EXPECT_EQ(engine.contact().nodes_in_contact, 0);  // lifted off: now no force, the peak stays
+  EXPECT_GT(engine.metrics().peak_force_n, engine.contact().force_on_tool.norm());
+}
+
+}  // namespace
+}  // namespace incise::server::live
