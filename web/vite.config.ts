@@ -8,5 +8,6 @@ const api = process.env.INCISE_API ?? 'http://127.0.0.1:8080';
 export default defineConfig({
   plugins: [react()],
   build: { outDir: 'dist', emptyOutDir: true },
-  server: { proxy: { '/api': api } },
+  // ws: the live view and replay WebSockets live under /api too.
+  server: { proxy: { '/api': { target: api, ws: true } } },
 });

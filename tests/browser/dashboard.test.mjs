@@ -1,167 +1,18 @@
 // Browser test of the dashboard against the real incise-server (node --test).
 // Each scenario asserts what a person sees, and the API status behind it where that matters.
-// Needs web/dist (npm run build in web/) and the server binary
-// (INCISE_SERVER_BIN, default build/bin/incise-server).
+// Needs web/dist (npm run build in web/) and the server binary; see support.mjs.
 import assert from 'node:assert/strict';
-import { spawn } from 'node:child_process';
-import fs from 'node:fs';
-import { createRequire } from 'node:module';
-import os from 'node:os';
-import path from 'node:path';
-import { after, before, test } from 'node:test';
-import { fileURLToPath } from 'node:url';
-
-const repo = fileURLToPath(new URL('../../', import.meta.url));
-const output_dir = path.join(repo, 'tests/browser/output');
-const require = createRequire(new URL('../../web/package.json', import.meta.url));
-const { chromium } = require('playwright-core');
-
-const server_bin = path.resolve(repo, process.env.INCISE_SERVER_BIN ?? 'build/bin/incise-server');
-const web_dist = path.join(repo, 'web/dist');
-const chromium_path = process.env.INCISE_CHROMIUM ?? '/usr/bin/chromium';
-
-const demo = {
-  admin: { username: 'admin', password: 'incise-admin-demo' },
-  instructor: { username: 'instructor', password: 'incise-instructor-demo' },
-  trainee: { username: 'trainee', password: 'incise-trainee-demo' },
-};
+import { browser_suite, click_for_response, demo, log_in, region, sees } from './support.mjs';
 
 // The browser runs in a zone with a half-hour offset and no daylight saving, so that the local
 // time shown and the UTC time sent are different and predictable.
 const time_zone = 'Asia/Kolkata'; // UTC+05:30
 
-let server; // { process, url, log }
-let browser;
-let data_dir;
-
-before(async () => {
-  assert.ok(fs.existsSync(server_bin), `server binary not found at ${server_bin}; build it first`);
-  assert.ok(fs.existsSync(path.join(web_dist, 'index.html')), `${web_dist} is missing; run "npm run build" in web/`);
-  data_dir = fs.mkdtempSync(path.join(os.tmpdir(), 'incise-browser-'));
-  server = await start_server();
-  browser = await chromium.launch({
-    executablePath: chromium_path,
-    args: [
-      '--headless',
-      '--no-sandbox',
-      '--disable-gpu',
-      '--disable-quic',
-      '--no-first-run',
-      '--disable-background-networking',
-      '--disable-component-update',
-      '--disable-sync',
-    ],
-  });
-});
-
-after(async () => {
-  await browser?.close();
-  if (server) await stop_server(server.process);
-  if (data_dir) fs.rmSync(data_dir, { recursive: true, force: true });
-});
-
-function start_server() {
-  const args = ['--port', '0', '--host', '127.0.0.1', '--data', data_dir, '--web', web_dist, '--demo'];
-  const child = spawn(server_bin, args, { cwd: repo, stdio: ['ignore', 'pipe', 'pipe'] });
-  const log = { stdout: '', stderr: '' };
-  child.stdout.setEncoding('utf8');
-  child.stderr.setEncoding('utf8');
-  child.stderr.on('data', (chunk) => (log.stderr += chunk));
-
-  return new Promise((resolve, reject) => {
-    const fail = (why) => {
-      clearTimeout(timer);
-      child.kill('SIGKILL');
-      reject(new Error(`${why}\n--- server stderr ---\n${log.stderr}\n--- server stdout ---\n${log.stdout}`));
-    };
-    const timer = setTimeout(() => fail('incise-server did not report "listening" within 20 s'), 20_000);
-    child.on('error', (error) => fail(`could not start ${server_bin}: ${error.message}`));
-    child.on('exit', (code, signal) => fail(`incise-server exited early (code ${code}, signal ${signal})`));
-    child.stdout.on('data', (chunk) => {
-      log.stdout += chunk;
-      const match = /incise-server: listening on (http:\/\/[\d.]+:\d+)/.exec(log.stdout);
-      if (match) {
-        clearTimeout(timer);
-        child.removeAllListeners('exit');
-        resolve({ process: child, url: match[1], log });
-      }
-    });
-  });
-}
-
-async function stop_server(child) {
-  if (child.exitCode !== null || child.signalCode !== null) return;
-  const exited = new Promise((resolve) => child.once('exit', resolve));
-  child.kill('SIGTERM');
-  const timer = setTimeout(() => child.kill('SIGKILL'), 5_000);
-  await exited;
-  clearTimeout(timer);
-}
-
-/**
- * Runs `body` with a fresh browser context (no cookies shared between scenarios). On failure it
- * saves a screenshot and the server's log to tests/browser/output/ and rethrows.
- */
-function scenario(name, body) {
-  test(name, { timeout: 45_000 }, async () => {
-    const context = await browser.newContext({
-      baseURL: server.url,
-      locale: 'en-GB',
-      timezoneId: time_zone,
-      viewport: { width: 1366, height: 800 },
-    });
-    context.setDefaultTimeout(8_000);
-    const page = await context.newPage();
-    const page_errors = [];
-    page.on('pageerror', (error) => page_errors.push(error.message));
-    try {
-      await body(page);
-      assert.deepEqual(page_errors, [], 'the page threw uncaught errors');
-    } catch (error) {
-      fs.mkdirSync(output_dir, { recursive: true });
-      const slug = name.replace(/[^a-z0-9]+/gi, '-').toLowerCase();
-      await page.screenshot({ path: path.join(output_dir, `${slug}.png`), fullPage: true }).catch(() => {});
-      fs.writeFileSync(path.join(output_dir, `${slug}.server.log`), server.log.stderr + server.log.stdout);
-      throw error;
-    } finally {
-      await context.close();
-    }
-  });
-}
-
-/** Waits until `locator` is visible: the assertion that a person can see it. */
-async function sees(locator, what) {
-  try {
-    await locator.first().waitFor({ state: 'visible' });
-  } catch (error) {
-    throw new assert.AssertionError({ message: `expected to see ${what}: ${error.message.split('\n')[0]}` });
-  }
-}
-
-/** Clicks `button` and returns the API response to `method path` that the click caused. */
-async function click_for_response(page, button, method, path_pattern) {
-  const [response] = await Promise.all([
-    page.waitForResponse((r) => r.request().method() === method && path_pattern.test(new URL(r.url()).pathname)),
-    button.click(),
-  ]);
-  return response;
-}
-
-async function log_in(page, { username, password }) {
-  await page.goto('/login');
-  await page.getByLabel('Username', { exact: true }).fill(username);
-  await page.getByLabel('Password', { exact: true }).fill(password);
-  const response = await click_for_response(page, page.getByRole('button', { name: 'Log in' }), 'POST', /^\/api\/login$/);
-  return response;
-}
+const { scenario } = browser_suite({ time_zone });
 
 /** "YYYY-MM-DD" of tomorrow in the browser's zone. */
 function tomorrow_in_zone() {
   return new Intl.DateTimeFormat('en-CA', { timeZone: time_zone }).format(new Date(Date.now() + 24 * 3600 * 1000));
-}
-
-function region(page, name) {
-  return page.getByRole('region', { name, exact: true });
 }
 
 scenario('a trainee books a slot, meets a conflict and cancels', async (page) => {

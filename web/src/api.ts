@@ -54,6 +54,45 @@ export interface Score {
   created_at: string;
 }
 
+/** What the server holds of a session that is still live (docs/api.md, "Live sessions"). */
+export interface LiveState {
+  state: 'running' | 'paused' | 'finished';
+  /** Why the session is in this state, e.g. "station agent offline"; may be empty. */
+  reason: string;
+  sim_time_s: number;
+  agent_online: boolean;
+  recording_id: number | null;
+}
+
+export interface LiveSession extends Session {
+  /** null once the server no longer holds the session. */
+  live: LiveState | null;
+}
+
+export type SessionAction = 'pause' | 'resume' | 'stop';
+
+export interface Recording {
+  id: number;
+  session_id: number;
+  trainee: string;
+  task: string;
+  duration_s: number;
+  created_at: string;
+}
+
+/** The part of a curriculum's definition the dashboard shows (curriculum/curriculum.h). */
+export interface CurriculumTask {
+  key: string;
+  name: string;
+  instructions: string;
+}
+
+export interface CurriculumEntry {
+  id: number;
+  name: string;
+  definition: { name: string; description: string; modules: { key: string; name: string; tasks: CurriculumTask[] }[] };
+}
+
 export class ApiError extends Error {
   /** HTTP status, or 0 when the server could not be reached. */
   readonly status: number;
@@ -128,5 +167,13 @@ export const api = {
     request<User>('POST', '/api/users', user),
 
   sessions: () => request<Session[]>('GET', '/api/sessions'),
+  session: (id: number) => request<LiveSession>('GET', `/api/sessions/${id}`),
+  start_session: (station_id: number, task: string) =>
+    request<LiveSession>('POST', '/api/sessions', { station_id, task }),
+  session_action: (id: number, action: SessionAction) =>
+    request<LiveSession>('POST', `/api/sessions/${id}/${action}`, {}),
+
+  recordings: () => request<Recording[]>('GET', '/api/recordings'),
   scores: () => request<Score[]>('GET', '/api/scores'),
+  curricula: () => request<CurriculumEntry[]>('GET', '/api/curricula'),
 };

@@ -35,7 +35,18 @@ export function Redirect({ to }: { to: string }) {
   return null;
 }
 
-export function Link({ to, children, className }: { to: string; children: ReactNode; className?: string }) {
+export function Link({
+  to,
+  children,
+  className,
+  label,
+}: {
+  to: string;
+  children: ReactNode;
+  className?: string;
+  /** aria-label, when the visible text alone does not say where the link goes. */
+  label?: string;
+}) {
   const active = usePath() === to;
   function on_click(event: MouseEvent<HTMLAnchorElement>) {
     // Let the browser handle new-tab and other modified clicks.
@@ -44,7 +55,7 @@ export function Link({ to, children, className }: { to: string; children: ReactN
     navigate(to);
   }
   return (
-    <a href={to} onClick={on_click} className={className} aria-current={active ? 'page' : undefined}>
+    <a href={to} onClick={on_click} className={className} aria-label={label} aria-current={active ? 'page' : undefined}>
       {children}
     </a>
   );

@@ -1,4 +1,5 @@
 import type { Session } from '../api';
+import { Link } from '../router';
 import { format_date_time } from '../time';
 
 const state_labels: Record<Session['state'], string> = {
@@ -27,7 +28,12 @@ export function SessionsTable({ sessions, show_trainee }: { sessions: Session[];
         <tbody>
           {sessions.map((s) => (
             <tr key={s.id}>
-              <td>#{s.id}</td>
+              <td>
+                {/* The session page streams a live session and shows a finished one's result. */}
+                <Link to={`/sessions/${s.id}`} label={`Session ${s.id}`}>
+                  #{s.id}
+                </Link>
+              </td>
               {show_trainee && <td>{s.trainee}</td>}
               <td>{s.task}</td>
               <td>{s.station || '—'}</td>

@@ -1,6 +1,7 @@
 import { api } from '../api';
 import { useUser } from '../auth';
 import { BookingsTable } from '../components/bookings_table';
+import { RecordingsTable } from '../components/recordings_table';
 import { ResourceView } from '../components/resource_view';
 import { ScoresTable } from '../components/scores_table';
 import { SessionsTable } from '../components/sessions_table';
@@ -11,6 +12,7 @@ export function InstructorPage() {
   const sessions = useResource(api.sessions);
   const scores = useResource(api.scores);
   const bookings = useResource(api.bookings);
+  const recordings = useResource(api.recordings);
 
   return (
     <main className="page">
@@ -25,6 +27,12 @@ export function InstructorPage() {
         <h2 id="scores-title">Scores</h2>
         <ResourceView resource={scores} what="scores" empty="No scores yet.">
           {(data) => <ScoresTable scores={data} show_trainee />}
+        </ResourceView>
+      </section>
+      <section className="card" aria-labelledby="recordings-title">
+        <h2 id="recordings-title">Recordings</h2>
+        <ResourceView resource={recordings} what="recordings" empty="No recordings yet.">
+          {(data) => <RecordingsTable recordings={data} show_trainee />}
         </ResourceView>
       </section>
       <section className="card" aria-labelledby="bookings-title">

@@ -2,9 +2,11 @@ import { api } from '../api';
 import { useUser } from '../auth';
 import { BookingForm } from '../components/booking_form';
 import { BookingsTable } from '../components/bookings_table';
+import { RecordingsTable } from '../components/recordings_table';
 import { ResourceView } from '../components/resource_view';
 import { ScoresTable } from '../components/scores_table';
 import { SessionsTable } from '../components/sessions_table';
+import { StartSession } from '../components/start_session';
 import { useResource } from '../use_resource';
 
 export function TraineePage() {
@@ -12,10 +14,15 @@ export function TraineePage() {
   const bookings = useResource(api.bookings);
   const sessions = useResource(api.sessions);
   const scores = useResource(api.scores);
+  const recordings = useResource(api.recordings);
 
   return (
     <main className="page">
       <h1>My training</h1>
+      <section className="card" aria-labelledby="train-title">
+        <h2 id="train-title">Train now</h2>
+        <StartSession bookings={bookings.data ?? []} />
+      </section>
       <div className="columns">
         <section className="card" aria-labelledby="book-title">
           <h2 id="book-title">Book a slot</h2>
@@ -38,6 +45,12 @@ export function TraineePage() {
         <h2 id="scores-title">My scores</h2>
         <ResourceView resource={scores} what="scores" empty="No scores yet. Each finished session is scored here.">
           {(data) => <ScoresTable scores={data} show_trainee={false} />}
+        </ResourceView>
+      </section>
+      <section className="card" aria-labelledby="recordings-title">
+        <h2 id="recordings-title">My recordings</h2>
+        <ResourceView resource={recordings} what="recordings" empty="No recordings yet. Every session you train is recorded.">
+          {(data) => <RecordingsTable recordings={data} show_trainee={false} />}
         </ResourceView>
       </section>
     </main>

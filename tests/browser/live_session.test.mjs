@@ -1,0 +1,204 @@
+// Browser test of a live session and its replay against the real incise-server and the real
+// incise-agent (node --test): what the trainee sees while training, then what an instructor sees
+// when replaying the recording. Needs web/dist, the server and agent binaries; see support.mjs.
+import assert from 'node:assert/strict';
+import { browser_suite, click_for_response, demo, log_in, region, sees } from './support.mjs';
+
+const { scenario } = browser_suite({ time_zone: 'Asia/Kolkata', with_agent: true });
+
+/** Calls the API from the page, with its login cookie. */
+async function api_call(page, method, path, body) {
+  return page.evaluate(
+    async ({ method, path, body }) => {
+      const init = { method, headers: { Accept: 'application/json' }, credentials: 'same-origin' };
+      if (body !== undefined) {
+        init.headers['Content-Type'] = 'application/json';
+        init.body = JSON.stringify(body);
+      }
+      const response = await fetch(path, init);
+      const text = await response.text();
+      return { status: response.status, body: text ? JSON.parse(text) : null };
+    },
+    { method, path, body },
+  );
+}
+
+/** "YYYY-MM-DDTHH:MM:SSZ" of `date`, as the API writes times. */
+function api_time(date) {
+  return date.toISOString().replace(/\.\d{3}Z$/, 'Z');
+}
+
+/**
+ * The canvas' last drawn frame and its simulated time (its data-frame and data-sim-time), and the
+ * grey level of a 64 x 48 grid of its pixels, read back with getImageData.
+ */
+async function canvas_state(page, test_id) {
+  return page.evaluate((test_id) => {
+    const canvas = document.querySelector(`[data-testid="${test_id}"]`);
+    const { data } = canvas.getContext('2d').getImageData(0, 0, canvas.width, canvas.height);
+    const grid = [];
+    for (let gy = 0; gy < 48; gy++) {
+      for (let gx = 0; gx < 64; gx++) {
+        const x = Math.floor(((gx + 0.5) * canvas.width) / 64);
+        const y = Math.floor(((gy + 0.5) * canvas.height) / 48);
+        const i = 4 * (y * canvas.width + x);
+        grid.push(0.299 * data[i] + 0.587 * data[i + 1] + 0.114 * data[i + 2]);
+      }
+    }
+    return { frame: Number(canvas.dataset.frame), sim_time: Number(canvas.dataset.simTime), grid };
+  }, test_id);
+}
+
+/**
+ * Waits until `test_id`'s canvas has drawn a frame after `after_frame` whose simulated time lies in
+ * [time_min, time_max] (either bound may be left out); says what it waited for when it times out.
+ */
+async function wait_for_canvas(page, test_id, { after_frame = 0, time_min = null, time_max = null }, what, timeout = 15_000) {
+  try {
+    await page.waitForFunction(
+      ({ test_id, after_frame, time_min, time_max }) => {
+        const canvas = document.querySelector(`[data-testid="${test_id}"]`);
+        const frame = Number(canvas?.dataset.frame);
+        const sim_time = Number(canvas?.dataset.simTime);
+        return frame > after_frame && (time_min === null || sim_time >= time_min) && (time_max === null || sim_time <= time_max);
+      },
+      { test_id, after_frame, time_min, time_max },
+      { timeout, polling: 50 },
+    );
+  } catch (error) {
+    const state = await canvas_state(page, test_id).catch(() => null);
+    throw new assert.AssertionError({
+      message: `expected ${what}; the canvas shows frame ${state?.frame}, sim time ${state?.sim_time}: ${error.message.split('\n')[0]}`,
+    });
+  }
+}
+
+function metric(page, key) {
+  return page.getByTestId(`metric-${key}`);
+}
+
+scenario(
+  'a trainee trains live at a station, then an instructor replays and seeks the recording',
+  async (page) => {
+    // --- The trainee books the station for the current quarter hour and starts a session. ---
+    const login = await log_in(page, demo.trainee);
+    assert.equal(login.status(), 200);
+    await page.waitForURL('**/trainee');
+
+    const stations = await api_call(page, 'GET', '/api/stations');
+    const station = stations.body.find((s) => s.name === 'Station 1');
+    assert.ok(station, 'the demo data has Station 1');
+    assert.equal(station.online, true, 'the agent started by the test is connected');
+
+    const quarter = 15 * 60 * 1000;
+    const starts = new Date(Math.floor(Date.now() / quarter) * quarter);
+    const ends = new Date(starts.getTime() + 4 * quarter);
+    const booking = await api_call(page, 'POST', '/api/bookings', {
+      station_id: station.id,
+      starts_at: api_time(starts),
+      ends_at: api_time(ends),
+    });
+    assert.equal(booking.status, 201, `booking the slot covering now: ${JSON.stringify(booking.body)}`);
+
+    const curricula = await api_call(page, 'GET', '/api/curricula');
+    const first_task = curricula.body[0].definition.modules[0].tasks[0];
+    await page.reload();
+    const start_form = region(page, 'Train now').getByRole('form', { name: 'Start a session at Station 1' });
+    await sees(start_form, 'a form to start a session at the booked station');
+    assert.equal(await start_form.getByLabel('Task').inputValue(), first_task.key, 'the first task is preselected');
+
+    const started = await click_for_response(
+      page,
+      start_form.getByRole('button', { name: 'Start session' }),
+      'POST',
+      /^\/api\/sessions$/,
+    );
+    assert.equal(started.status(), 201, await started.text());
+    assert.deepEqual(started.request().postDataJSON(), { station_id: station.id, task: first_task.key });
+    const session = await started.json();
+    await page.waitForURL(`**/sessions/${session.id}`);
+
+    // --- The live picture: frames keep coming (so acks work) and the picture changes. ---
+    await wait_for_canvas(page, 'live-canvas', {}, 'a first live frame');
+    await sees(metric(page, 'state').filter({ hasText: 'Running' }), 'the state Running');
+    await sees(metric(page, 'agent_online').filter({ hasText: 'Online' }), 'the station agent online');
+    const first = await canvas_state(page, 'live-canvas');
+    assert.ok(
+      Math.max(...first.grid) - Math.min(...first.grid) > 20,
+      'the first frame is a picture, not a uniform fill',
+    );
+    await page.waitForTimeout(2_500);
+    const second = await canvas_state(page, 'live-canvas');
+    // The server keeps at most two frames unacknowledged, so many more frames mean acks arrive.
+    assert.ok(second.frame >= first.frame + 10, `frames advanced from ${first.frame} to ${second.frame} in 2.5 s`);
+    assert.ok(second.sim_time > first.sim_time, `sim time advanced from ${first.sim_time} to ${second.sim_time}`);
+    const changed = first.grid.filter((v, i) => Math.abs(v - second.grid[i]) > 8).length;
+    assert.ok(changed >= 10, `the picture changed in ${changed} of ${first.grid.length} sampled pixels`);
+    const fps = Number(await metric(page, 'fps').textContent());
+    assert.ok(fps > 0, `measured fps ${fps}`);
+
+    // Long enough a session that the middle of its recording is far from its start.
+    await wait_for_canvas(page, 'live-canvas', { time_min: 6 }, 'six simulated seconds', 30_000);
+    page.once('dialog', (dialog) => dialog.accept());
+    const stopped = await click_for_response(
+      page,
+      page.getByRole('button', { name: 'Stop' }),
+      'POST',
+      new RegExp(`^/api/sessions/${session.id}/stop$`),
+    );
+    assert.equal(stopped.status(), 200, await stopped.text());
+    const stop_time = (await canvas_state(page, 'live-canvas')).sim_time;
+    await sees(page.getByRole('status').filter({ hasText: 'The session has ended' }), 'that the session has ended');
+
+    const result = region(page, 'Result');
+    const recording_link = result.getByRole('link', { name: 'Watch the recording of this session' });
+    await sees(recording_link, 'a link to the recording');
+    const recording_id = Number(/^\/recordings\/(\d+)$/.exec(await recording_link.getAttribute('href'))?.[1]);
+    assert.ok(recording_id > 0, 'the link names the recording');
+    const scores = (await api_call(page, 'GET', '/api/scores')).body.filter((s) => s.session_id === session.id);
+    assert.ok(scores.length > 0, 'stopping stored the scores of the session');
+    for (const score of scores) {
+      await sees(result.getByRole('row').filter({ hasText: score.metric }), `the score "${score.metric}" in the result`);
+    }
+
+    // --- The instructor opens the recording from the recordings list. ---
+    await click_for_response(page, page.getByRole('button', { name: 'Log out' }), 'POST', /^\/api\/logout$/);
+    await page.waitForURL('**/login');
+    assert.equal((await log_in(page, demo.instructor)).status(), 200);
+    await page.waitForURL('**/instructor');
+    await region(page, 'Recordings')
+      .getByRole('link', { name: `Replay the recording of session ${session.id}` })
+      .click();
+    await page.waitForURL(`**/recordings/${recording_id}`);
+
+    // Slow motion, so that the replay's own progress cannot be mistaken for the seek. The
+    // controls are enabled once the first metrics arrive, i.e. once the socket is open.
+    await page.getByTestId('replay-speed').selectOption('0.25');
+    await wait_for_canvas(page, 'replay-canvas', {}, 'a first replay frame');
+    const seek = page.getByTestId('replay-seek');
+    const duration = Number(await seek.getAttribute('max'));
+    assert.ok(Math.abs(duration - stop_time) < 1, `the replay lasts ${duration} s; the session stopped at ${stop_time} s`);
+
+    const target = Math.round((duration / 2) * 10) / 10;
+    const before_seek = await canvas_state(page, 'replay-canvas');
+    assert.ok(before_seek.sim_time < target - 1, `the replay is at ${before_seek.sim_time} s before seeking to ${target} s`);
+    await seek.fill(String(target));
+    await wait_for_canvas(
+      page,
+      'replay-canvas',
+      { after_frame: before_seek.frame, time_min: target - 0.3, time_max: target + 1.5 },
+      `the replay near ${target} s after the seek`,
+      8_000,
+    );
+
+    // Pause: the button follows the server's "playing", and the picture's time stands still.
+    const play = page.getByTestId('replay-play');
+    await play.click();
+    await sees(play.filter({ hasText: 'Play' }), 'the Play button of a paused replay');
+    await page.waitForTimeout(300); // a frame received before the pause may still be decoding
+    const paused_at = (await canvas_state(page, 'replay-canvas')).sim_time;
+    await page.waitForTimeout(1_000);
+    assert.equal((await canvas_state(page, 'replay-canvas')).sim_time, paused_at, 'a paused replay does not advance');
+  },
+  { timeout_ms: 150_000 },
+);

@@ -1,0 +1,186 @@
+// Shared by the browser tests (node --test): starts the real incise-server (and, on request, the
+// real incise-agent) with a fresh data directory, launches Chromium, and runs each scenario in a
+// fresh browser context. Needs web/dist (npm run build in web/), the server binary
+// (INCISE_SERVER_BIN, default build/bin/incise-server), for the agent INCISE_AGENT_BIN (default:
+// incise-agent next to the server binary), and Chromium (INCISE_CHROMIUM, default /usr/bin/chromium).
+import assert from 'node:assert/strict';
+import { spawn } from 'node:child_process';
+import fs from 'node:fs';
+import { createRequire } from 'node:module';
+import os from 'node:os';
+import path from 'node:path';
+import { after, before, test } from 'node:test';
+import { fileURLToPath } from 'node:url';
+
+export const repo = fileURLToPath(new URL('../../', import.meta.url));
+const output_dir = path.join(repo, 'tests/browser/output');
+const require = createRequire(new URL('../../web/package.json', import.meta.url));
+const { chromium } = require('playwright-core');
+
+const server_bin = path.resolve(repo, process.env.INCISE_SERVER_BIN ?? 'build/bin/incise-server');
+const agent_bin = path.resolve(repo, process.env.INCISE_AGENT_BIN ?? path.join(path.dirname(server_bin), 'incise-agent'));
+const web_dist = path.join(repo, 'web/dist');
+const chromium_path = process.env.INCISE_CHROMIUM ?? '/usr/bin/chromium';
+
+/** The logins and station token that `incise-server --demo` creates. */
+export const demo = {
+  admin: { username: 'admin', password: 'incise-admin-demo' },
+  instructor: { username: 'instructor', password: 'incise-instructor-demo' },
+  trainee: { username: 'trainee', password: 'incise-trainee-demo' },
+  station_token: 'incise-demo-station-token',
+};
+
+/**
+ * Registers before/after hooks that start the server (and the demo station's agent when
+ * `with_agent`) and a browser, and returns `scenario(name, body, { timeout_ms })`, which runs
+ * `body(page, env)` in a fresh context whose browser runs in `time_zone`. `env.server` is
+ * `{ url, log }`. On failure a screenshot and the processes' logs go to tests/browser/output/.
+ */
+export function browser_suite({ time_zone, with_agent = false }) {
+  const env = { server: null, agent: null, browser: null, data_dir: null };
+
+  before(async () => {
+    assert.ok(fs.existsSync(server_bin), `server binary not found at ${server_bin}; build it first`);
+    assert.ok(fs.existsSync(path.join(web_dist, 'index.html')), `${web_dist} is missing; run "npm run build" in web/`);
+    if (with_agent) assert.ok(fs.existsSync(agent_bin), `agent binary not found at ${agent_bin}; build it first`);
+    env.data_dir = fs.mkdtempSync(path.join(os.tmpdir(), 'incise-browser-'));
+    env.server = await start_server(env.data_dir);
+    if (with_agent) env.agent = await start_agent(env.server.url);
+    env.browser = await chromium.launch({
+      executablePath: chromium_path,
+      args: [
+        '--headless',
+        '--no-sandbox',
+        '--disable-gpu',
+        '--disable-quic',
+        '--no-first-run',
+        '--disable-background-networking',
+        '--disable-component-update',
+        '--disable-sync',
+      ],
+    });
+  });
+
+  after(async () => {
+    await env.browser?.close();
+    if (env.agent) await stop_process(env.agent.process);
+    if (env.server) await stop_process(env.server.process);
+    if (env.data_dir) fs.rmSync(env.data_dir, { recursive: true, force: true });
+  });
+
+  function scenario(name, body, { timeout_ms = 45_000 } = {}) {
+    test(name, { timeout: timeout_ms }, async () => {
+      const context = await env.browser.newContext({
+        baseURL: env.server.url,
+        locale: 'en-GB',
+        timezoneId: time_zone,
+        viewport: { width: 1366, height: 800 },
+      });
+      context.setDefaultTimeout(8_000);
+      const page = await context.newPage();
+      const page_errors = [];
+      page.on('pageerror', (error) => page_errors.push(error.message));
+      try {
+        await body(page, env);
+        assert.deepEqual(page_errors, [], 'the page threw uncaught errors');
+      } catch (error) {
+        fs.mkdirSync(output_dir, { recursive: true });
+        const slug = name.replace(/[^a-z0-9]+/gi, '-').toLowerCase();
+        await page.screenshot({ path: path.join(output_dir, `${slug}.png`), fullPage: true }).catch(() => {});
+        const logs = [env.server, env.agent].filter(Boolean).map((p) => p.log.stderr + p.log.stdout);
+        fs.writeFileSync(path.join(output_dir, `${slug}.server.log`), logs.join('\n--- agent ---\n'));
+        throw error;
+      } finally {
+        await context.close();
+      }
+    });
+  }
+
+  return { env, scenario };
+}
+
+/**
+ * Spawns `bin` and resolves once its stdout or stderr matches `ready` (with the match), or rejects
+ * with its output when it exits or stays silent for 20 s.
+ */
+function start_process(bin, args, ready, what) {
+  const child = spawn(bin, args, { cwd: repo, stdio: ['ignore', 'pipe', 'pipe'] });
+  const log = { stdout: '', stderr: '' };
+
+  return new Promise((resolve, reject) => {
+    let started = false;
+    const fail = (why) => {
+      clearTimeout(timer);
+      child.kill('SIGKILL');
+      reject(new Error(`${why}\n--- ${what} stderr ---\n${log.stderr}\n--- ${what} stdout ---\n${log.stdout}`));
+    };
+    const timer = setTimeout(() => fail(`${what} did not report ready (${ready}) within 20 s`), 20_000);
+    child.on('error', (error) => fail(`could not start ${bin}: ${error.message}`));
+    child.on('exit', (code, signal) => fail(`${what} exited early (code ${code}, signal ${signal})`));
+    for (const stream of ['stdout', 'stderr']) {
+      child[stream].setEncoding('utf8');
+      child[stream].on('data', (chunk) => {
+        log[stream] += chunk;
+        const match = started ? null : ready.exec(log[stream]);
+        if (match) {
+          started = true;
+          clearTimeout(timer);
+          child.removeAllListeners('exit');
+          resolve({ process: child, log, match });
+        }
+      });
+    }
+  });
+}
+
+async function start_server(data_dir) {
+  const args = ['--port', '0', '--host', '127.0.0.1', '--data', data_dir, '--web', web_dist, '--demo'];
+  const started = await start_process(server_bin, args, /incise-server: listening on (http:\/\/[\d.]+:\d+)/, 'incise-server');
+  return { process: started.process, log: started.log, url: started.match[1] };
+}
+
+/** The demo station's agent with its built-in simulated device; resolves once the server welcomed it. */
+async function start_agent(server_url) {
+  const agent_url = `${server_url.replace(/^http/, 'ws')}/agent`;
+  const args = ['--server', agent_url, '--token', demo.station_token];
+  const started = await start_process(agent_bin, args, /incise-agent: connected to \S+ as station (\d+)/, 'incise-agent');
+  return { process: started.process, log: started.log, station_id: Number(started.match[1]) };
+}
+
+async function stop_process(child) {
+  if (child.exitCode !== null || child.signalCode !== null) return;
+  const exited = new Promise((resolve) => child.once('exit', resolve));
+  child.kill('SIGTERM');
+  const timer = setTimeout(() => child.kill('SIGKILL'), 5_000);
+  await exited;
+  clearTimeout(timer);
+}
+
+/** Waits until `locator` is visible: the assertion that a person can see it. */
+export async function sees(locator, what) {
+  try {
+    await locator.first().waitFor({ state: 'visible' });
+  } catch (error) {
+    throw new assert.AssertionError({ message: `expected to see ${what}: ${error.message.split('\n')[0]}` });
+  }
+}
+
+/** Clicks `button` and returns the API response to `method path` that the click caused. */
+export async function click_for_response(page, button, method, path_pattern) {
+  const [response] = await Promise.all([
+    page.waitForResponse((r) => r.request().method() === method && path_pattern.test(new URL(r.url()).pathname)),
+    button.click(),
+  ]);
+  return response;
+}
+
+export async function log_in(page, { username, password }) {
+  await page.goto('/login');
+  await page.getByLabel('Username', { exact: true }).fill(username);
+  await page.getByLabel('Password', { exact: true }).fill(password);
+  return click_for_response(page, page.getByRole('button', { name: 'Log in' }), 'POST', /^\/api\/login$/);
+}
+
+export function region(page, name) {
+  return page.getByRole('region', { name, exact: true });
+}

@@ -1,0 +1,110 @@
+import { useEffect, useState, type FormEvent } from 'react';
+import { api, type Booking, type CurriculumTask, type Station } from '../api';
+import { navigate } from '../router';
+import { format_time_range } from '../time';
+import { error_text, useResource } from '../use_resource';
+import { ErrorAlert } from './alerts';
+
+/** Milliseconds since the epoch, refreshed every `period_ms` so that slots begin and end on screen. */
+function useNow(period_ms: number): number {
+  const [now, set_now] = useState(Date.now);
+  useEffect(() => {
+    const timer = window.setInterval(() => set_now(Date.now()), period_ms);
+    return () => window.clearInterval(timer);
+  }, [period_ms]);
+  return now;
+}
+
+function covers(booking: Booking, now: number): boolean {
+  return booking.status === 'active' && Date.parse(booking.starts_at) <= now && now < Date.parse(booking.ends_at);
+}
+
+/** A "Start session" form for each of `bookings` that covers the present moment. */
+export function StartSession({ bookings }: { bookings: Booking[] }) {
+  const now = useNow(15_000);
+  const curricula = useResource(api.curricula);
+  const stations = useResource(api.stations);
+  const current = bookings.filter((b) => covers(b, now));
+  // Sessions run tasks of the first curriculum (docs/api.md, "Live sessions").
+  const tasks = curricula.data?.[0]?.definition.modules.flatMap((m) => m.tasks) ?? [];
+
+  if (current.length === 0) {
+    return <p className="empty">None of your bookings covers the present time. During a booked slot, start your session here.</p>;
+  }
+  return (
+    <>
+      <ErrorAlert message={curricula.error && `Could not load the tasks: ${curricula.error}`} />
+      {current.map((b) => (
+        <StartSessionForm key={b.id} booking={b} tasks={tasks} station={stations.data?.find((s) => s.id === b.station_id)} />
+      ))}
+    </>
+  );
+}
+
+function StartSessionForm({
+  booking,
+  tasks,
+  station,
+}: {
+  booking: Booking;
+  tasks: CurriculumTask[];
+  station: Station | undefined;
+}) {
+  const [task, set_task] = useState('');
+  const [error, set_error] = useState<string | null>(null);
+  const [busy, set_busy] = useState(false);
+  // Until the person picks one, the first task is selected.
+  const chosen_task = task || (tasks[0]?.key ?? '');
+  const instructions = tasks.find((t) => t.key === chosen_task)?.instructions;
+
+  async function on_submit(event: FormEvent<HTMLFormElement>) {
+    event.preventDefault();
+    set_busy(true);
+    set_error(null);
+    try {
+      const session = await api.start_session(booking.station_id, chosen_task);
+      navigate(`/sessions/${session.id}`);
+    } catch (reason) {
+      // e.g. 409 "station 1 agent is offline": the server's own words tell the person what to do.
+      set_error(`Could not start the session: ${error_text(reason)}`);
+      set_busy(false);
+    }
+  }
+
+  const form_label = `Start a session at ${booking.station_name}`;
+  return (
+    <form onSubmit={on_submit} className="form" aria-label={form_label}>
+      <p>
+        <strong>{booking.station_name}</strong>, booked {format_time_range(booking.starts_at, booking.ends_at)}
+        {station && (
+          <>
+            {' '}
+            <span className={`badge ${station.online ? 'badge-online' : 'badge-offline'}`}>
+              {station.online ? 'Agent online' : 'Agent offline'}
+            </span>
+          </>
+        )}
+      </p>
+      <label htmlFor={`start-task-${booking.id}`}>Task</label>
+      <select
+        id={`start-task-${booking.id}`}
+        value={chosen_task}
+        onChange={(e) => set_task(e.target.value)}
+        disabled={tasks.length === 0}
+        required
+      >
+        {tasks.length === 0 && <option value="">No tasks available</option>}
+        {tasks.map((t) => (
+          <option key={t.key} value={t.key}>
+            {t.name}
+          </option>
+        ))}
+      </select>
+      {instructions && <p className="hint">{instructions}</p>}
+      <ErrorAlert message={error} />
+      <button type="submit" className="button-primary" disabled={busy || !chosen_task}>
+        {busy ? 'Starting…' : 'Start session'}
+      </button>
+    </form>
+  );
+}

@@ -1,0 +1,69 @@
+import type { FrameStream } from '../use_frame_stream';
+import { default_view } from '../use_frame_stream';
+import { ErrorAlert, StatusMessage } from './alerts';
+import { LiveMetrics } from './live_metrics';
+
+/** The streamed picture with the metrics beside it, and what became of the connection. */
+export function StreamView({
+  stream,
+  test_id,
+  label,
+  replay,
+}: {
+  stream: FrameStream;
+  /** data-testid of the canvas. */
+  test_id: string;
+  /** What the picture shows, for screen readers. */
+  label: string;
+  replay: boolean;
+}) {
+  return (
+    <>
+      <div className="stream-layout">
+        <div className="stream-picture">
+          <canvas
+            ref={stream.canvas_ref}
+            className="stream-canvas"
+            width={default_view.width}
+            height={default_view.height}
+            role="img"
+            aria-label={label}
+            data-testid={test_id}
+          />
+        </div>
+        <LiveMetrics metrics={stream.metrics} fps={stream.fps} replay={replay} />
+      </div>
+      <StreamStatus stream={stream} />
+    </>
+  );
+}
+
+function StreamStatus({ stream }: { stream: FrameStream }) {
+  const { phase, close, ended_reason, bad_frames } = stream;
+  return (
+    <>
+      {phase === 'connecting' && (
+        <p className="muted" role="status">
+          Connecting to the picture stream…
+        </p>
+      )}
+      {phase === 'closed' && ended_reason === null && close && (
+        // A normal closure (1000) is the server's choice, e.g. at the end of a replay; anything
+        // else means the picture stopped against the person's will.
+        close.code === 1000 ? <StatusMessage message={close_message(close)} /> : <ErrorAlert message={close_message(close)} />
+      )}
+      {bad_frames > 0 && (
+        <p className="hint" role="status">
+          {bad_frames} {bad_frames === 1 ? 'frame' : 'frames'} could not be shown.
+        </p>
+      )}
+    </>
+  );
+}
+
+function close_message({ code, reason }: { code: number; reason: string }): string {
+  // 1006 is the browser's code for a connection that ended without a close frame; it is also all a
+  // page learns when the server refuses the upgrade (403, 404).
+  const why = reason || (code === 1006 ? 'the connection was lost or refused' : 'no reason given');
+  return `The picture stream closed: ${why} (code ${code}). Reload the page to connect again.`;
+}

@@ -1,0 +1,92 @@
+// The view WebSocket of docs/api.md ("View WebSocket"): a live session or a replay streams binary
+// frames (a 16-byte little-endian header, then a JPEG) and JSON text messages; the viewer answers
+// with small JSON messages, above all an ack per drawn frame.
+
+export interface FrameHeader {
+  /** Counts from 1 per socket. */
+  frame: number;
+  width: number;
+  height: number;
+  sim_time_s: number;
+}
+
+const header_bytes = 16;
+
+/** Splits a binary message into its header and JPEG, or null when it is too short to be a frame. */
+export function parse_frame(data: ArrayBuffer): { header: FrameHeader; jpeg: Blob } | null {
+  if (data.byteLength <= header_bytes) return null;
+  const view = new DataView(data);
+  const header: FrameHeader = {
+    frame: view.getUint32(0, true),
+    width: view.getUint16(4, true),
+    height: view.getUint16(6, true),
+    sim_time_s: view.getFloat64(8, true),
+  };
+  return { header, jpeg: new Blob([data.slice(header_bytes)], { type: 'image/jpeg' }) };
+}
+
+export interface StreamMetrics {
+  state: 'running' | 'paused' | 'finished';
+  reason: string;
+  sim_time_s: number;
+  agent_online: boolean;
+  /** Tool tip position [m]. */
+  tool: [number, number, number];
+  force_n: number;
+  peak_force_n: number;
+  path_length_m: number;
+  contact: boolean;
+  steps: number;
+  sim_rate_hz: number;
+  frames_sent: number;
+  /** Replays only. */
+  duration_s?: number;
+  speed?: number;
+  playing?: boolean;
+}
+
+export type ServerMessage = ({ type: 'metrics' } & StreamMetrics) | { type: 'ended'; reason: string };
+
+/** The server's text message, or null for one this dashboard does not know (a newer server). */
+export function parse_server_message(text: string): ServerMessage | null {
+  let value: unknown;
+  try {
+    value = JSON.parse(text);
+  } catch {
+    return null;
+  }
+  if (!value || typeof value !== 'object' || !('type' in value)) return null;
+  if (value.type === 'metrics' && 'sim_time_s' in value && typeof value.sim_time_s === 'number') {
+    return value as ServerMessage;
+  }
+  if (value.type === 'ended') {
+    const reason = 'reason' in value && typeof value.reason === 'string' ? value.reason : '';
+    return { type: 'ended', reason };
+  }
+  return null;
+}
+
+export type ClientMessage =
+  | { type: 'ack'; frame: number }
+  | { type: 'configure'; fps?: number; width?: number; height?: number }
+  | { type: 'play' }
+  | { type: 'pause' }
+  | { type: 'speed'; value: number }
+  | { type: 'seek'; t: number };
+
+export interface StreamOptions {
+  fps: number;
+  width: number;
+  height: number;
+}
+
+/** ws:// or wss:// on the page's own origin, so the login cookie travels with the upgrade. */
+export function stream_url(path: string, options: StreamOptions): string {
+  const scheme = window.location.protocol === 'https:' ? 'wss:' : 'ws:';
+  const query = new URLSearchParams({
+    fps: String(options.fps),
+    width: String(options.width),
+    height: String(options.height),
+  });
+  return `${scheme}//${window.location.host}${path}?${query}`;
+}
