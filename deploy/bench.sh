@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Runs the benchmarks (they measure; the tests assert correctness) and writes their output to
+# results/bench-<UTC time>.txt. Takes about three minutes; run it on a quiet machine, and quote
+# the figures of one run together. Usage: bash deploy/bench.sh [--quick]  (--quick: 10 s runs)
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+
+seconds=60
+live_seconds=30
+if [ "${1:-}" = "--quick" ]; then
+  seconds=10
+  live_seconds=10
+fi
+
+bash deploy/build.sh
+bin=${INCISE_BUILD_DIR:-build}/bin
+mkdir -p results
+out=results/bench-$(date -u +%Y%m%dT%H%M%SZ).txt
+{
+  echo "# incise benchmarks, $(date -u +%Y-%m-%dT%H:%M:%SZ), $(nproc) cores, git $(git rev-parse --short HEAD 2>/dev/null || echo '?')"
+  echo
+  echo "## render + readback + encode (demo scene, 640x480)"
+  "$bin/bench_render"
+  echo
+  echo "## one 2 ms simulation tick of the demo scene"
+  "$bin/bench_live_step"
+  echo
+  echo "## agent haptic loop, ${seconds} s"
+  "$bin/bench_agent_loop" --seconds "$seconds"
+  echo
+  echo "## live path on loopback (server + agent + one viewer), ${live_seconds} s"
+  "$bin/bench_live" --seconds "$live_seconds"
+} 2>&1 | tee "$out"
+echo "deploy/bench.sh: wrote $out"
