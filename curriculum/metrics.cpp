@@ -55,6 +55,7 @@ std::vector<MetricValue> basic_metrics(std::span<const ToolSample> samples) {
   double peak_force = 0;
   double force_squared_integral = 0;  // [N^2 s]
   double previous_force_squared = 0;
+  double contact_time = 0;
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const double force = norm(samples[i].force_n);
     const double force_squared = force * force;
@@ -63,6 +64,7 @@ std::vector<MetricValue> basic_metrics(std::span<const ToolSample> samples) {
       path_length += distance(samples[i - 1].tip_m, samples[i].tip_m);
       const double dt = samples[i].t_s - samples[i - 1].t_s;
       force_squared_integral += 0.5 * dt * (previous_force_squared + force_squared);
+      if (previous_force_squared > kContactForceN * kContactForceN) contact_time += dt;
     }
     previous_force_squared = force_squared;
   }
@@ -74,6 +76,8 @@ std::vector<MetricValue> basic_metrics(std::span<const ToolSample> samples) {
       {"path_length_m", path_length, "m", "Total distance travelled by the tool tip."},
       {"peak_force_n", peak_force, "N", "Largest force on the tool at any sample."},
       {"rms_force_n", rms_force, "N", "Root mean square of the force on the tool over time."},
+      {"contact_time_s", contact_time, "s",
+       "Time the tool touched tissue (force on the tool above 1 mN)."},
   };
 }
 

@@ -21,7 +21,8 @@ struct ToolSample {
 
 // One computed metric, with what the dashboard needs to show it.
 struct MetricValue {
-  std::string key;  // "completion_time_s", "path_length_m", "peak_force_n", "rms_force_n"
+  std::string key;  // "completion_time_s", "path_length_m", "peak_force_n", "rms_force_n",
+                    // "contact_time_s"
   double value = 0;
   std::string unit;        // "s", "m", "N"
   std::string definition;  // one line the dashboard shows, e.g. "Total distance travelled by..."
@@ -29,12 +30,17 @@ struct MetricValue {
   bool operator==(const MetricValue&) const = default;
 };
 
-// The four basic metrics of a run of #samples samples, in this order:
+// Above this force [N] the tool counts as touching tissue (contact_time_s).
+inline constexpr double kContactForceN = 1e-3;
+
+// The five basic metrics of a run of #samples samples, in this order:
 //   completion_time_s  last t - first t [s]; 0 for fewer than 2 samples
 //   path_length_m      sum over i of |tip_{i+1} - tip_i| [m]
 //   peak_force_n       max over i of |force_i| [N]; 0 for no samples
 //   rms_force_n        sqrt(integral of |force|^2 dt / duration) [N], the integral by the trapezoid
 //                      rule over the sample times; 0 when the run has no duration
+//   contact_time_s     sum of t_{i+1} - t_i over the samples i with |force_i| > kContactForceN [s]:
+//                      proof that the tissue was actually touched (an idle run scores 0)
 // Time-weighting makes the RMS independent of the sampling rate and of uneven tick spacing;
 // samples with equal times add path length but no RMS weight.
 // Throws std::invalid_argument for a non-finite time, position or force, or a time smaller than

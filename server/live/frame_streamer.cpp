@@ -12,7 +12,7 @@ namespace incise::server::live {
 namespace {
 
 // How often the render thread looks for due viewers when nothing pokes it.
-constexpr auto kIdleWait = std::chrono::milliseconds(5);
+constexpr auto kIdleWait = std::chrono::milliseconds(2);
 
 std::shared_ptr<std::vector<std::uint8_t>> frame_message(std::uint32_t frame_number, int width,
                                                          int height, double sim_time_s,

@@ -41,8 +41,8 @@ struct LiveSessionParams {
   curriculum::Task task;
   std::filesystem::path db_path;
   double tick_hz = 500;         // simulation ticks per second of real time
-  double force_model_hz = 100;  // local force models sent to the agent
-  double snapshot_hz = 60;      // snapshots for rendering and metrics
+  double force_model_hz = 500;  // local force models sent to the agent (every tick at 500 Hz)
+  double snapshot_hz = 125;     // snapshots for rendering and metrics (fresh for each frame)
   double chunk_s = 0.5;         // recording transaction length: at most this is lost in a crash
 };
 

@@ -53,7 +53,8 @@ TEST(CurriculumJson, DemoFileParses) {
   const std::vector<MetricRequirement> metrics = {
       {"completion_time_s", {ThresholdOp::at_most, 120.0}, "s"},
       {"path_length_m", {ThresholdOp::at_most, 1.5}, "m"},
-      {"peak_force_n", {ThresholdOp::at_most, 4.0}, "N"}};
+      {"peak_force_n", {ThresholdOp::at_most, 4.0}, "N"},
+      {"contact_time_s", {ThresholdOp::at_least, 5.0}, "s"}};
   EXPECT_EQ(task.metrics, metrics);
   EXPECT_EQ(parse_curriculum(to_json(curriculum)), curriculum);
 }

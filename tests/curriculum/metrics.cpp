@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -36,13 +37,12 @@ std::string error_of(const std::vector<ToolSample>& samples) {
   return "";
 }
 
-TEST(BasicMetrics, ReportsTheFourMetricsInOrderWithUnitsAndDefinitions) {
+TEST(BasicMetrics, ReportsTheFiveMetricsInOrderWithUnitsAndDefinitions) {
   const auto values = basic_metrics({});
-  ASSERT_EQ(values.size(), 4u);
-  const std::vector<std::pair<std::string, std::string>> expected = {{"completion_time_s", "s"},
-                                                                     {"path_length_m", "m"},
-                                                                     {"peak_force_n", "N"},
-                                                                     {"rms_force_n", "N"}};
+  ASSERT_EQ(values.size(), 5u);
+  const std::vector<std::pair<std::string, std::string>> expected = {
+      {"completion_time_s", "s"}, {"path_length_m", "m"}, {"peak_force_n", "N"},
+      {"rms_force_n", "N"},       {"contact_time_s", "s"}};
   for (std::size_t i = 0; i < expected.size(); ++i) {
     EXPECT_EQ(values[i].key, expected[i].first);
     EXPECT_EQ(values[i].unit, expected[i].second);
@@ -309,6 +309,25 @@ TEST(ScoreAttempt, ScoresTheBasicMetricsOfARecordedRun) {
   EXPECT_FALSE(results[2].passed) << "2 s is over 1.9 s";
   EXPECT_NEAR(results[2].value, 2.0, 1e-12);
   EXPECT_FALSE(attempt_passed(results));
+}
+
+}  // namespace
+}  // namespace incise::curriculum
+
+namespace incise::curriculum {
+namespace {
+
+// Contact time counts the intervals that start in contact, whatever the sample spacing: here
+// forces of 0, 2, 2, 0, 1e-4 (below the threshold), 3 N at uneven times.
+TEST(BasicMetrics, ContactTimeSumsTheIntervalsThatStartInContact) {
+  const std::vector<ToolSample> samples = {{0.0, {}, {0, 0, 0}},    {0.5, {}, {0, 0, 2}},
+                                           {0.75, {}, {2, 0, 0}},   {1.5, {}, {0, 0, 0}},
+                                           {2.0, {}, {0, 1e-4, 0}}, {3.0, {}, {0, 3, 0}}};
+  const auto values = basic_metrics(samples);
+  const auto it = std::find_if(values.begin(), values.end(),
+                               [](const MetricValue& v) { return v.key == "contact_time_s"; });
+  ASSERT_NE(it, values.end());
+  EXPECT_DOUBLE_EQ(it->value, (0.75 - 0.5) + (1.5 - 0.75));
 }
 
 }  // namespace

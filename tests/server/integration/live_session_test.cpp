@@ -207,7 +207,7 @@ TEST_F(LiveSession, RunsStreamsRecordsScoresAndReplaysToTheSameState) {
   const double duration = std::stod(db_text("SELECT duration_s FROM recordings WHERE id = " + rid));
   EXPECT_GT(duration, 1.0);
   const auto sid = std::to_string(session);
-  EXPECT_EQ(db_int("SELECT COUNT(*) FROM scores WHERE session_id = " + sid), 3);
+  EXPECT_EQ(db_int("SELECT COUNT(*) FROM scores WHERE session_id = " + sid), 4);
   EXPECT_NEAR(std::stod(db_text("SELECT value FROM scores WHERE metric = 'completion_time_s' AND "
                                 "session_id = " +
                                 sid)),
