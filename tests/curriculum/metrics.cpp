@@ -40,9 +40,11 @@ std::string error_of(const std::vector<ToolSample>& samples) {
 TEST(BasicMetrics, ReportsTheFiveMetricsInOrderWithUnitsAndDefinitions) {
   const auto values = basic_metrics({});
   ASSERT_EQ(values.size(), 5u);
-  const std::vector<std::pair<std::string, std::string>> expected = {
-      {"completion_time_s", "s"}, {"path_length_m", "m"}, {"peak_force_n", "N"},
-      {"rms_force_n", "N"},       {"contact_time_s", "s"}};
+  const std::vector<std::pair<std::string, std::string>> expected = {{"completion_time_s", "s"},
+                                                                     {"path_length_m", "m"},
+                                                                     {"peak_force_n", "N"},
+                                                                     {"rms_force_n", "N"},
+                                                                     {"contact_time_s", "s"}};
   for (std::size_t i = 0; i < expected.size(); ++i) {
     EXPECT_EQ(values[i].key, expected[i].first);
     EXPECT_EQ(values[i].unit, expected[i].second);
