@@ -185,7 +185,9 @@ nlohmann::json LiveSession::status() const {
   {
     std::lock_guard lock(mutex_);
     out["state"] = to_string(state_);
-    out["reason"] = reason_;
+    out["reason"] = state_ == LiveState::running && !has_input_
+                        ? "waiting for the first device state from the station"
+                        : reason_;
   }
   out["agent_online"] = agent_online_.load();
   out["sim_rate_hz"] = sim_rate_hz_.load();
@@ -288,8 +290,10 @@ void LiveSession::run() {
     std::this_thread::sleep_until(next);
 
     if (!has_input) {
-      // Before the first device state the tool waits above the scene, out of contact.
-      input.position = {engine_.tool_tip().x(), engine_.tool_tip().y(), engine_.tool_tip().z()};
+      // Time starts with the first device state: the recording then begins where the tool is,
+      // with no jump from a parked position into the scene (and none in the path length).
+      next = Clock::now();
+      continue;
     }
     engine_.tick(input);
     record.tick = static_cast<std::uint32_t>(engine_.ticks() - 1);

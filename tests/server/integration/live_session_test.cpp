@@ -215,6 +215,11 @@ TEST_F(LiveSession, RunsStreamsRecordsScoresAndReplaysToTheSameState) {
   EXPECT_GT(std::stod(db_text(
                 "SELECT value FROM scores WHERE metric = 'peak_force_n' AND session_id = " + sid)),
             0.05);
+  // The scripted hand never moves faster than about 3 cm/s (plus a little tremor): the path starts
+  // where the tool was at the first device state, with no jump from anywhere else.
+  EXPECT_LT(std::stod(db_text(
+                "SELECT value FROM scores WHERE metric = 'path_length_m' AND session_id = " + sid)),
+            0.1 * duration);
   const auto final_hash = db_text("SELECT final_state_hash FROM recordings WHERE id = " + rid);
   EXPECT_EQ(final_hash.size(), 16u);
 
