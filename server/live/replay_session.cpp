@@ -90,19 +90,7 @@ nlohmann::json ReplaySession::status() const {
 }
 
 void ReplaySession::publish_snapshot() {
-  auto s = std::make_shared<Snapshot>();
-  s->tick = engine_.ticks();
-  s->sim_time_s = engine_.time_s();
-  s->surface = surface_;
-  s->positions = engine_.simulation().mesh().x;
-  s->tool_tip = engine_.tool_tip();
-  s->tool_radius = engine_.tool().radius;
-  s->contact = engine_.contact().nodes_in_contact > 0;
-  s->force_n = engine_.contact().force_on_tool;
-  s->peak_force_n = engine_.metrics().peak_force_n;
-  s->path_length_m = engine_.metrics().path_length_m;
-  s->published_at = Clock::now();
-  snapshot_.publish(std::move(s));
+  snapshot_.publish(make_snapshot(engine_, surface_));
   if (streamer_) streamer_->poke();
 }
 

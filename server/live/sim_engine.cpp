@@ -1,5 +1,6 @@
 #include "server/live/sim_engine.h"
 
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -101,6 +102,23 @@ std::string SimEngine::state_hash() const {
   char text[17];
   std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
   return text;
+}
+
+std::shared_ptr<Snapshot> make_snapshot(const SimEngine& engine,
+                                        std::shared_ptr<const sim::BoundarySurface> surface) {
+  auto s = std::make_shared<Snapshot>();
+  s->tick = engine.ticks();
+  s->sim_time_s = engine.time_s();
+  s->surface = std::move(surface);
+  s->positions = engine.simulation().mesh().x;
+  s->tool_tip = engine.tool_tip();
+  s->tool_radius = engine.tool().radius;
+  s->contact = engine.contact().nodes_in_contact > 0;
+  s->force_n = engine.contact().force_on_tool;
+  s->peak_force_n = engine.metrics().peak_force_n;
+  s->path_length_m = engine.metrics().path_length_m;
+  s->published_at = std::chrono::steady_clock::now();
+  return s;
 }
 
 }  // namespace incise::server::live

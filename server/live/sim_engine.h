@@ -9,6 +9,7 @@
 
 #include "devices/device_state.h"
 #include "devices/protocol.h"
+#include "server/live/snapshot.h"
 #include "sim/interact/tool_contact.h"
 #include "sim/mesh/boundary_surface.h"
 #include "sim/scene/scene.h"
@@ -83,6 +84,10 @@ class SimEngine {
   RunningMetrics metrics_;
   std::int64_t ticks_ = 0;
 };
+
+// The engine's current state as an immutable snapshot for the renderer and the viewers.
+std::shared_ptr<Snapshot> make_snapshot(const SimEngine& engine,
+                                        std::shared_ptr<const sim::BoundarySurface> surface);
 
 // Where the tool waits before the device has reported: well above any scene, out of contact.
 inline constexpr double kParkedToolHeight = 1.0;

@@ -132,6 +132,25 @@ class LiveSession : public ServerTest {
     as(kTrainee).del("/api/bookings/" + std::to_string(booking));
   }
 
+  // The real agent for Station 1, a trainee's booking covering now, and a running session on it.
+  struct Running {
+    std::unique_ptr<ChildProcess> agent;
+    std::int64_t booking = 0;
+    std::int64_t session = 0;
+    std::int64_t recording = 0;
+  };
+  void start_booked_session(Running& out) {
+    out.agent = start_agent();
+    ASSERT_TRUE(station_online()) << out.agent->stderr_text();
+    out.booking = book_now();
+    const auto started =
+        as(kTrainee).post("/api/sessions", {{"station_id", 1}, {"task", "palpation"}});
+    ASSERT_EQ(started.status, 201) << started.body;
+    EXPECT_EQ(started.json()["live"]["state"], "running");
+    out.session = started.json()["id"].get<std::int64_t>();
+    out.recording = started.json()["live"]["recording_id"].get<std::int64_t>();
+  }
+
   std::string cookie(const Login& login) { return *as(login).cookie("incise_session"); }
 
   std::unique_ptr<Viewer> view(const std::string& target, const Login& login = kTrainee) {
@@ -154,15 +173,11 @@ class LiveSession : public ServerTest {
 };
 
 TEST_F(LiveSession, RunsStreamsRecordsScoresAndReplaysToTheSameState) {
-  auto agent = start_agent();
-  ASSERT_TRUE(station_online()) << agent->stderr_text();
-  const auto booking = book_now();
-
-  auto started = as(kTrainee).post("/api/sessions", {{"station_id", 1}, {"task", "palpation"}});
-  ASSERT_EQ(started.status, 201) << started.body;
-  const auto session = started.json()["id"].get<std::int64_t>();
-  EXPECT_EQ(started.json()["live"]["state"], "running");
-  const auto recording = started.json()["live"]["recording_id"].get<std::int64_t>();
+  Running run;
+  ASSERT_NO_FATAL_FAILURE(start_booked_session(run));
+  auto& agent = run.agent;
+  const auto session = run.session;
+  const auto recording = run.recording;
 
   // A second start at the busy station is refused with the reason.
   EXPECT_TRUE(
@@ -245,17 +260,15 @@ TEST_F(LiveSession, RunsStreamsRecordsScoresAndReplaysToTheSameState) {
         << replay->metrics.dump();
     EXPECT_EQ(replay->metrics["state"], "paused");
   }
-  cancel(booking);
+  cancel(run.booking);
 }
 
 TEST_F(LiveSession, AnAgentDroppingOutPausesTheSessionAndTheRecordingStaysIntact) {
-  auto agent = start_agent();
-  ASSERT_TRUE(station_online()) << agent->stderr_text();
-  const auto booking = book_now();
-  auto started = as(kTrainee).post("/api/sessions", {{"station_id", 1}, {"task", "palpation"}});
-  ASSERT_EQ(started.status, 201) << started.body;
-  const auto session = std::to_string(started.json()["id"].get<std::int64_t>());
-  const auto recording = std::to_string(started.json()["live"]["recording_id"].get<std::int64_t>());
+  Running run;
+  ASSERT_NO_FATAL_FAILURE(start_booked_session(run));
+  auto& agent = run.agent;
+  const auto session = std::to_string(run.session);
+  const auto recording = std::to_string(run.recording);
   std::this_thread::sleep_for(1500ms);
 
   agent->send_signal(SIGKILL);
@@ -290,16 +303,13 @@ TEST_F(LiveSession, AnAgentDroppingOutPausesTheSessionAndTheRecordingStaysIntact
   EXPECT_EQ(bytes % 77, 0);
   EXPECT_NEAR(static_cast<double>(bytes / 77) / 500.0, duration, 1e-9);
   EXPECT_NEAR(duration, t0, 1e-9);
-  cancel(booking);
+  cancel(run.booking);
 }
 
 TEST_F(LiveSession, ViewersAreCheckedAndMalformedMessagesCloseOnlyThatViewer) {
-  auto agent = start_agent();
-  ASSERT_TRUE(station_online()) << agent->stderr_text();
-  const auto booking = book_now();
-  auto started = as(kTrainee).post("/api/sessions", {{"station_id", 1}, {"task", "palpation"}});
-  ASSERT_EQ(started.status, 201) << started.body;
-  const auto session = std::to_string(started.json()["id"].get<std::int64_t>());
+  Running run;
+  ASSERT_NO_FATAL_FAILURE(start_booked_session(run));
+  const auto session = std::to_string(run.session);
   const auto target = "/api/sessions/" + session + "/view";
 
   // Without a login the upgrade is refused with 401 (Beast reports the HTTP status).
@@ -325,7 +335,7 @@ TEST_F(LiveSession, ViewersAreCheckedAndMalformedMessagesCloseOnlyThatViewer) {
   ASSERT_TRUE(good->read_until([&] { return good->closed.has_value(); }, 5s));
   ASSERT_TRUE(good->ended.has_value());
   EXPECT_EQ(good->closed->close_code, 1000);
-  cancel(booking);
+  cancel(run.booking);
 }
 
 }  // namespace
