@@ -15,6 +15,7 @@ namespace net = boost::asio;
 
 namespace {
 constexpr std::size_t kBeastReadLimit = 64 * 1024;
+constexpr auto kAgentIdleTimeout = std::chrono::seconds(3);
 
 std::uint64_t monotonic_us() {
   return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(
@@ -34,7 +35,14 @@ AgentSession::~AgentSession() {
 }
 
 void AgentSession::run(beast::http::request<beast::http::string_body> upgrade) {
-  ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+  // Agents stream hundreds of states a second, so a few seconds of silence means the station is
+  // gone (a crashed machine or a pulled cable sends no FIN): close, so that its session pauses
+  // now and not after Beast's default five minutes.
+  websocket::stream_base::timeout timeouts{};
+  timeouts.handshake_timeout = std::chrono::seconds(30);
+  timeouts.idle_timeout = kAgentIdleTimeout;
+  timeouts.keep_alive_pings = true;
+  ws_.set_option(timeouts);
   // Beast's own limit closes with 1009 but no reason; a higher one lets on_read say why.
   ws_.read_message_max(kBeastReadLimit);
   ws_.async_accept(upgrade,
@@ -141,8 +149,12 @@ void AgentSession::handle_device_state() {
     return do_close(websocket::close_code::bad_payload, std::string(result.reason()));
   }
   last_sequence_ = result.message().header.sequence;
-  app_->live_sessions().on_device_state(station_id_, result.message().state,
-                                        result.message().header.timestamp_us);
+  // Only the station's newest link drives its session: a second agent with the same token (or
+  // the old link of a reconnect) must not interleave its hand with the current one.
+  if (app_->agent_for_station(station_id_).get() == this) {
+    app_->live_sessions().on_device_state(station_id_, result.message().state,
+                                          result.message().header.timestamp_us);
+  }
   ++states_received_;
   do_read();
 }

@@ -29,6 +29,7 @@ struct ServerConfig {
 class AppState {
  public:
   AppState(db::Database& db, ServerConfig config);
+  ~AppState();
 
   db::Database& db() { return db_; }
   std::mutex& db_mutex() { return db_mutex_; }
@@ -63,6 +64,8 @@ class AppState {
     std::uint64_t joined = 0;  // join order, to find the newest agent of a station
   };
   std::uint64_t joins_ = 0;
+  bool station_online_locked(std::int64_t station_id) const;  // agents_mutex_ held
+  // Last, so that it goes first: its sessions use the members above until they stop.
   LiveSessions live_sessions_;
   std::map<const AgentSession*, AgentEntry> agents_;
 };

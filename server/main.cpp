@@ -1,5 +1,6 @@
 // incise-server: wires the database, the REST API, the dashboard and the agent link to one port.
 #include <boost/asio.hpp>
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <thread>
@@ -7,6 +8,7 @@
 
 #include "db/migrations.h"
 #include "db/recordings_repo.h"
+#include "db/training_repo.h"
 #include "server/app_state.h"
 #include "server/demo_data.h"
 #include "server/listener.h"
@@ -33,7 +35,19 @@ int main(int argc, char** argv) {
     database = std::make_unique<db::Database>(options.data_dir / "incise.db");
     const int applied = db::apply_migrations(*database);
     if (applied > 0) std::cerr << "incise-server: applied " << applied << " migration(s)\n";
-    // Recordings a crash left open keep every committed chunk: close them as they are.
+    // A crash leaves sessions running and recordings open. The sessions are aborted; the
+    // recordings keep every committed chunk and are closed as they are.
+    db::TrainingRepo training(*database);
+    const auto now = std::chrono::duration_cast<std::chrono::seconds>(
+                         std::chrono::system_clock::now().time_since_epoch())
+                         .count();
+    for (const auto& session : training.sessions()) {
+      if (session.state == "running" || session.state == "paused") {
+        training.set_session_state(session.id, "aborted", now);
+        std::cerr << "incise-server: session " << session.id << " was " << session.state
+                  << " when the server stopped; marked aborted\n";
+      }
+    }
     db::RecordingsRepo recordings(*database);
     for (const auto& open : recordings.unfinished()) {
       recordings.finish(open.id, open.duration_s);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 namespace incise::server {
@@ -142,6 +143,8 @@ void ViewSession::do_read() {
 
 void ViewSession::on_read(beast::error_code ec, std::size_t) {
   if (ec) {
+    // closing_ first: a timer that already expired may still run its handler after cancel().
+    closing_ = true;
     metrics_timer_.cancel();
     return;
   }
@@ -167,22 +170,37 @@ std::string ViewSession::handle_message(const std::string& text) {
   const auto type = message["type"].get<std::string>();
   auto number = [&](const char* key) -> std::optional<double> {
     if (!message.contains(key)) return std::nullopt;
-    if (!message[key].is_number()) throw std::invalid_argument(std::string(key));
-    return message[key].get<double>();
+    const auto& v = message[key];
+    if (!v.is_number() || !std::isfinite(v.get<double>())) {
+      throw std::invalid_argument(std::string("\"") + key + "\" must be a number");
+    }
+    return v.get<double>();
+  };
+  // Integers within [lo, hi]; anything else is a malformed message.
+  auto integer = [&](const char* key, double lo, double hi) -> std::optional<int> {
+    const auto v = number(key);
+    if (!v) return std::nullopt;
+    if (*v != std::floor(*v) || *v < lo || *v > hi) {
+      throw std::invalid_argument(std::string("\"") + key + "\" must be an integer in [" +
+                                  std::to_string(static_cast<long long>(lo)) + ", " +
+                                  std::to_string(static_cast<long long>(hi)) + "]");
+    }
+    return static_cast<int>(*v);
   };
   try {
     if (type == "ack") {
-      const auto frame = number("frame");
+      // Only frames that were sent can be acknowledged: a larger number would switch off this
+      // viewer's flow control.
+      const auto frame =
+          integer("frame", 1, static_cast<double>(std::max<std::int64_t>(1, sink_->issued())));
       if (!frame) return "ack needs \"frame\"";
-      sink_->acknowledge(static_cast<std::int64_t>(*frame));
+      sink_->acknowledge(*frame);
       streamer().poke();
       return "";
     }
     if (type == "configure") {
-      auto as_int = [](std::optional<double> v) {
-        return v ? std::optional<int>(static_cast<int>(*v)) : std::nullopt;
-      };
-      sink_->configure(as_int(number("fps")), as_int(number("width")), as_int(number("height")));
+      sink_->configure(integer("fps", 1, 60), integer("width", 160, 1280),
+                       integer("height", 120, 960));
       return "";
     }
     if (replay_) {
@@ -200,7 +218,7 @@ std::string ViewSession::handle_message(const std::string& text) {
       }
     }
   } catch (const std::invalid_argument& e) {
-    return std::string("\"") + e.what() + "\" must be a number";
+    return type + ": " + e.what();
   }
   return "unknown message type \"" + type.substr(0, 40) + "\"";
 }
@@ -215,7 +233,7 @@ void ViewSession::on_frame(std::shared_ptr<const std::vector<std::uint8_t>> mess
 void ViewSession::schedule_metrics() {
   metrics_timer_.expires_after(kMetricsPeriod);
   metrics_timer_.async_wait([self = shared_from_this()](beast::error_code ec) {
-    if (ec || self->closing_) return;
+    if (ec || self->closing_ || !self->ws_.is_open()) return;
     self->send_metrics();
     if (!self->closing_) self->schedule_metrics();
   });
@@ -282,7 +300,11 @@ void ViewSession::do_write() {
 void ViewSession::on_write(beast::error_code ec, std::size_t) {
   writing_ = false;
   frame_in_flight_.reset();
-  if (ec) return;
+  if (ec) {
+    closing_ = true;
+    metrics_timer_.cancel();
+    return;
+  }
   if (end_in_flight_) {
     end_in_flight_ = false;
     return do_close(websocket::close_code::normal, "session ended");

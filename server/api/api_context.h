@@ -5,6 +5,7 @@
 #include <boost/beast/http.hpp>
 #include <cstdint>
 #include <initializer_list>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -33,9 +34,25 @@ class ApiContext {
 
   const Request& request;
   AppState& app;
-  const std::string client;  // remote address, for the login limiter
-  const std::int64_t now;    // Unix seconds, fixed for the whole request
-  std::int64_t path_id = 0;  // the {id} of the matched route, if any
+  const std::string client;                         // remote address, for the login limiter
+  const std::int64_t now;                           // Unix seconds, fixed for the whole request
+  std::int64_t path_id = 0;                         // the {id} of the matched route, if any
+  std::unique_lock<std::mutex>* db_lock = nullptr;  // the router's database lock, held
+
+  // Runs f with the database lock released, for a handler that must wait for another thread
+  // (stopping a live session) without stalling every other request. Takes the lock back after.
+  template <class F>
+  void without_db_lock(F&& f) {
+    if (!db_lock) return f();
+    db_lock->unlock();
+    try {
+      f();
+    } catch (...) {
+      db_lock->lock();
+      throw;
+    }
+    db_lock->lock();
+  }
 
   // The logged-in user; throws 401 when there is none or the session expired.
   const db::User& user();

@@ -50,13 +50,6 @@ std::optional<curriculum::Task> find_task(db::Database& db, const std::string& k
   return std::nullopt;
 }
 
-void notify_agent(AppState& app, std::int64_t station_id, std::int64_t session_id,
-                  const char* state) {
-  if (auto agent = app.agent_for_station(station_id)) {
-    agent->send_text(devices::build_session_notice({session_id, state}));
-  }
-}
-
 // The live session behind the URL, for its owner, instructors and admins.
 std::shared_ptr<live::LiveSession> controllable_session(ApiContext& ctx) {
   const auto& user = ctx.user();
@@ -131,13 +124,21 @@ ApiResponse start_session(ApiContext& ctx) {
   params.tick_hz = kTickHz;
 
   AppState* app = &ctx.app;
-  auto session = std::make_shared<live::LiveSession>(
-      std::move(params), [app, station_id](const devices::ForceModel& model) {
-        if (auto agent = app->agent_for_station(station_id)) agent->send_force_model(model);
-      });
+  const auto session_id = params.session_id;
+  live::LiveSession::AgentLink link;
+  link.send_force_model = [app, station_id](const devices::ForceModel& model) {
+    if (auto agent = app->agent_for_station(station_id)) agent->send_force_model(model);
+  };
+  link.send_notice = [app, station_id, session_id](const char* state) {
+    if (auto agent = app->agent_for_station(station_id)) {
+      agent->send_text(devices::build_session_notice({session_id, state}));
+    }
+  };
+  auto session = std::make_shared<live::LiveSession>(std::move(params), std::move(link));
   session->start();
   ctx.app.live_sessions().add(session);
-  notify_agent(ctx.app, station_id, session->session_id(), "running");
+  // The agent may have left between the check above and add(), when no session could hear it.
+  session->set_agent_online(ctx.app.station_online(station_id));
   return session_response(ctx, session->session_id(), live_json(session), http::status::created);
 }
 
@@ -149,12 +150,14 @@ ApiResponse get_session(ApiContext& ctx) {
   return session_response(ctx, ctx.path_id, live_json(ctx.app.live_sessions().find(ctx.path_id)));
 }
 
+// The session thread records state changes too, a moment later; writing it here as well makes
+// the response (and the next listing) agree with the session at once.
 ApiResponse pause_session(ApiContext& ctx) {
   const auto session = controllable_session(ctx);
   if (const auto why = session->pause("paused by " + ctx.user().username); !why.empty()) {
     throw ApiError(http::status::conflict, why);
   }
-  notify_agent(ctx.app, session->station_id(), session->session_id(), "paused");
+  db::TrainingRepo(ctx.app.db()).set_session_state(ctx.path_id, "paused", ctx.now);
   return session_response(ctx, ctx.path_id, live_json(session));
 }
 
@@ -163,18 +166,18 @@ ApiResponse resume_session(ApiContext& ctx) {
   if (const auto why = session->resume(); !why.empty()) {
     throw ApiError(http::status::conflict, why);
   }
-  notify_agent(ctx.app, session->station_id(), session->session_id(), "running");
+  db::TrainingRepo(ctx.app.db()).set_session_state(ctx.path_id, "running", ctx.now);
   return session_response(ctx, ctx.path_id, live_json(session));
 }
 
 ApiResponse stop_session(ApiContext& ctx) {
   const auto session = controllable_session(ctx);
-  // Waits for the session thread to close the recording and store the score; that thread has
-  // its own database connection, so holding the request's lock here cannot block it.
-  session->stop("stopped by " + ctx.user().username);
+  // Waits for the session thread to close the recording and store the score (on its own
+  // database connection), without holding up every other request meanwhile.
+  const auto who = ctx.user().username;
+  ctx.without_db_lock([&] { session->stop("stopped by " + who); });
   const auto live = live_json(session);
   ctx.app.live_sessions().remove(session->session_id());
-  notify_agent(ctx.app, session->station_id(), session->session_id(), "idle");
   return session_response(ctx, ctx.path_id, live);
 }
 

@@ -75,16 +75,7 @@ bool is_state_changing(http::verb v) {
 // that without a preflight, which this server never grants) and must not come from another origin.
 void check_csrf(const Request& req) {
   if (!is_state_changing(req.method())) return;
-  const auto origin = req[http::field::origin];
-  if (!origin.empty()) {
-    const auto host = req[http::field::host];
-    const auto scheme_end = origin.find("://");
-    const auto origin_host =
-        scheme_end == std::string_view::npos ? origin : origin.substr(scheme_end + 3);
-    if (origin_host != host) {
-      throw ApiError(http::status::forbidden, "cross-origin request refused");
-    }
-  }
+  if (is_cross_origin(req)) throw ApiError(http::status::forbidden, "cross-origin request refused");
   if (req.method() == http::verb::delete_ && req.body().empty()) return;
   const auto type = req[http::field::content_type];
   if (type.substr(0, 16) != "application/json") {
@@ -114,6 +105,16 @@ ApiResponse dispatch(ApiContext& ctx, std::string_view path) {
 
 }  // namespace
 
+bool is_cross_origin(const Request& req) {
+  const auto origin = req[http::field::origin];
+  if (origin.empty()) return false;
+  const auto host = req[http::field::host];
+  const auto scheme_end = origin.find("://");
+  const auto origin_host =
+      scheme_end == std::string_view::npos ? origin : origin.substr(scheme_end + 3);
+  return origin_host != host;
+}
+
 Response json_error(http::status status, const std::string& message, unsigned version,
                     bool keep_alive) {
   Response res{status, version};
@@ -131,8 +132,9 @@ Response handle_api_request(const Request& request, AppState& app, const std::st
   const auto version = request.version();
   const bool keep_alive = request.keep_alive();
   try {
-    std::lock_guard lock(app.db_mutex());
+    std::unique_lock lock(app.db_mutex());
     ApiContext ctx(request, app, client);
+    ctx.db_lock = &lock;
     const ApiResponse out = dispatch(ctx, std::string_view(path.data(), path.size()));
     Response res{out.status, version};
     res.set(http::field::cache_control, "no-store");

@@ -9,6 +9,10 @@ namespace incise::server {
 
 Response handle_api_request(const Request& request, AppState& app, const std::string& client);
 
+// Whether the request carries an Origin other than the Host it was sent to (a page of another site,
+// or of another port of this host). Browsers always send Origin on WebSocket upgrades.
+bool is_cross_origin(const Request& request);
+
 // A JSON error response, `{"error": message}`.
 Response json_error(http::status status, const std::string& message, unsigned version,
                     bool keep_alive);

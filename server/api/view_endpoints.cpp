@@ -45,7 +45,14 @@ ViewTarget live_target(ApiContext& ctx, std::int64_t session_id) {
   return {std::move(session), nullptr};
 }
 
-ViewTarget replay_target(ApiContext& ctx, std::int64_t recording_id) {
+// What a replay needs, read under the database lock; the replay itself is built after it.
+struct ReplayInput {
+  std::string_view scene_text;
+  double tick_s = 0;
+  std::vector<live::TickRecord> ticks;
+};
+
+ReplayInput replay_input(ApiContext& ctx, std::int64_t recording_id) {
   const auto& user = ctx.user();
   auto& db = ctx.app.db();
   const auto meta = db::RecordingsRepo(db).find(recording_id);
@@ -75,9 +82,7 @@ ViewTarget replay_target(ApiContext& ctx, std::int64_t recording_id) {
   }
   auto ticks = live::load_tick_records(db, recording_id);
   if (ticks.empty()) throw ApiError(http::status::conflict, name + " is empty");
-  auto replay = std::make_unique<live::ReplaySession>(sim::parse_scene_text(scene->text),
-                                                      1.0 / meta->tick_hz, std::move(ticks));
-  return {nullptr, std::move(replay)};
+  return {scene->text, 1.0 / meta->tick_hz, std::move(ticks)};
 }
 
 }  // namespace
@@ -92,13 +97,28 @@ std::variant<ViewTarget, Response> resolve_view(const Request& request, AppState
                                                 const std::string& client) {
   const auto path = path_of(request.target());
   try {
-    std::lock_guard lock(app.db_mutex());
-    ApiContext ctx(request, app, client);
-    if (const auto id = id_between(path, "/api/sessions/", "/view")) return live_target(ctx, id);
-    if (const auto id = id_between(path, "/api/recordings/", "/replay")) {
-      return replay_target(ctx, id);
+    // The login cookie goes with any upgrade the browser makes, so a page of another origin must
+    // not be able to open a trainee's stream with it.
+    if (is_cross_origin(request)) {
+      throw ApiError(http::status::forbidden, "cross-origin WebSocket refused");
     }
-    throw ApiError(http::status::not_found, "no WebSocket endpoint at " + std::string(path));
+    std::optional<ReplayInput> input;
+    {
+      std::lock_guard lock(app.db_mutex());
+      ApiContext ctx(request, app, client);
+      if (const auto id = id_between(path, "/api/sessions/", "/view")) {
+        return live_target(ctx, id);
+      }
+      const auto id = id_between(path, "/api/recordings/", "/replay");
+      if (id == 0) {
+        throw ApiError(http::status::not_found, "no WebSocket endpoint at " + std::string(path));
+      }
+      input = replay_input(ctx, id);
+    }
+    // Building the engine takes a moment; other requests need not wait for it.
+    return ViewTarget{
+        nullptr, std::make_unique<live::ReplaySession>(sim::parse_scene_text(input->scene_text),
+                                                       input->tick_s, std::move(input->ticks))};
   } catch (const ApiError& e) {
     return json_error(e.status(), e.what(), request.version(), false);
   } catch (const std::exception& e) {

@@ -1,5 +1,6 @@
 #include "server/live/frame_streamer.h"
 
+#include <algorithm>
 #include <cstring>
 #include <iostream>
 #include <map>
@@ -65,80 +66,100 @@ std::string FrameStreamer::error() const {
 }
 
 void FrameStreamer::run() {
-  // The GL objects must die before the context, on this thread: hence the nesting.
+  // The GL objects must die before the context, on this thread: hence the nesting. Nothing may
+  // escape this function (an exception leaving a thread ends the process), so every failure
+  // becomes error_, shown to the viewers as render_error, and the session runs on without pictures.
   std::optional<render::EglContext> context;
   try {
     context.emplace();
+    render_loop();
   } catch (const std::exception& e) {
     std::lock_guard lock(mutex_);
-    error_ = std::string("rendering unavailable: ") + e.what();
+    error_ = std::string(context ? "rendering stopped: " : "rendering unavailable: ") + e.what();
     std::cerr << "incise-server: " << error_ << "\n";
-    return;
   }
-  {
-    render::SceneRenderer renderer;
-    std::map<std::pair<int, int>, render::FrameEncoder> encoders;
-    std::vector<std::uint8_t> jpeg;
-    sim::Points V, N;
-    while (true) {
-      {
-        std::unique_lock lock(mutex_);
-        wake_.wait_for(lock, kIdleWait, [this] { return stop_ || poked_; });
-        if (stop_) break;
-        poked_ = false;
+}
+
+void FrameStreamer::render_loop() {
+  render::SceneRenderer renderer;
+  // One encoder per frame size in use. Viewers choose their size, so the set is capped: the least
+  // recently used encoder goes when a new size needs room (each holds a framebuffer and buffers).
+  struct Encoder {
+    std::unique_ptr<render::FrameEncoder> encoder;
+    std::int64_t last_used = 0;
+  };
+  std::map<std::pair<int, int>, Encoder> encoders;
+  std::int64_t pass = 0;
+  std::vector<std::uint8_t> jpeg;
+  sim::Points V, N;
+  struct Job {
+    std::shared_ptr<FrameSink> sink;
+    FrameSink::Request request;
+    std::uint32_t frame_number;
+  };
+  std::vector<Job> jobs;
+  while (true) {
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait_for(lock, kIdleWait, [this] { return stop_ || poked_; });
+      if (stop_) return;
+      poked_ = false;
+    }
+    const auto snapshot = source_.snapshot();
+    if (!snapshot) continue;
+    const auto now = SteadyClock::now();
+    // Collect the viewers that want this snapshot, without holding the lock while rendering.
+    jobs.clear();
+    {
+      std::lock_guard lock(mutex_);
+      std::erase_if(sinks_, [](const Entry& e) { return e.sink.expired(); });
+      for (auto& entry : sinks_) {
+        if (entry.last_tick == snapshot->tick) continue;
+        auto sink = entry.sink.lock();
+        if (!sink) continue;
+        const auto request = sink->frame_wanted(now);
+        if (!request) continue;
+        entry.last_tick = snapshot->tick;
+        jobs.push_back({std::move(sink), *request, entry.next_frame++});
       }
-      const auto snapshot = source_.snapshot();
-      if (!snapshot) continue;
-      const auto now = SteadyClock::now();
-      // Collect the viewers that want this snapshot, without holding the lock while rendering.
-      struct Job {
-        std::shared_ptr<FrameSink> sink;
-        FrameSink::Request request;
-        std::uint32_t frame_number;
-      };
-      std::vector<Job> jobs;
-      {
-        std::lock_guard lock(mutex_);
-        std::erase_if(sinks_, [](const Entry& e) { return e.sink.expired(); });
-        for (auto& entry : sinks_) {
-          if (entry.last_tick == snapshot->tick) continue;
-          auto sink = entry.sink.lock();
-          if (!sink) continue;
-          const auto request = sink->frame_wanted(now);
-          if (!request) continue;
-          entry.last_tick = snapshot->tick;
-          jobs.push_back({std::move(sink), *request, entry.next_frame++});
-        }
-      }
-      if (jobs.empty()) continue;
-      sim::surface_vertices(*snapshot->surface, snapshot->positions, V, N);
-      const render::TissueView tissue{&V, &N, &snapshot->surface->faces};
-      render::ToolView tool;
-      tool.tip = snapshot->tool_tip;
-      tool.radius = snapshot->tool_radius;
-      tool.in_contact = snapshot->contact;
-      // Viewers asking for the same size share one rendering.
-      std::map<std::pair<int, int>, std::shared_ptr<const std::vector<std::uint8_t>>> rendered;
-      for (auto& job : jobs) {
-        const std::pair size{job.request.width, job.request.height};
-        auto& jpeg_of_size = rendered[size];
-        if (!jpeg_of_size) {
-          auto it = encoders.find(size);
-          if (it == encoders.end()) {
-            it = encoders
-                     .emplace(std::piecewise_construct, std::forward_as_tuple(size),
-                              std::forward_as_tuple(size.first, size.second))
-                     .first;
+    }
+    if (jobs.empty()) continue;
+    ++pass;
+    sim::surface_vertices(*snapshot->surface, snapshot->positions, V, N);
+    const render::TissueView tissue{&V, &N, &snapshot->surface->faces};
+    render::ToolView tool;
+    tool.tip = snapshot->tool_tip;
+    tool.radius = snapshot->tool_radius;
+    tool.in_contact = snapshot->contact;
+    // Viewers asking for the same size share one rendering.
+    std::map<std::pair<int, int>, std::shared_ptr<const std::vector<std::uint8_t>>> rendered;
+    for (auto& job : jobs) {
+      const std::pair size{job.request.width, job.request.height};
+      auto& jpeg_of_size = rendered[size];
+      if (!jpeg_of_size) {
+        auto it = encoders.find(size);
+        if (it == encoders.end()) {
+          if (encoders.size() >= kMaxEncoders) {
+            encoders.erase(std::min_element(encoders.begin(), encoders.end(),
+                                            [](const auto& a, const auto& b) {
+                                              return a.second.last_used < b.second.last_used;
+                                            }));
           }
-          it->second.render_jpeg(renderer, camera_, tissue, tool, jpeg);
-          ++frames_rendered_;
-          jpeg_of_size = std::make_shared<const std::vector<std::uint8_t>>(jpeg);
+          it = encoders
+                   .emplace(
+                       size,
+                       Encoder{std::make_unique<render::FrameEncoder>(size.first, size.second), 0})
+                   .first;
         }
-        job.sink->deliver(job.frame_number,
-                          frame_message(job.frame_number, size.first, size.second,
-                                        snapshot->sim_time_s, *jpeg_of_size),
-                          snapshot->published_at);
+        it->second.last_used = pass;
+        it->second.encoder->render_jpeg(renderer, camera_, tissue, tool, jpeg);
+        ++frames_rendered_;
+        jpeg_of_size = std::make_shared<const std::vector<std::uint8_t>>(jpeg);
       }
+      job.sink->deliver(job.frame_number,
+                        frame_message(job.frame_number, size.first, size.second,
+                                      snapshot->sim_time_s, *jpeg_of_size),
+                        snapshot->published_at);
     }
   }
 }

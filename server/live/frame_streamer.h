@@ -57,6 +57,9 @@ class FrameStreamer {
 
  private:
   void run();
+  void render_loop();
+
+  static constexpr std::size_t kMaxEncoders = 4;
 
   const StreamSource& source_;
   render::Camera camera_;

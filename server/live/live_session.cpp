@@ -57,30 +57,41 @@ render::Camera camera_for(const sim::Scene& scene) {
 }
 
 // The session's recording: ticks are buffered and written as one chunk per chunk_s, each chunk in
-// its own small transaction, so a crash loses at most the chunk being filled.
+// its own small transaction, so a crash loses at most the chunk being filled. A failed write
+// (say the database stayed locked past its busy timeout) keeps the ticks buffered for the next
+// try: the recording never gets a hole.
 class Recorder {
  public:
   Recorder(db::Database& db, std::int64_t recording_id, std::int64_t ticks_per_chunk, double tick_s)
       : repo_(db), recording_id_(recording_id), ticks_per_chunk_(ticks_per_chunk), tick_s_(tick_s) {
     buffer_.reserve(static_cast<std::size_t>(ticks_per_chunk) * kTickRecordSize);
   }
-  void add(const TickRecord& record) {
+  // Returns "" or why the chunk that became due could not be written.
+  std::string add(const TickRecord& record) {
     if (buffered_ == 0) first_tick_ = record.tick;
     append_tick_record(record, buffer_);
     ++buffered_;
-    last_tick_ = record.tick;
-    if (buffered_ >= ticks_per_chunk_) flush();
+    return buffered_ >= ticks_per_chunk_ ? flush() : "";
   }
-  void flush() {
-    if (buffered_ == 0) return;
+  std::string flush() {
+    if (buffered_ == 0) return "";
     const auto t0_us = static_cast<std::int64_t>(static_cast<double>(first_tick_) * tick_s_ * 1e6);
-    repo_.append_chunk(recording_id_, seq_++, t0_us, buffer_, duration_s());
+    try {
+      repo_.append_chunk(recording_id_, seq_, t0_us, buffer_,
+                         static_cast<double>(flushed_ticks_ + buffered_) * tick_s_);
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    ++seq_;
+    flushed_ticks_ += buffered_;
     buffer_.clear();
     buffered_ = 0;
+    return "";
   }
-  double duration_s() const {
-    return seq_ == 0 && buffered_ == 0 ? 0.0 : static_cast<double>(last_tick_ + 1) * tick_s_;
-  }
+  // Simulated time that is safely stored [s].
+  double stored_s() const { return static_cast<double>(flushed_ticks_) * tick_s_; }
+  // Simulated time waiting to be stored [s].
+  double pending_s() const { return static_cast<double>(buffered_) * tick_s_; }
 
  private:
   db::RecordingsRepo repo_;
@@ -89,14 +100,17 @@ class Recorder {
   double tick_s_;
   std::vector<std::uint8_t> buffer_;
   std::int64_t buffered_ = 0;
+  std::int64_t flushed_ticks_ = 0;
   std::int64_t seq_ = 0;
   std::uint32_t first_tick_ = 0;
-  std::uint32_t last_tick_ = 0;
 };
 
-LiveSession::LiveSession(LiveSessionParams params, ForceSink force_sink)
+// Beyond this much unwritten recording the session stops rather than run on unrecorded [s].
+constexpr double kMaxUnrecordedS = 10.0;
+
+LiveSession::LiveSession(LiveSessionParams params, AgentLink agent)
     : params_(std::move(params)),
-      force_sink_(std::move(force_sink)),
+      agent_(std::move(agent)),
       engine_(params_.scene, 1.0 / params_.tick_hz),
       surface_(std::make_shared<const sim::BoundarySurface>(engine_.surface())) {
   publish_snapshot();
@@ -129,7 +143,7 @@ double LiveSession::sim_time_s() const {
 std::string LiveSession::pause(const std::string& reason) {
   {
     std::lock_guard lock(mutex_);
-    if (state_ == LiveState::finished) return "session has finished";
+    if (state_ == LiveState::finished || stop_requested_) return "session has finished";
     if (state_ == LiveState::paused) return "session is already paused";
     state_ = LiveState::paused;
     reason_ = reason;
@@ -141,7 +155,7 @@ std::string LiveSession::pause(const std::string& reason) {
 std::string LiveSession::resume() {
   {
     std::lock_guard lock(mutex_);
-    if (state_ == LiveState::finished) return "session has finished";
+    if (state_ == LiveState::finished || stop_requested_) return "session has finished";
     if (state_ == LiveState::running) return "session is already running";
     if (!agent_online_.load()) return "station agent is offline";
     state_ = LiveState::running;
@@ -222,10 +236,18 @@ void LiveSession::run() {
     db.emplace(params_.db_path);
     recorder.emplace(*db, params_.recording_id, ticks_per_chunk, tick_s);
   } catch (const std::exception& e) {
+    // Without its recording a session is worth nothing: end it at once and say why.
     std::cerr << "incise-server: session " << params_.session_id
               << " cannot open the database: " << e.what() << "\n";
+    std::lock_guard lock(mutex_);
+    stop_requested_ = true;
+    reason_ = std::string("cannot open the database: ") + e.what();
   }
+  std::string last_record_error;
   auto write_state = [&](LiveState state) {
+    if (agent_.send_notice) {
+      agent_.send_notice(state == LiveState::finished ? "idle" : to_string(state));
+    }
     if (!db) return;
     try {
       db::TrainingRepo(*db).set_session_state(params_.session_id, to_string(state), unix_now());
@@ -235,6 +257,7 @@ void LiveSession::run() {
   };
 
   LiveState written = LiveState::running;
+  if (agent_.send_notice) agent_.send_notice("running");
   auto next = Clock::now();
   auto rate_window_start = next;
   std::int64_t rate_window_ticks = 0;
@@ -249,7 +272,7 @@ void LiveSession::run() {
       if (state_ == LiveState::paused) {
         if (written != LiveState::paused) {
           lock.unlock();
-          if (recorder) recorder->flush();
+          if (recorder) recorder->flush();  // a failure retries at the next chunk
           write_state(LiveState::paused);
           written = LiveState::paused;
           continue;
@@ -289,20 +312,24 @@ void LiveSession::run() {
     for (int i = 0; i < 3; ++i)
       record.force[i] = static_cast<float>(engine_.contact().force_on_tool[i]);
     if (recorder) {
-      try {
-        recorder->add(record);
-      } catch (const std::exception& e) {
+      const auto error = recorder->add(record);
+      if (!error.empty() && error != last_record_error) {
         std::cerr << "incise-server: session " << params_.session_id
-                  << " recording failed: " << e.what() << "\n";
-        recorder.reset();
+                  << " could not write its recording (retrying): " << error << "\n";
+      }
+      last_record_error = error;
+      if (recorder->pending_s() > kMaxUnrecordedS) {
+        std::lock_guard lock(mutex_);
+        stop_requested_ = true;
+        reason_ = "recording failed: " + error;
       }
     }
     sim_time_s_.store(engine_.time_s());
 
-    if (engine_.ticks() % ticks_per_force_model == 0 && force_sink_ && has_input) {
+    if (engine_.ticks() % ticks_per_force_model == 0 && agent_.send_force_model) {
       auto model = engine_.force_model();
       model.state_timestamp_us = input_timestamp_us;
-      force_sink_(model);
+      agent_.send_force_model(model);
       ++force_models_sent_;
     }
     if (engine_.ticks() % ticks_per_snapshot == 0) publish_snapshot();
@@ -328,12 +355,19 @@ void LiveSession::run() {
     try {
       const auto now = unix_now();
       double duration = 0;
+      bool complete = false;
       if (recorder) {
-        recorder->flush();
-        duration = recorder->duration_s();
+        const auto error = recorder->flush();
+        if (!error.empty()) {
+          std::cerr << "incise-server: session " << params_.session_id << " lost "
+                    << recorder->pending_s() << " s of its recording: " << error << "\n";
+        }
+        duration = recorder->stored_s();
+        complete = recorder->pending_s() == 0;
       }
+      // The final state belongs to the whole run: stored only if the whole run is recorded.
       db::RecordingsRepo recordings(*db);
-      recordings.finish(params_.recording_id, duration, engine_.state_hash());
+      recordings.finish(params_.recording_id, duration, complete ? engine_.state_hash() : "");
       score_session(*db, params_.session_id, params_.recording_id, params_.task, tick_s, now);
     } catch (const std::exception& e) {
       std::cerr << "incise-server: session " << params_.session_id

@@ -51,11 +51,16 @@ const char* to_string(LiveState state);
 
 class LiveSession : public StreamSource {
  public:
-  using ForceSink = std::function<void(const devices::ForceModel&)>;
+  // How the session reaches its station's agent; called from the session thread.
+  struct AgentLink {
+    std::function<void(const devices::ForceModel&)> send_force_model;
+    // "running", "paused" or "idle" (the session ended), whenever that changes.
+    std::function<void(const char* state)> send_notice;
+  };
 
   // Builds the engine (throws sim::SceneError / std::invalid_argument for a bad scene). Does not
   // start: call start().
-  LiveSession(LiveSessionParams params, ForceSink force_sink);
+  LiveSession(LiveSessionParams params, AgentLink agent);
   ~LiveSession() override;  // stops (as "server shutting down") if still running
 
   void start();
@@ -86,7 +91,7 @@ class LiveSession : public StreamSource {
   void publish_snapshot();
 
   LiveSessionParams params_;
-  ForceSink force_sink_;
+  AgentLink agent_;
   SimEngine engine_;
   std::shared_ptr<const sim::BoundarySurface> surface_;
   SnapshotSlot snapshot_;

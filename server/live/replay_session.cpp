@@ -14,6 +14,8 @@ using Clock = std::chrono::steady_clock;
 // Longest stretch of simulation one pass of the loop runs before it looks at its controls again.
 constexpr std::int64_t kMaxTicksPerPass = 100;
 constexpr auto kSnapshotPeriod = std::chrono::milliseconds(16);
+// How often a long seek looks whether it should give way (about 30 ms of simulation).
+constexpr std::int64_t kAbortCheckTicks = 64;
 
 }  // namespace
 
@@ -33,6 +35,7 @@ ReplaySession::~ReplaySession() {
     std::lock_guard lock(mutex_);
     stop_ = true;
   }
+  abort_.store(true);
   wake_.notify_all();
   if (thread_.joinable()) thread_.join();
   streamer_.reset();
@@ -68,6 +71,7 @@ void ReplaySession::seek(double t_s) {
   std::lock_guard lock(mutex_);
   seek_to_ = std::clamp(std::isfinite(t_s) ? t_s : 0.0, 0.0, duration_s());
   control_changed_ = true;
+  abort_.store(true);  // a seek still running gives way to this one
   wake_.notify_all();
 }
 
@@ -94,7 +98,7 @@ void ReplaySession::publish_snapshot() {
   if (streamer_) streamer_->poke();
 }
 
-void ReplaySession::advance_to(std::int64_t target) {
+bool ReplaySession::advance_to(std::int64_t target) {
   target = std::clamp<std::int64_t>(target, 0, static_cast<std::int64_t>(ticks_.size()));
   if (target < engine_.ticks()) {
     auto it = checkpoints_.upper_bound(target);
@@ -111,7 +115,9 @@ void ReplaySession::advance_to(std::int64_t target) {
     if (engine_.ticks() % kCheckpointTicks == 0) {
       checkpoints_.try_emplace(engine_.ticks(), engine_.checkpoint());
     }
+    if (engine_.ticks() % kAbortCheckTicks == 0 && abort_.load()) return false;
   }
+  return true;
 }
 
 void ReplaySession::run() {
@@ -134,6 +140,7 @@ void ReplaySession::run() {
       speed = speed_;
       seek_to = seek_to_;
       seek_to_ = -1;
+      if (seek_to >= 0) abort_.store(false);  // under the lock: a later seek raises it again
       if (control_changed_) {
         control_changed_ = false;
         origin = Clock::now();
@@ -141,7 +148,7 @@ void ReplaySession::run() {
       }
     }
     if (seek_to >= 0) {
-      advance_to(std::llround(seek_to / tick_s_));
+      if (!advance_to(std::llround(seek_to / tick_s_))) continue;  // superseded or closing
       publish_snapshot();
       last_snapshot = Clock::now();
       origin = Clock::now();

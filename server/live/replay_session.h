@@ -4,6 +4,7 @@
 // `speed` times real time. Checkpoints of the engine every kCheckpointTicks make seeking fast:
 // a seek restores the nearest checkpoint at or before the target and runs forward from there
 // without pacing.
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <map>
@@ -49,7 +50,9 @@ class ReplaySession : public StreamSource {
 
  private:
   void run();
-  void advance_to(std::int64_t target_tick);  // engine thread only
+  // Runs the engine to target_tick (engine thread only). Returns false if it gave up early because
+  // abort_ was raised (a newer seek, or the replay closing): a long seek stays interruptible.
+  bool advance_to(std::int64_t target_tick);
   void publish_snapshot();
 
   SimEngine engine_;
@@ -67,6 +70,7 @@ class ReplaySession : public StreamSource {
   double speed_ = 1.0;
   double seek_to_ = -1;  // >= 0: a pending seek [s]
   bool control_changed_ = false;
+  std::atomic<bool> abort_{false};
   double position_s_ = 0;
   std::string end_hash_;  // set when the replay reaches the end
 

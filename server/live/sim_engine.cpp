@@ -1,5 +1,6 @@
 #include "server/live/sim_engine.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -65,13 +66,22 @@ devices::ForceModel SimEngine::force_model() const {
   devices::ForceModel model;
   model.device_index = last_input_.device_index;
   model.reference_position = to_device(tip_);
+  // Whatever the simulation did, the agent gets a model its decoder accepts: a non-finite contact
+  // sends no force at all, the force is clamped to kMaxForceN and each stiffness entry to the
+  // protocol's bound.
   sim::Vec3 force = contact_.force_on_tool;
+  sim::Mat3 stiffness = contact_.stiffness;
+  if (!force.allFinite() || !stiffness.allFinite()) {
+    force.setZero();
+    stiffness.setZero();
+  }
   const double magnitude = force.norm();
-  if (!(magnitude <= kMaxForceN)) force *= (magnitude > 0 ? kMaxForceN / magnitude : 0.0);
+  if (magnitude > kMaxForceN) force *= kMaxForceN / magnitude;
   model.force = to_device(force);
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c)
-      model.stiffness[static_cast<std::size_t>(3 * r + c)] = contact_.stiffness(r, c);
+      model.stiffness[static_cast<std::size_t>(3 * r + c)] =
+          std::clamp(stiffness(r, c), -devices::kMaxModelStiffness, devices::kMaxModelStiffness);
   model.sim_time_s = time_s();
   return model;
 }

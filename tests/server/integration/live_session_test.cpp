@@ -322,6 +322,21 @@ TEST_F(LiveSession, ViewersAreCheckedAndMalformedMessagesCloseOnlyThatViewer) {
   EXPECT_EQ(bad->closed->close_code, 1007);
   EXPECT_EQ(bad->closed->close_reason, "unknown message type \"warp\"");
 
+  // Acknowledging a frame that was never sent would switch off flow control: refused.
+  auto cheat = view(target);
+  ASSERT_TRUE(cheat->read_until([&] { return !cheat->frames.empty(); }, 5s));
+  cheat->send({{"type", "ack"}, {"frame", 1000000}});
+  ASSERT_TRUE(cheat->read_until([&] { return cheat->closed.has_value(); }, 5s));
+  EXPECT_EQ(cheat->closed->close_code, 1007);
+  EXPECT_TRUE(cheat->closed->close_reason.starts_with("ack: \"frame\" must be an integer in [1, "))
+      << cheat->closed->close_reason;
+
+  // A page of another origin cannot use the trainee's cookie to watch.
+  EXPECT_THROW(WsClient("127.0.0.1", server().port(), target,
+                        {{"Cookie", "incise_session=" + cookie(kTrainee)},
+                         {"Origin", "http://elsewhere.example"}}),
+               std::exception);
+
   // A viewer that never reads: the server neither stalls nor grows a queue for it.
   WsClient lazy("127.0.0.1", server().port(), target + "?fps=60&width=1280&height=960",
                 {{"Cookie", "incise_session=" + cookie(kTrainee)}});
@@ -336,6 +351,36 @@ TEST_F(LiveSession, ViewersAreCheckedAndMalformedMessagesCloseOnlyThatViewer) {
   ASSERT_TRUE(good->ended.has_value());
   EXPECT_EQ(good->closed->close_code, 1000);
   cancel(run.booking);
+}
+
+// A station that falls silent without closing (a crashed workstation, a pulled cable) is noticed
+// within seconds, not minutes: its link is closed and the session pauses.
+TEST_F(LiveSession, ASilentAgentIsDroppedWithinSecondsAndTheSessionPauses) {
+  WsClient agent("127.0.0.1", server().port());
+  agent.send_text(nlohmann::json{{"type", "hello"},
+                                 {"protocol", 1},
+                                 {"station_token", kStationToken},
+                                 {"agent", "silent test agent"}}
+                      .dump());
+  ASSERT_FALSE(agent.read().closed);  // welcome; from now on it neither sends nor reads
+  const auto booking = book_now();
+  const auto started =
+      as(kTrainee).post("/api/sessions", {{"station_id", 1}, {"task", "palpation"}});
+  ASSERT_EQ(started.status, 201) << started.body;
+  const auto session = std::to_string(started.json()["id"].get<std::int64_t>());
+  nlohmann::json live;
+  const auto begin = Clock::now();
+  do {
+    std::this_thread::sleep_for(100ms);
+    live = as(kTrainee).get("/api/sessions/" + session).json()["live"];
+  } while (live["state"] != "paused" && Clock::now() - begin < 15s);
+  EXPECT_EQ(live["state"], "paused");
+  EXPECT_EQ(live["reason"], "station agent offline");
+  EXPECT_LT(Clock::now() - begin, 8s);
+  EXPECT_EQ(
+      as(kTrainee).post("/api/sessions/" + session + "/stop", nlohmann::json::object()).status,
+      200);
+  cancel(booking);
 }
 
 }  // namespace

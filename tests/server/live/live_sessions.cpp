@@ -24,7 +24,7 @@ std::shared_ptr<live::LiveSession> unstarted_session(std::int64_t session_id,
   params.recording_id = 100 + session_id;
   params.scene = live::test::palpation_scene();
   params.db_path = "/nonexistent/never-opened.db";  // only the session thread opens it
-  return std::make_shared<live::LiveSession>(std::move(params), nullptr);
+  return std::make_shared<live::LiveSession>(std::move(params), live::LiveSession::AgentLink{});
 }
 
 // Runs f on another thread and says whether it returned within `limit`. A hung f is left behind
@@ -68,7 +68,8 @@ TEST(LiveSession, BadTickRateThrows) {
   live::LiveSessionParams params;
   params.scene = live::test::palpation_scene();
   params.tick_hz = 487;  // 1/487 s is no whole number of 1e-4 s steps
-  EXPECT_THROW(live::LiveSession(std::move(params), nullptr), std::invalid_argument);
+  EXPECT_THROW(live::LiveSession(std::move(params), live::LiveSession::AgentLink{}),
+               std::invalid_argument);
 }
 
 TEST(LiveSession, PauseAndResumeRules) {

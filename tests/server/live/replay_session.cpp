@@ -146,5 +146,19 @@ TEST(ReplaySession, SeeksLandOnTheStraightRunsStatesBitForBit) {
   EXPECT_TRUE(test::same_bits(replay.snapshot()->positions, reference.positions.at(kTicks)));
 }
 
+// A seek far into a long recording takes seconds of simulation; closing the replay (or seeking
+// again) meanwhile must not wait for it, or the io thread that closes the viewer stalls.
+TEST(ReplaySession, ALongSeekGivesWayToClosing) {
+  constexpr std::int64_t kLong = 60000;  // 2 minutes of recording
+  auto replay = std::make_unique<ReplaySession>(test::palpation_scene(), kTickS,
+                                                test::scripted_records(kLong));
+  replay->start();
+  replay->seek(replay->duration_s());
+  std::this_thread::sleep_for(200ms);  // well into the seek, far from its end
+  const auto before = std::chrono::steady_clock::now();
+  replay.reset();
+  EXPECT_LT(std::chrono::steady_clock::now() - before, 500ms);
+}
+
 }  // namespace
 }  // namespace incise::server::live

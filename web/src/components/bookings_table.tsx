@@ -3,6 +3,7 @@ import { api, type Booking, type User } from '../api';
 import { format_date, format_time, format_time_range } from '../time';
 import { error_text } from '../use_resource';
 import { ErrorAlert, StatusMessage } from './alerts';
+import { DataTable } from './data_table';
 
 /**
  * Bookings, newest first as the server sends them; cancelled ones stay listed, greyed.
@@ -46,48 +47,37 @@ export function BookingsTable({
     <>
       <ErrorAlert message={error} />
       <StatusMessage message={status} />
-      <div className="table-wrap">
-        <table>
-          <thead>
-            <tr>
-              {show_trainee && <th scope="col">Booked by</th>}
-              <th scope="col">Station</th>
-              <th scope="col">Date</th>
-              <th scope="col">Time</th>
-              <th scope="col">Status</th>
-              <th scope="col">
-                <span className="visually-hidden">Actions</span>
-              </th>
-            </tr>
-          </thead>
-          <tbody>
-            {bookings.map((b) => (
-              <tr key={b.id} className={b.status === 'cancelled' ? 'row-cancelled' : undefined}>
-                {show_trainee && <td>{b.username}</td>}
-                <td>{b.station_name}</td>
-                <td>{format_date(b.starts_at)}</td>
-                <td>{format_time_range(b.starts_at, b.ends_at)}</td>
-                <td>
-                  <span className={`badge badge-${b.status}`}>{b.status === 'active' ? 'Active' : 'Cancelled'}</span>
-                </td>
-                <td className="actions">
-                  {may_cancel(b) && (
-                    <button
-                      type="button"
-                      className="button-danger button-small"
-                      disabled={busy_id === b.id}
-                      aria-label={`Cancel booking at ${b.station_name} on ${format_date(b.starts_at)} ${format_time(b.starts_at)}`}
-                      onClick={() => cancel(b)}
-                    >
-                      Cancel
-                    </button>
-                  )}
-                </td>
-              </tr>
-            ))}
-          </tbody>
-        </table>
-      </div>
+      <DataTable<Booking>
+        rows={bookings}
+        row_key={(b) => b.id}
+        row_class={(b) => (b.status === 'cancelled' ? 'row-cancelled' : undefined)}
+        columns={[
+          show_trainee && { header: 'Booked by', cell: (b) => b.username },
+          { header: 'Station', cell: (b) => b.station_name },
+          { header: 'Date', cell: (b) => format_date(b.starts_at) },
+          { header: 'Time', cell: (b) => format_time_range(b.starts_at, b.ends_at) },
+          {
+            header: 'Status',
+            cell: (b) => <span className={`badge badge-${b.status}`}>{b.status === 'active' ? 'Active' : 'Cancelled'}</span>,
+          },
+          {
+            header: <span className="visually-hidden">Actions</span>,
+            className: 'actions',
+            cell: (b) =>
+              may_cancel(b) && (
+                <button
+                  type="button"
+                  className="button-danger button-small"
+                  disabled={busy_id === b.id}
+                  aria-label={`Cancel booking at ${b.station_name} on ${format_date(b.starts_at)} ${format_time(b.starts_at)}`}
+                  onClick={() => cancel(b)}
+                >
+                  Cancel
+                </button>
+              ),
+          },
+        ]}
+      />
     </>
   );
 }

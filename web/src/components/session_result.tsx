@@ -2,6 +2,7 @@ import { useCallback } from 'react';
 import { api } from '../api';
 import { Link } from '../router';
 import { useResource } from '../use_resource';
+import { Card } from './card';
 import { ResourceView } from './resource_view';
 import { ScoresTable } from './scores_table';
 
@@ -24,8 +25,7 @@ export function SessionResult({ session_id }: { session_id: number }) {
   }
 
   return (
-    <section className="card" aria-labelledby="result-title">
-      <h2 id="result-title">Result</h2>
+    <Card id="result" title="Result">
       <ResourceView resource={scores} what="scores" empty="No scores are stored for this session yet.">
         {(data) => <ScoresTable scores={data} show_trainee={false} />}
       </ResourceView>
@@ -43,6 +43,6 @@ export function SessionResult({ session_id }: { session_id: number }) {
       <button type="button" className="button-quiet button-small" onClick={reload}>
         Refresh
       </button>
-    </section>
+    </Card>
   );
 }
