@@ -23,11 +23,6 @@ async function api_call(page, method, path, body) {
   );
 }
 
-/** "YYYY-MM-DDTHH:MM:SSZ" of `date`, as the API writes times. */
-function api_time(date) {
-  return date.toISOString().replace(/\.\d{3}Z$/, 'Z');
-}
-
 /**
  * The canvas' last drawn frame and its simulated time (its data-frame and data-sim-time), and the
  * grey level of a 64 x 48 grid of its pixels, read back with getImageData.
@@ -90,19 +85,15 @@ scenario(
     assert.ok(station, 'the demo data has Station 1');
     assert.equal(station.online, true, 'the agent started by the test is connected');
 
-    const quarter = 15 * 60 * 1000;
-    const starts = new Date(Math.floor(Date.now() / quarter) * quarter);
-    const ends = new Date(starts.getTime() + 4 * quarter);
-    const booking = await api_call(page, 'POST', '/api/bookings', {
-      station_id: station.id,
-      starts_at: api_time(starts),
-      ends_at: api_time(ends),
-    });
-    assert.equal(booking.status, 201, `booking the slot covering now: ${JSON.stringify(booking.body)}`);
+    // No booking covers now: the walk-up form books the slot in progress at the online station.
+    const walk_up = region(page, 'Train now').getByRole('form', { name: 'Walk up to a station' });
+    await sees(walk_up, 'the walk-up form when no booking covers now');
+    assert.equal(await walk_up.getByLabel('Station').inputValue(), String(station.id), 'the online station is preselected');
+    const booking = await click_for_response(page, walk_up.getByRole('button', { name: /^Book from / }), 'POST', /^\/api\/bookings$/);
+    assert.equal(booking.status(), 201, `booking the slot covering now: ${await booking.text()}`);
 
     const curricula = await api_call(page, 'GET', '/api/curricula');
     const first_task = curricula.body[0].definition.modules[0].tasks[0];
-    await page.reload();
     const start_form = region(page, 'Train now').getByRole('form', { name: 'Start a session at Station 1' });
     await sees(start_form, 'a form to start a session at the booked station');
     assert.equal(await start_form.getByLabel('Task').inputValue(), first_task.key, 'the first task is preselected');

@@ -1,7 +1,7 @@
 import { useEffect, useState, type FormEvent } from 'react';
 import { api, type Booking, type CurriculumTask, type Station } from '../api';
 import { navigate } from '../router';
-import { format_time_range } from '../time';
+import { format_time, format_time_range, localize_utc_times, to_api_time } from '../time';
 import { error_text, useResource } from '../use_resource';
 import { ErrorAlert } from './alerts';
 
@@ -19,8 +19,9 @@ function covers(booking: Booking, now: number): boolean {
   return booking.status === 'active' && Date.parse(booking.starts_at) <= now && now < Date.parse(booking.ends_at);
 }
 
-/** A "Start session" form for each of `bookings` that covers the present moment. */
-export function StartSession({ bookings }: { bookings: Booking[] }) {
+/** A "Start session" form for each of `bookings` that covers the present moment; without one, a
+ * walk-up form that books the slot in progress. */
+export function StartSession({ bookings, on_booked }: { bookings: Booking[]; on_booked: () => void }) {
   const now = useNow(15_000);
   const curricula = useResource(api.curricula);
   const stations = useResource(api.stations);
@@ -29,7 +30,7 @@ export function StartSession({ bookings }: { bookings: Booking[] }) {
   const tasks = curricula.data?.[0]?.definition.modules.flatMap((m) => m.tasks) ?? [];
 
   if (current.length === 0) {
-    return <p className="empty">None of your bookings covers the present time. During a booked slot, start your session here.</p>;
+    return <WalkUp stations={stations.data ?? []} now={now} on_booked={on_booked} />;
   }
   return (
     <>
@@ -104,6 +105,72 @@ function StartSessionForm({
       <ErrorAlert message={error} />
       <button type="submit" className="button-primary" disabled={busy || !chosen_task}>
         {busy ? 'Starting…' : 'Start session'}
+      </button>
+    </form>
+  );
+}
+
+const kQuarterHourMs = 15 * 60 * 1000;
+const kWalkUpMinutes = [30, 60];
+
+/**
+ * No booking covers now: offer the slot in progress (from the current quarter hour) at a station
+ * whose agent is online, so that a trainee who walks up to a free station can train at once.
+ */
+function WalkUp({ stations, now, on_booked }: { stations: Station[]; now: number; on_booked: () => void }) {
+  const online = stations.filter((s) => s.online);
+  const [station_id, set_station_id] = useState('');
+  const [minutes, set_minutes] = useState(30);
+  const [error, set_error] = useState<string | null>(null);
+  const [busy, set_busy] = useState(false);
+  const chosen = station_id || String(online[0]?.id ?? '');
+  const starts = new Date(Math.floor(now / kQuarterHourMs) * kQuarterHourMs);
+  const ends = new Date(starts.getTime() + minutes * 60 * 1000);
+
+  async function on_submit(event: FormEvent<HTMLFormElement>) {
+    event.preventDefault();
+    set_busy(true);
+    set_error(null);
+    try {
+      await api.create_booking(Number(chosen), to_api_time(starts), to_api_time(ends));
+      on_booked();
+    } catch (reason) {
+      // e.g. 409 "Station 1 is already booked from ...": someone else has the station now.
+      set_error(`Could not book the station: ${localize_utc_times(error_text(reason))}`);
+    } finally {
+      set_busy(false);
+    }
+  }
+
+  if (online.length === 0) {
+    return (
+      <p className="empty">
+        None of your bookings covers the present time, and no station is online to walk up to. Book a slot below.
+      </p>
+    );
+  }
+  return (
+    <form onSubmit={on_submit} className="form" aria-label="Walk up to a station">
+      <p>None of your bookings covers the present time. A free station can be booked from now:</p>
+      <label htmlFor="walk-up-station">Station</label>
+      <select id="walk-up-station" value={chosen} onChange={(e) => set_station_id(e.target.value)}>
+        {online.map((s) => (
+          <option key={s.id} value={s.id}>
+            {s.name}
+          </option>
+        ))}
+      </select>
+      <label htmlFor="walk-up-minutes">Until</label>
+      <select id="walk-up-minutes" value={minutes} onChange={(e) => set_minutes(Number(e.target.value))}>
+        {kWalkUpMinutes.map((m) => (
+          <option key={m} value={m}>
+            {format_time(new Date(starts.getTime() + m * 60 * 1000))}
+          </option>
+        ))}
+      </select>
+      <ErrorAlert message={error} />
+      <button type="submit" className="button-primary" disabled={busy || !chosen}>
+        {busy ? 'Booking…' : `Book from ${format_time(starts)}`}
       </button>
     </form>
   );
