@@ -383,5 +383,47 @@ TEST_F(LiveSession, ASilentAgentIsDroppedWithinSecondsAndTheSessionPauses) {
   cancel(booking);
 }
 
+// Misbehaving links, of another station and of this very station, are closed with their reason,
+// and the running session goes on: not paused, time advancing, its viewer still served.
+TEST_F(LiveSession, MisbehavingLinksNeverDisturbARunningSession) {
+  Running run;
+  ASSERT_NO_FATAL_FAILURE(start_booked_session(run));
+  const auto session = "/api/sessions/" + std::to_string(run.session);
+  auto viewer = view(session + "/view?fps=10&width=160&height=120");
+  ASSERT_TRUE(viewer->read_until([&] { return viewer->frames.size() >= 3; }, 10s));
+
+  const auto created = as(kAdmin).post("/api/stations", {{"name", "Misbehaving station"}});
+  ASSERT_EQ(created.status, 201) << created.body;
+  const auto other_token = created.json()["token"].get<std::string>();
+  auto hello = [](const std::string& token) {
+    return nlohmann::json{
+        {"type", "hello"}, {"protocol", 1}, {"station_token", token}, {"agent", "misbehaving"}}
+        .dump();
+  };
+  for (const auto& token : {other_token, std::string(kStationToken)}) {
+    WsClient bad("127.0.0.1", server().port());
+    bad.send_text(hello(token));
+    ASSERT_FALSE(bad.read().closed);
+    std::vector<std::uint8_t> frame(82, 0);  // a device state whose quaternion is all zeros
+    frame[0] = 1;
+    frame[4] = 62;
+    bad.send_binary(frame);
+    const auto closed = bad.read();
+    EXPECT_EQ(closed.close_code, 1007) << closed.error;
+    EXPECT_FALSE(closed.close_reason.empty());
+  }
+
+  const double t0 = as(kTrainee).get(session).json()["live"]["sim_time_s"].get<double>();
+  std::this_thread::sleep_for(500ms);
+  const auto live = as(kTrainee).get(session).json()["live"];
+  EXPECT_EQ(live["state"], "running");
+  EXPECT_TRUE(live["agent_online"].get<bool>());
+  EXPECT_GT(live["sim_time_s"].get<double>(), t0 + 0.2);
+  const auto frames = viewer->frames.size();
+  EXPECT_TRUE(viewer->read_until([&] { return viewer->frames.size() >= frames + 3; }, 5s));
+  EXPECT_EQ(as(kTrainee).post(session + "/stop", nlohmann::json::object()).status, 200);
+  cancel(run.booking);
+}
+
 }  // namespace
 }  // namespace incise::server::test
