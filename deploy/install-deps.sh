@@ -12,6 +12,7 @@ apt_packages=(
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri libgles-dev
   libturbojpeg0-dev libsodium-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  calculix-ccx
   chromium curl ca-certificates
 )
 
