@@ -1,6 +1,8 @@
 #include "sim/io/scene_json.h"
 
+#include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -49,31 +51,89 @@ Selection read_selection(const json& value, const std::string& path) {
 }
 
 MeshSpec read_mesh(const json& value) {
-  if (value.is_object() && value.contains("file")) {
-    throw SceneError("mesh.file", "mesh files are not supported yet (use mesh.box)");
+  const JsonObjectReader mesh(value, "mesh", {"box", "file", "generate"});
+  const int sources = int(mesh.has("box")) + int(mesh.has("file")) + int(mesh.has("generate"));
+  if (sources != 1) {
+    throw SceneError("mesh", sources == 0 ? "needs one of \"box\", \"file\", \"generate\""
+                                          : "has more than one of \"box\", \"file\", \"generate\"");
   }
-  const JsonObjectReader mesh(value, "mesh", {"box"});
-  const JsonObjectReader box(mesh.required("box"), mesh.path("box"), {"size", "cells"});
   MeshSpec spec;
+  if (mesh.has("file")) {
+    spec.source = MeshSource::file;
+    spec.file = mesh.string("file");
+    return spec;
+  }
+  if (mesh.has("generate")) {
+    spec.source = MeshSource::generate;
+    const JsonObjectReader g(mesh.required("generate"), mesh.path("generate"),
+                             {"shape", "centre", "radius", "radii", "cell_size"});
+    spec.generate.shape = g.string("shape");
+    if (g.has("centre")) spec.generate.centre = g.vec3("centre");
+    if (g.has("radius") == g.has("radii")) {
+      throw SceneError(mesh.path("generate"), "needs one of \"radius\" (a sphere) or \"radii\"");
+    }
+    spec.generate.radii = g.has("radius") ? Vec3::Constant(g.number("radius")) : g.vec3("radii");
+    spec.generate.cell_size = g.number("cell_size");
+    return spec;
+  }
+  const JsonObjectReader box(mesh.required("box"), mesh.path("box"), {"size", "cells"});
   spec.box.size = box.vec3("size");
   spec.box.cells = box.ivec3("cells");
   return spec;
 }
 
-Material read_material(const json& value) {
-  const JsonObjectReader object(value, "material", {"model", "E", "nu", "density", "damping"});
-  Material material;
-  const std::string model = object.string("model");
-  if (model != "mss") {
-    throw SceneError(object.path("model"),
-                     "unknown model " + describe(json(model)) + " (expected: mss)");
-  }
-  material.model = MaterialModel::mass_spring;
+// The constants of one material; the model is read by read_material only.
+void read_constants(const JsonObjectReader& object, Material& material) {
   material.youngs_modulus = object.number("E");
   material.poisson_ratio = object.number("nu");
   material.density = object.number("density");
   if (object.has("damping")) material.damping = object.number("damping");
+}
+
+Material read_material(const json& value) {
+  const JsonObjectReader object(value, "material", {"model", "E", "nu", "density", "damping"});
+  static const std::pair<const char*, MaterialModel> models[] = {
+      {"mss", MaterialModel::mass_spring},
+      {"linear", MaterialModel::linear},
+      {"corotational", MaterialModel::corotational},
+      {"corotational_polar", MaterialModel::corotational_polar},
+      {"stvk", MaterialModel::stvk},
+      {"neohookean", MaterialModel::neohookean},
+  };
+  Material material;
+  const std::string model = object.string("model");
+  const auto* found = std::find_if(std::begin(models), std::end(models),
+                                   [&](const auto& m) { return model == m.first; });
+  if (found == std::end(models)) {
+    throw SceneError(object.path("model"),
+                     "unknown model " + describe(json(model)) +
+                         " (expected: mss, linear, corotational, corotational_polar, stvk, "
+                         "neohookean)");
+  }
+  material.model = found->second;
+  read_constants(object, material);
   return material;
+}
+
+std::map<int, Material> read_materials_by_label(const json& value, const Material& base) {
+  if (!value.is_object()) {
+    throw SceneError("materials",
+                     "must be an object {\"<label>\": {...}} (got " + describe(value) + ")");
+  }
+  std::map<int, Material> out;
+  for (const auto& [key, item] : value.items()) {
+    const std::string path = member_path("materials", key);
+    int label = 0;
+    const auto [end, ec] = std::from_chars(key.data(), key.data() + key.size(), label);
+    if (ec != std::errc{} || end != key.data() + key.size() || label < 0) {
+      throw SceneError(path, "a label must be a non-negative integer");
+    }
+    const JsonObjectReader object(item, path, {"E", "nu", "density", "damping"});
+    Material material = base;
+    read_constants(object, material);
+    out[label] = material;
+  }
+  return out;
 }
 
 Constraint read_constraint(const json& value, const std::string& path) {
@@ -107,16 +167,30 @@ Load read_load(const json& value, const std::string& path) {
 }
 
 SolverSettings read_solver(const json& value) {
-  const JsonObjectReader object(value, "solver", {"integrator", "dt", "steps"});
+  const JsonObjectReader object(value, "solver", {"integrator", "dt", "steps", "tolerance"});
+  static const std::pair<const char*, Integrator> integrators[] = {
+      {"symplectic_euler", Integrator::symplectic_euler},
+      {"central_difference", Integrator::central_difference},
+      {"adaptive_explicit", Integrator::adaptive_explicit},
+      {"implicit_euler", Integrator::implicit_euler},
+      {"static", Integrator::static_equilibrium},
+  };
   SolverSettings solver;
   const std::string integrator = object.string("integrator");
-  if (integrator != "symplectic_euler") {
-    throw SceneError(object.path("integrator"), "unknown integrator " + describe(json(integrator)) +
-                                                    " (expected: symplectic_euler)");
+  const auto* found = std::find_if(std::begin(integrators), std::end(integrators),
+                                   [&](const auto& i) { return integrator == i.first; });
+  if (found == std::end(integrators)) {
+    throw SceneError(object.path("integrator"),
+                     "unknown integrator " + describe(json(integrator)) +
+                         " (expected: symplectic_euler, central_difference, adaptive_explicit, "
+                         "implicit_euler, static)");
   }
-  solver.integrator = Integrator::symplectic_euler;
-  solver.dt = object.number("dt");
-  solver.steps = object.integer("steps");
+  solver.integrator = found->second;
+  // An equilibrium has no time: dt and steps are optional there (one "step" is the solve).
+  const bool is_static = solver.integrator == Integrator::static_equilibrium;
+  solver.dt = is_static && !object.has("dt") ? 1.0 : object.number("dt");
+  solver.steps = is_static && !object.has("steps") ? 1 : object.integer("steps");
+  if (object.has("tolerance")) solver.tolerance = object.number("tolerance");
   return solver;
 }
 
@@ -161,11 +235,19 @@ Scene parse_scene(const json& value) {
   if (!value.is_object()) {
     throw SceneError("", "the scene must be a JSON object (got " + describe(value) + ")");
   }
-  const JsonObjectReader root(
-      value, "", {"mesh", "material", "constraints", "loads", "gravity", "solver", "tool", "view"});
+  const JsonObjectReader root(value, "",
+                              {"mesh", "material", "materials", "constraints", "loads", "gravity",
+                               "solver", "tool", "view", "output"});
   Scene scene;
   scene.mesh = read_mesh(root.required("mesh"));
   scene.material = read_material(root.required("material"));
+  if (root.has("materials")) {
+    scene.materials_by_label = read_materials_by_label(root.required("materials"), scene.material);
+  }
+  if (root.has("output")) {
+    const JsonObjectReader output(root.required("output"), "output", {"vtu"});
+    scene.vtu_output = output.string("vtu");
+  }
   scene.constraints = read_list<Constraint>(root, "constraints", read_constraint);
   scene.loads = read_list<Load>(root, "loads", read_load);
   if (root.has("gravity")) scene.gravity = root.vec3("gravity");

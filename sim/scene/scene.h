@@ -2,7 +2,9 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "sim/core/types.h"
@@ -20,12 +22,34 @@ struct BoxMeshSpec {
   Vec3i cells = Vec3i::Ones();  // "cells": cells per axis, each >= 1
 };
 
+// A tet mesh made by CGAL Mesh_3 from an implicit shape (sim/mesh/cgal/mesh_generation.h).
+struct GenerateSpec {
+  std::string shape;           // "shape": "sphere", "ellipsoid" or "liver"
+  Vec3 centre = Vec3::Zero();  // "centre" [m]
+  Vec3 radii = Vec3::Zero();   // "radius" (sphere, all three) or "radii" [m], each > 0
+  Real cell_size = 0;          // "cell_size" [m], > 0: the largest tet circumradius
+};
+
+enum class MeshSource {
+  box,       // "box"
+  file,      // "file": gmsh .msh (2.2 or 4.1) or TetGen .node/.ele, relative to the scene file
+  generate,  // "generate"
+};
+
 struct MeshSpec {
-  BoxMeshSpec box;  // "box"; the only mesh source so far
+  MeshSource source = MeshSource::box;
+  BoxMeshSpec box;        // "box"
+  std::string file;       // "file", as written in the scene
+  GenerateSpec generate;  // "generate"
 };
 
 enum class MaterialModel {
-  mass_spring,  // "mss": volumetric mass-spring system (sim/models/mass_spring.h)
+  mass_spring,         // "mss": volumetric mass-spring system (sim/models/mass_spring.h)
+  linear,              // "linear": small-strain linear FEM
+  corotational,        // "corotational": corotational linear FEM, rotations by QR
+  corotational_polar,  // "corotational_polar": the same with polar decomposition
+  stvk,                // "stvk": St Venant-Kirchhoff
+  neohookean,          // "neohookean": compressible Neo-Hookean (seed 003, eq. 4)
 };
 
 struct Material {
@@ -62,13 +86,18 @@ struct Load {
 };
 
 enum class Integrator {
-  symplectic_euler,  // "symplectic_euler" (sim/solve/symplectic_euler.h)
+  symplectic_euler,    // "symplectic_euler" (sim/solve/symplectic_euler.h)
+  central_difference,  // "central_difference"
+  adaptive_explicit,   // "adaptive_explicit": embedded error estimate, floor dt_min
+  implicit_euler,      // "implicit_euler": linearised backward Euler, conjugate gradients
+  static_equilibrium,  // "static": the equilibrium (Newton with line search); dt and steps unused
 };
 
 struct SolverSettings {
   Integrator integrator = Integrator::symplectic_euler;  // "integrator"
   Real dt = 0;                                           // "dt" [s], > 0
   std::int64_t steps = 0;                                // "steps", >= 1
+  Real tolerance = 1e-8;  // "tolerance": relative residual of iterative solves, in (0, 1)
 };
 
 // Where a live view of the scene looks from, as plain values (the renderer makes a camera of it).
@@ -80,8 +109,11 @@ struct ViewSpec {
 };
 
 struct Scene {
-  MeshSpec mesh;                        // "mesh"
-  Material material;                    // "material"
+  MeshSpec mesh;      // "mesh"
+  Material material;  // "material": the model, and the constants of label 0
+  // "materials": {"<label>": {"E", "nu", "density", "damping"?}}: constants per tissue label of
+  // a labelled mesh (the model stays material.model); labels not listed use "material"'s.
+  std::map<int, Material> materials_by_label;
   std::vector<Constraint> constraints;  // "constraints"
   std::vector<Load> loads;              // "loads"
   Vec3 gravity = Vec3::Zero();          // "gravity" [m/s^2]
@@ -89,6 +121,7 @@ struct Scene {
                                         // ignore solver.steps (except for a "displace" ramp)
   std::optional<SphereTool> tool;       // "tool": the probe of a live session, if any
   std::optional<ViewSpec> view;         // "view": the live view's camera, if given
+  std::string vtu_output;               // "output": {"vtu": path}: also write the final state
 };
 
 // Upper bound on mesh.box.cells' product, so that a typo cannot ask for more memory than a

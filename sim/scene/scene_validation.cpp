@@ -66,31 +66,73 @@ std::string format_number(Real value) {
   return std::string(buffer, result.ptr);
 }
 
-void validate_scene(const Scene& scene) {
-  const BoxMeshSpec& box = scene.mesh.box;
-  for (int a = 0; a < 3; ++a) {
-    require_positive(element("mesh.box.size", static_cast<std::size_t>(a)), box.size(a));
-    if (box.cells(a) < 1) {
-      throw SceneError(element("mesh.box.cells", static_cast<std::size_t>(a)),
-                       "must be at least 1 (got " + std::to_string(box.cells(a)) + ")");
-    }
-  }
-  const std::int64_t cells = std::int64_t{box.cells.x()} * box.cells.y() * box.cells.z();
-  if (cells > kMaxBoxCells) {
-    throw SceneError("mesh.box.cells", "at most " + std::to_string(kMaxBoxCells) +
-                                           " cells in all (got " + std::to_string(cells) + ")");
-  }
+namespace {
 
-  const Material& material = scene.material;
-  require_positive("material.E", material.youngs_modulus);
-  require_positive("material.density", material.density);
+void validate_material(const std::string& path, const Material& material) {
+  require_positive(path + ".E", material.youngs_modulus);
+  require_positive(path + ".density", material.density);
   if (!(material.poisson_ratio > -1 && material.poisson_ratio < 0.5)) {
-    throw SceneError("material.nu",
+    throw SceneError(path + ".nu",
                      "must be in (-1, 0.5) (got " + format_number(material.poisson_ratio) + ")");
   }
   if (!(material.damping >= 0 && material.damping <= 1)) {
-    throw SceneError("material.damping",
+    throw SceneError(path + ".damping",
                      "must be in [0, 1] (got " + format_number(material.damping) + ")");
+  }
+}
+
+void validate_mesh(const MeshSpec& mesh) {
+  switch (mesh.source) {
+    case MeshSource::box: {
+      const BoxMeshSpec& box = mesh.box;
+      for (int a = 0; a < 3; ++a) {
+        require_positive(element("mesh.box.size", static_cast<std::size_t>(a)), box.size(a));
+        if (box.cells(a) < 1) {
+          throw SceneError(element("mesh.box.cells", static_cast<std::size_t>(a)),
+                           "must be at least 1 (got " + std::to_string(box.cells(a)) + ")");
+        }
+      }
+      const std::int64_t cells = std::int64_t{box.cells.x()} * box.cells.y() * box.cells.z();
+      if (cells > kMaxBoxCells) {
+        throw SceneError("mesh.box.cells", "at most " + std::to_string(kMaxBoxCells) +
+                                               " cells in all (got " + std::to_string(cells) + ")");
+      }
+      return;
+    }
+    case MeshSource::file:
+      if (mesh.file.empty()) throw SceneError("mesh.file", "must not be empty");
+      return;
+    case MeshSource::generate: {
+      const GenerateSpec& g = mesh.generate;
+      if (g.shape != "sphere" && g.shape != "ellipsoid" && g.shape != "liver") {
+        throw SceneError("mesh.generate.shape",
+                         "unknown shape \"" + g.shape + "\" (expected: sphere, ellipsoid, liver)");
+      }
+      require_finite("mesh.generate.centre", g.centre);
+      for (int a = 0; a < 3; ++a)
+        require_positive(element("mesh.generate.radii", static_cast<std::size_t>(a)), g.radii(a));
+      require_positive("mesh.generate.cell_size", g.cell_size);
+      // The same guard as kMaxBoxCells: about (radius / cell_size)^3 tets.
+      if (g.radii.maxCoeff() / g.cell_size > 200) {
+        throw SceneError("mesh.generate.cell_size",
+                         "is too small for the shape (at most 1/200 of "
+                         "its largest radius)");
+      }
+      return;
+    }
+  }
+}
+
+}  // namespace
+
+void validate_scene(const Scene& scene) {
+  validate_mesh(scene.mesh);
+  validate_material("material", scene.material);
+  for (const auto& [label, material] : scene.materials_by_label)
+    validate_material("materials." + std::to_string(label), material);
+  if (!(scene.solver.tolerance > 0 && scene.solver.tolerance < 1)) {
+    throw SceneError("solver.tolerance",
+                     "must be in (0, 1) (got " + format_number(scene.solver.tolerance) + ")");
   }
 
   for (std::size_t c = 0; c < scene.constraints.size(); ++c) {

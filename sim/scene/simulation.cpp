@@ -16,6 +16,17 @@ namespace {
 
 TetMesh make_mesh(const Scene& scene) {
   validate_scene(scene);  // before anything is allocated from the scene's numbers
+  // This class is the real-time path (live sessions): a box of mass-springs stepped by symplectic
+  // Euler. Other meshes, models and integrators run through sim/scene/scene_run.h.
+  if (scene.mesh.source != MeshSource::box) {
+    throw SceneError("mesh", "a live simulation needs mesh.box");
+  }
+  if (scene.material.model != MaterialModel::mass_spring) {
+    throw SceneError("material.model", "a live simulation needs \"mss\"");
+  }
+  if (scene.solver.integrator != Integrator::symplectic_euler) {
+    throw SceneError("solver.integrator", "a live simulation needs \"symplectic_euler\"");
+  }
   try {
     return make_box_mesh(scene.mesh.box.size, scene.mesh.box.cells);
   } catch (const std::invalid_argument& error) {

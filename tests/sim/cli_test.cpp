@@ -122,13 +122,13 @@ TEST_F(Cli, EmptySelectionUnknownKeyAndBadJsonAreReported) {
   EXPECT_EQ(run.err, "incise: a.json: constraints[0].where.box: selects no node\n");
 
   json unknown = small_scene();
-  unknown["solver"]["tolerance"] = 1e-3;
+  unknown["solver"]["order"] = 2;
   write("b.json", unknown.dump());
   run = incise("solve b.json --out r.json");
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_EQ(run.err,
-            "incise: b.json: solver.tolerance: unknown key (expected one of: integrator, dt, "
-            "steps)\n");
+            "incise: b.json: solver.order: unknown key (expected one of: integrator, dt, "
+            "steps, tolerance)\n");
 
   write("c.json", "{\"mesh\": {\"box\": ");
   run = incise("solve c.json --out r.json");

@@ -132,7 +132,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"/material/nu", "0.5", "material.nu: must be in (-1, 0.5) (got 0.5)"},
         BadCase{"/material/nu", "-1.2", "material.nu: must be in (-1, 0.5) (got -1.2)"},
         BadCase{"/material/model", "\"fem\"",
-                "material.model: unknown model \"fem\" (expected: mss)"},
+                "material.model: unknown model \"fem\" (expected: mss, linear, corotational, "
+                "corotational_polar, stvk, neohookean)"},
         BadCase{"/material/youngs", "1",
                 "material.youngs: unknown key (expected one of: model, E, nu, density, "
                 "damping)"},
@@ -146,8 +147,12 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"/mesh/box/cells/2", "2.5", "mesh.box.cells[2]: must be an integer (got 2.5)"},
         BadCase{"/mesh/box/cells/0", "0", "mesh.box.cells[0]: must be at least 1 (got 0)"},
         BadCase{"/mesh/file", "\"liver.msh\"",
-                "mesh.file: mesh files are not supported yet (use mesh.box)"},
-        BadCase{"/mesh/box", nullptr, "mesh.box: is required"},
+                "mesh: has more than one of \"box\", \"file\", \"generate\""},
+        BadCase{"/mesh/box", nullptr, "mesh: needs one of \"box\", \"file\", \"generate\""},
+        BadCase{"/solver/tolerance", "2", "solver.tolerance: must be in (0, 1) (got 2)"},
+        BadCase{"/materials", "{\"x\": {}}", "materials.x: a label must be a non-negative integer"},
+        BadCase{"/materials", "{\"2\": {\"E\": 1, \"nu\": 0.5, \"density\": 1}}",
+                "materials.2.nu: must be in (-1, 0.5) (got 0.5)"},
         BadCase{"/constraints/0/fix", "\"xw\"",
                 "constraints[0].fix: must be a non-empty subset of \"xyz\" (got \"xw\")"},
         BadCase{"/constraints/0/fix", "\"xx\"",
@@ -176,12 +181,13 @@ INSTANTIATE_TEST_SUITE_P(
                 "loads[0].where.box[0][2]: must be a number (got \"top\")"},
         BadCase{"/gravity", "[0, 0]", "gravity: must be an array of 3 numbers (got [0,0])"},
         BadCase{"/solver/integrator", "\"rk4\"",
-                "solver.integrator: unknown integrator \"rk4\" (expected: symplectic_euler)"},
+                "solver.integrator: unknown integrator \"rk4\" (expected: symplectic_euler, "
+                "central_difference, adaptive_explicit, implicit_euler, static)"},
         BadCase{"/solver/dt", "0", "solver.dt: must be positive (got 0)"},
         BadCase{"/solver/steps", "-5", "solver.steps: must be at least 1 (got -5)"},
         BadCase{"/solver/steps", "\"many\"", "solver.steps: must be an integer (got \"many\")"},
         BadCase{"/solver/order", "2",
-                "solver.order: unknown key (expected one of: integrator, dt, steps)"},
+                "solver.order: unknown key (expected one of: integrator, dt, steps, tolerance)"},
         BadCase{"/tool", "0.005", "tool: must be an object (got 0.005)"},
         BadCase{"/tool/radius", "0", "tool.radius: must be positive (got 0)"},
         BadCase{"/tool/radius", "\"big\"", "tool.radius: must be a number (got \"big\")"},
@@ -200,8 +206,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"/view/near", "0.01",
                 "view.near: unknown key (expected one of: eye, target, up, fov_y_deg)"},
         BadCase{"/extra", "1",
-                "extra: unknown key (expected one of: mesh, material, constraints, loads, "
-                "gravity, solver, tool, view)"}));
+                "extra: unknown key (expected one of: mesh, material, materials, constraints, "
+                "loads, gravity, solver, tool, view, output)"}));
 
 TEST(ParseSceneText, MalformedJsonSaysWhere) {
   try {
