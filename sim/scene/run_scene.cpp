@@ -40,6 +40,7 @@ RunResult run_scene(const Scene& scene) {
   const TetMesh& mesh = simulation.mesh();
   result.rest = mesh.rest;
   result.displacement = mesh.x - mesh.rest;
+  result.final_positions = mesh.x;
   result.num_tets = mesh.num_tets();
   result.steps = simulation.steps_taken();
   result.max_speed = simulation.max_speed();

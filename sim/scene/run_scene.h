@@ -16,6 +16,14 @@ struct RunResult {
   double ms_per_step = 0;  // median wall time of one step [ms]
   Real max_speed = 0;      // largest node speed at the end [m/s]
   bool finite = true;      // false if the run stopped on a non-finite state
+  // Iterative solvers (implicit_euler, static, adaptive_explicit; scene_run.h): whether every
+  // solve met solver.tolerance, the iterations (CG, Newton or adaptive steps) in all, and the
+  // worst relative residual. Direct steps leave the defaults.
+  bool converged = true;
+  std::int64_t iterations = 0;
+  double relative_residual = 0;
+  int inverted_elements = 0;  // at the end (models that report it)
+  Points final_positions;     // #nodes by 3 x at the end [m] (= rest + displacement)
 };
 
 // Runs scene.solver.steps steps of Simulation(scene), stopping early when a position or velocity

@@ -1,0 +1,212 @@
+#include "sim/models/mass_spring_model.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "sim/mesh/tet_adjacency.h"
+#include "sim/models/cofactor.h"
+#include "sim/models/spring_force.h"
+
+namespace incise::sim {
+
+namespace {
+
+// dP of the volume term P = k_v (J - 1) cof F.
+Mat3 volume_stress_differential(const Mat3& f, const Mat3& df, Real k_v) {
+  const Mat3 c = cofactor(f);
+  return k_v *
+         (c.cwiseProduct(df).sum() * c + (f.determinant() - 1) * cofactor_differential(f, df));
+}
+
+}  // namespace
+
+MassSpringModel::MassSpringModel(const TetMesh& mesh, std::vector<ElementMaterial> materials,
+                                 Real volume_stiffness)
+    : materials_(std::move(materials)), volume_stiffness_(volume_stiffness) {
+  if (!(volume_stiffness >= 0)) {
+    throw std::invalid_argument("mass-spring volume_stiffness must be >= 0, got " +
+                                std::to_string(volume_stiffness));
+  }
+  rebuild(mesh);
+}
+
+void MassSpringModel::update_topology(const TetMesh& mesh) {
+  rebuild(mesh);
+}
+
+void MassSpringModel::rebuild(const TetMesh& mesh) {
+  elements_ = make_tet_elements(mesh, materials_);
+  springs_ = unique_edges(elements_.tets);
+  const TetEdgeIndices tet_springs = tet_edge_indices(elements_.tets, springs_);
+  const Eigen::Index num_springs = springs_.rows();
+
+  VecX stiffness_volume = VecX::Zero(num_springs);  // sum E_t V_t
+  VecX damping_volume = VecX::Zero(num_springs);    // sum d_t V_t
+  VecX volume = VecX::Zero(num_springs);            // sum V_t
+  for (int t = 0; t < elements_.num_tets(); ++t) {
+    for (int e = 0; e < 6; ++e) {
+      const int s = tet_springs(t, e);
+      stiffness_volume(s) += elements_.youngs_modulus(t) * elements_.rest_volume(t);
+      damping_volume(s) += elements_.damping(t) * elements_.rest_volume(t);
+      volume(s) += elements_.rest_volume(t);
+    }
+  }
+  rest_lengths_.resize(num_springs);
+  stiffness_.resize(num_springs);
+  damping_.resize(num_springs);
+  for (Eigen::Index s = 0; s < num_springs; ++s) {
+    const int i = springs_(s, 0);
+    const int j = springs_(s, 1);
+    const Real length = (mesh.rest.row(j) - mesh.rest.row(i)).norm();
+    rest_lengths_(s) = length;
+    stiffness_(s) = stiffness_volume(s) / (length * length);
+    damping_(s) = damping_volume(s) / volume(s) * 2 *
+                  std::sqrt(stiffness_(s) * (elements_.masses(i) + elements_.masses(j)));
+  }
+  direction_.resize(num_springs, 3);
+  transverse_.resize(num_springs);
+  deformation_.assign(volume_stiffness_ > 0 ? static_cast<std::size_t>(elements_.num_tets()) : 0,
+                      Mat3::Identity());
+  prepare_stiffness(mesh.rest);
+  health_ = {};
+}
+
+void MassSpringModel::add_forces(const Points& x, const Points& v, Points& f) {
+  ModelHealth health;
+  for (Eigen::Index s = 0; s < springs_.rows(); ++s) {
+    const int i = springs_(s, 0);
+    const int j = springs_(s, 1);
+    const SpringForce force = spring_force(row3(x, i), row3(x, j), row3(v, i), row3(v, j),
+                                           stiffness_(s), damping_(s), rest_lengths_(s));
+    health.degenerate_elements += force.degenerate ? 1 : 0;
+    f.row(i) += force.on_i.transpose();
+    f.row(j) -= force.on_i.transpose();
+  }
+  for (int t = 0; t < elements_.num_tets(); ++t) {
+    const Mat3 deformation =
+        edge_matrix(x, elements_.tets, t) * elements_.rest_inverse[static_cast<std::size_t>(t)];
+    const Real j = deformation.determinant();
+    health.inverted_elements += j <= 0 ? 1 : 0;
+    health.degenerate_elements += std::abs(j) < 1e-6 ? 1 : 0;
+    if (volume_stiffness_ > 0) {
+      const Real k_v = volume_stiffness_ * elements_.youngs_modulus(t);
+      scatter_stress(elements_, t, k_v * (j - 1) * cofactor(deformation), f);
+    }
+  }
+  health_ = health;
+}
+
+void MassSpringModel::prepare_stiffness(const Points& x) {
+  for (Eigen::Index s = 0; s < springs_.rows(); ++s) {
+    const Vec3 r = row3(x, springs_(s, 1)) - row3(x, springs_(s, 0));
+    const Real length = r.norm();
+    // As spring_force: below 1e-12 of the rest length the direction is round-off.
+    if (length > Real(1e-12) * rest_lengths_(s)) {
+      direction_.row(s) = r.transpose() / length;
+      transverse_(s) = stiffness_(s) * (1 - rest_lengths_(s) / length);
+    } else {
+      direction_.row(s).setZero();
+      transverse_(s) = 0;
+    }
+  }
+  for (std::size_t t = 0; t < deformation_.size(); ++t) {
+    deformation_[t] =
+        edge_matrix(x, elements_.tets, static_cast<int>(t)) * elements_.rest_inverse[t];
+  }
+}
+
+Mat3 MassSpringModel::spring_tangent(int s) const {
+  const Vec3 u = direction_.row(s).transpose();
+  const Mat3 along = u * u.transpose();
+  // K_s = k u u^T + t (I - u u^T); a degenerate spring has u = 0 and t = 0: no stiffness.
+  return (stiffness_(s) - transverse_(s)) * along + transverse_(s) * Mat3::Identity();
+}
+
+void MassSpringModel::add_stiffness_times(const Points& dx, Points& out) const {
+  for (Eigen::Index s = 0; s < springs_.rows(); ++s) {
+    const int i = springs_(s, 0);
+    const int j = springs_(s, 1);
+    const Vec3 k_dx = spring_tangent(static_cast<int>(s)) * (row3(dx, i) - row3(dx, j));
+    out.row(i) += k_dx.transpose();
+    out.row(j) -= k_dx.transpose();
+  }
+  for (std::size_t t = 0; t < deformation_.size(); ++t) {
+    const int ti = static_cast<int>(t);
+    const Mat3& f = deformation_[t];
+    const Mat3 df = edge_matrix(dx, elements_.tets, ti) * elements_.rest_inverse[t];
+    const Real k_v = volume_stiffness_ * elements_.youngs_modulus(ti);
+    const Mat3 dp = volume_stress_differential(f, df, k_v);
+    scatter_stress(elements_, ti, -dp, out);
+  }
+}
+
+void MassSpringModel::add_damping_times(const Points& dv, Points& out) const {
+  for (Eigen::Index s = 0; s < springs_.rows(); ++s) {
+    const int i = springs_(s, 0);
+    const int j = springs_(s, 1);
+    const Vec3 u = direction_.row(s).transpose();
+    const Vec3 d_dv = damping_(s) * u.dot(row3(dv, i) - row3(dv, j)) * u;
+    out.row(i) += d_dv.transpose();
+    out.row(j) -= d_dv.transpose();
+  }
+}
+
+void MassSpringModel::add_stiffness_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const {
+  for (Eigen::Index s = 0; s < springs_.rows(); ++s) {
+    const int i = springs_(s, 0);
+    const int j = springs_(s, 1);
+    const Mat3 k = spring_tangent(static_cast<int>(s));
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) {
+        triplets.emplace_back(3 * i + r, 3 * i + c, k(r, c));
+        triplets.emplace_back(3 * j + r, 3 * j + c, k(r, c));
+        triplets.emplace_back(3 * i + r, 3 * j + c, -k(r, c));
+        triplets.emplace_back(3 * j + r, 3 * i + c, -k(r, c));
+      }
+    }
+  }
+  // The volume term column by column: node a moved along c, dF = e_c g_a^T.
+  for (std::size_t t = 0; t < deformation_.size(); ++t) {
+    const int ti = static_cast<int>(t);
+    Eigen::Matrix<Real, 3, 4> g;
+    g.rightCols<3>() = elements_.rest_inverse[t].transpose();
+    g.col(0) = -g.rightCols<3>().rowwise().sum();
+    const Mat3& f = deformation_[t];
+    const Real k_v = volume_stiffness_ * elements_.youngs_modulus(ti);
+    for (int a = 0; a < 4; ++a) {
+      for (int c = 0; c < 3; ++c) {
+        Mat3 df = Mat3::Zero();
+        df.row(c) = g.col(a).transpose();
+        const Mat3 dp = volume_stress_differential(f, df, k_v);
+        for (int b = 0; b < 4; ++b) {
+          const Vec3 block = elements_.rest_volume(ti) * dp * g.col(b);
+          for (int r = 0; r < 3; ++r)
+            triplets.emplace_back(3 * elements_.tets(ti, b) + r, 3 * elements_.tets(ti, a) + c,
+                                  block(r));
+        }
+      }
+    }
+  }
+}
+
+Real MassSpringModel::potential_energy(const Points& x) const {
+  Real energy = 0;
+  for (Eigen::Index s = 0; s < springs_.rows(); ++s) {
+    const Real stretch = (x.row(springs_(s, 1)) - x.row(springs_(s, 0))).norm() - rest_lengths_(s);
+    energy += stiffness_(s) / 2 * stretch * stretch;
+  }
+  if (volume_stiffness_ > 0) {
+    for (int t = 0; t < elements_.num_tets(); ++t) {
+      const Real j =
+          (edge_matrix(x, elements_.tets, t) * elements_.rest_inverse[static_cast<std::size_t>(t)])
+              .determinant();
+      energy += volume_stiffness_ * elements_.youngs_modulus(t) * elements_.rest_volume(t) *
+                (j - 1) * (j - 1) / 2;
+    }
+  }
+  return energy;
+}
+
+}  // namespace incise::sim

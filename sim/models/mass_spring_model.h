@@ -1,0 +1,72 @@
+#pragma once
+
+#include <string_view>
+#include <vector>
+
+#include "sim/models/model.h"
+#include "sim/models/tet_elements.h"
+
+namespace incise::sim {
+
+// The volumetric mass-spring system of MassSpring (sim/models/mass_spring.h; Paloc et al. eqs. 5-7)
+// as a Model, with per-tet materials from tissue labels and an optional volume-preservation term.
+// With one material it has MassSpring's masses, springs and forces exactly; with several, the sums
+// of eqs. 5 and 6 take each tet's own density and E:
+//   m_i  = sum_{tets t at i} density_t V_t / 4
+//   k_ij = sum_{tets t at edge ij} E_t V_t / l_ij^2
+//   c_ij = d_ij 2 sqrt(k_ij (m_i + m_j)),  d_ij = the V-weighted mean damping of the tets at ij
+// Spring energy k/2 (l - l0)^2; stiffness is the exact spring tangent
+//   K_s = k (u u^T + (1 - l0 / l) (I - u u^T)),   u = (x_j - x_i) / l,
+// (indefinite for a compressed spring), damping D_s = c u u^T (the dashpot acts along u), both at
+// the x of the last prepare_stiffness. A spring whose nodes coincide has no direction: no force, no
+// stiffness, counted as degenerate.
+// Volume preservation (volume_stiffness = s > 0), per tet with signed volume V and rest volume V0:
+//   E_v = k_v (V - V0)^2 / (2 V0),   k_v = s E_t [Pa],
+// i.e. V0 k_v (J - 1)^2 / 2 with J = V / V0 = det F: P = k_v (J - 1) cof F. It vanishes at rest and
+// for any rigid motion, and pushes an inverted tet (V < 0) back to positive volume, which springs
+// alone do not (a tet mirrored through a face has all its rest lengths).
+// ElementMaterial::poisson_ratio is not used by this model (it is validated all the same).
+class MassSpringModel final : public Model {
+ public:
+  //   mesh              rest positions, tets (positively oriented) and labels
+  //   materials         material of tet label l at materials[l]; damping is the fraction d of eq. 7
+  //   volume_stiffness  s >= 0 (0: no volume term)
+  // Throws std::invalid_argument as make_tet_elements, or for a negative volume_stiffness.
+  MassSpringModel(const TetMesh& mesh, std::vector<ElementMaterial> materials,
+                  Real volume_stiffness = 0);
+
+  std::string_view name() const override { return "mss"; }
+  const VecX& masses() const override { return elements_.masses; }
+  void add_forces(const Points& x, const Points& v, Points& f) override;
+  void prepare_stiffness(const Points& x) override;
+  void add_stiffness_times(const Points& dx, Points& out) const override;
+  void add_damping_times(const Points& dv, Points& out) const override;
+  void add_stiffness_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const override;
+  Real potential_energy(const Points& x) const override;
+  void update_topology(const TetMesh& mesh) override;
+  ModelHealth health() const override { return health_; }
+
+  const Edges& springs() const { return springs_; }           // #springs by 2 nodes (i < j)
+  const VecX& stiffness() const { return stiffness_; }        // #springs k_ij [N/m]
+  const VecX& damping() const { return damping_; }            // #springs c_ij [N s/m]
+  const VecX& rest_lengths() const { return rest_lengths_; }  // #springs l_ij [m]
+
+ private:
+  void rebuild(const TetMesh& mesh);
+  Mat3 spring_tangent(int s) const;
+
+  std::vector<ElementMaterial> materials_;
+  Real volume_stiffness_ = 0;
+  TetElements elements_;
+  Edges springs_;
+  VecX stiffness_;
+  VecX damping_;
+  VecX rest_lengths_;
+  // Linearisation of the last prepare_stiffness.
+  Points direction_;               // #springs u (0 for a degenerate spring)
+  VecX transverse_;                // #springs k (1 - l0 / l) (0 for a degenerate spring)
+  std::vector<Mat3> deformation_;  // #tets F (volume term only)
+  ModelHealth health_;
+};
+
+}  // namespace incise::sim

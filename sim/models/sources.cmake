@@ -1,0 +1,10 @@
+# Model sources (paths relative to sim/), added to incise_sim by sim/CMakeLists.txt.
+set(INCISE_SIM_MODELS_SOURCES ${INCISE_SIM_MODELS_SOURCES}
+  models/corotational_fem.cpp
+  models/linear_fem.cpp
+  models/mass_spring_model.cpp
+  models/neo_hookean_fem.cpp
+  models/rotation_extraction.cpp
+  models/stvk_fem.cpp
+  models/tet_elements.cpp
+)

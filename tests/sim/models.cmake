@@ -1,0 +1,10 @@
+# Tests for sim/models/: the laws every model obeys, closed forms, hard cases.
+add_executable(sim_models_tests
+  models/closed_form_test.cpp
+  models/hard_cases_test.cpp
+  models/model_fixtures.cpp
+  models/model_laws_test.cpp
+  models/tet_elements_test.cpp
+)
+target_link_libraries(sim_models_tests PRIVATE incise_sim GTest::gtest_main)
+gtest_discover_tests(sim_models_tests DISCOVERY_TIMEOUT 30)

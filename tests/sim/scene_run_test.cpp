@@ -1,0 +1,211 @@
+// Scenes with the issue-4 models and integrators (sim/scene/scene_run.h), against closed forms,
+// CalculiX and each other.
+#include "sim/scene/scene_run.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "reference/calculix.h"
+#include "sim/mesh/box_mesher.h"
+#include "sim/scene/scene_error.h"
+#include "sim/solve/stable_time_step.h"
+
+namespace incise::sim {
+namespace {
+
+constexpr Real kE = 3000;  // soft tissue [Pa]
+constexpr Real kNu = 0.3;
+
+Scene block_scene(MaterialModel model, Integrator integrator) {
+  Scene scene;
+  scene.mesh.box = {Vec3(0.02, 0.02, 0.02), Vec3i(3, 3, 3)};
+  scene.material = {model, kE, kNu, 1000, 0.0};
+  scene.solver = {integrator, 1.0, 1, 1e-10};
+  return scene;
+}
+
+// The block compressed along z between z = 0 and the top, free to expand sideways: symmetry planes
+// x = 0, y = 0 hold one coordinate each, the top moves down by `strain` of the height.
+void compress(Scene& scene, Real strain) {
+  const Real L = 0.02, eps = 1e-9;
+  scene.constraints = {
+      {{Box3(Vec3(-eps, -1, -1), Vec3(eps, 1, 1))}, {true, false, false}, Vec3::Zero()},
+      {{Box3(Vec3(-1, -eps, -1), Vec3(1, eps, 1))}, {false, true, false}, Vec3::Zero()},
+      {{Box3(Vec3(-1, -1, -eps), Vec3(1, 1, eps))}, {false, false, true}, Vec3::Zero()},
+      {{Box3(Vec3(-1, -1, L - eps), Vec3(1, 1, L + eps))},
+       {false, false, true},
+       Vec3(0, 0, -strain * L)},
+  };
+}
+
+TetMesh box_of(const Scene& scene) {
+  return make_box_mesh(scene.mesh.box.size, scene.mesh.box.cells);
+}
+
+// Largest |u - expected| over the nodes, relative to the largest |expected|.
+template <class Expected>
+Real relative_error(const RunResult& r, Expected expected) {
+  Real worst = 0, scale = 0;
+  for (int i = 0; i < r.rest.rows(); ++i) {
+    const Vec3 e = expected(row3(r.rest, i));
+    worst = std::max(worst, (row3(r.displacement, i) - e).norm());
+    scale = std::max(scale, e.norm());
+  }
+  return worst / scale;
+}
+
+// Linear elasticity, uniaxial compression with free lateral faces: u = (nu e x, nu e y, -e z).
+// A homogeneous strain is exact on linear tets, so what is left is the solver's tolerance.
+TEST(SceneRun, LinearBlockCompressionMatchesTheClosedForm) {
+  for (const Real strain : {0.01, 0.05, 0.10, 0.20}) {
+    Scene scene = block_scene(MaterialModel::linear, Integrator::static_equilibrium);
+    compress(scene, strain);
+    const auto result = run_scene_on(scene, box_of(scene));
+    ASSERT_TRUE(result.converged) << strain;
+    EXPECT_LT(relative_error(result,
+                             [&](const Vec3& p) {
+                               return Vec3(kNu * strain * p.x(), kNu * strain * p.y(),
+                                           -strain * p.z());
+                             }),
+              1e-6)
+        << strain;
+  }
+}
+
+// The lateral stretch of seed 003's compressible Neo-Hookean block under uniaxial stretch l1 with
+// traction-free sides (its eq. 15): P22 = mu l2 + (lambda (J - 1) - mu / J) J / l2 = 0, J = l1
+// l2^2, solved here by Newton's method on l2.
+Real neo_hookean_lateral_stretch(Real l1) {
+  const Real mu = kE / (2 * (1 + kNu));
+  const Real lambda = kE * kNu / ((1 + kNu) * (1 - 2 * kNu));
+  auto p22 = [&](Real l2) {
+    const Real J = l1 * l2 * l2;
+    return mu * l2 + (lambda * (J - 1) - mu / J) * J / l2;
+  };
+  Real l2 = 1;
+  for (int i = 0; i < 100; ++i) {
+    const Real h = 1e-7;
+    const Real step = p22(l2) / ((p22(l2 + h) - p22(l2 - h)) / (2 * h));
+    l2 -= step;
+    if (std::abs(step) < 1e-15) break;
+  }
+  return l2;
+}
+
+TEST(SceneRun, NeoHookeanBlockCompressionMatchesSeed003) {
+  for (const Real strain : {0.01, 0.05, 0.10, 0.20}) {
+    Scene scene = block_scene(MaterialModel::neohookean, Integrator::static_equilibrium);
+    scene.solver.steps = 4;  // load increments
+    compress(scene, strain);
+    const auto result = run_scene_on(scene, box_of(scene));
+    ASSERT_TRUE(result.converged) << strain;
+    const Real l2 = neo_hookean_lateral_stretch(1 - strain);
+    EXPECT_LT(relative_error(result,
+                             [&](const Vec3& p) {
+                               return Vec3((l2 - 1) * p.x(), (l2 - 1) * p.y(), -strain * p.z());
+                             }),
+              1e-6)
+        << strain << " (lateral stretch " << l2 << ")";
+  }
+}
+
+// A cantilever under a tip load: our linear static answer equals CalculiX's (C3D4, the same mesh)
+// to the solvers' tolerance.
+TEST(SceneRun, LinearCantileverEqualsCalculix) {
+  Scene scene = block_scene(MaterialModel::linear, Integrator::static_equilibrium);
+  scene.mesh.box = {Vec3(0.1, 0.02, 0.02), Vec3i(10, 2, 2)};
+  const Real eps = 1e-9;
+  scene.constraints = {
+      {{Box3(Vec3(-eps, -1, -1), Vec3(eps, 1, 1))}, {true, true, true}, Vec3::Zero()}};
+  scene.loads = {{{Box3(Vec3(0.1 - eps, -1, -1), Vec3(0.1 + eps, 1, 1))}, Vec3(0, 0, -0.01)}};
+  const TetMesh mesh = box_of(scene);
+  const auto ours = run_scene_on(scene, mesh);
+  ASSERT_TRUE(ours.converged);
+
+  reference::CalculixProblem problem;
+  problem.mesh = &mesh;
+  problem.youngs_modulus = kE;
+  problem.poisson_ratio = kNu;
+  problem.node_loads = Points::Zero(mesh.num_nodes(), 3);
+  int tip = 0;
+  for (int i = 0; i < mesh.num_nodes(); ++i) {
+    if (mesh.rest(i, 0) < eps) problem.fixed_nodes.push_back(i);
+    if (mesh.rest(i, 0) > 0.1 - eps) ++tip;
+  }
+  for (int i = 0; i < mesh.num_nodes(); ++i) {
+    if (mesh.rest(i, 0) > 0.1 - eps) problem.node_loads(i, 2) = -0.01 / tip;
+  }
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("incise-ccx-" + std::to_string(::getpid()));
+  const Points ccx = reference::solve_linear_static(problem, dir);
+  std::filesystem::remove_all(dir);
+  const Real scale = ccx.rowwise().norm().maxCoeff();
+  ASSERT_GT(scale, 0);
+  EXPECT_LT((ours.displacement - ccx).rowwise().norm().maxCoeff() / scale, 1e-6);
+}
+
+// A damped body under gravity, stepped by implicit Euler at ten times the explicit limit, comes to
+// rest on the static answer.
+TEST(SceneRun, ImplicitEulerAtTenTimesTheExplicitLimitSettlesOnTheStaticAnswer) {
+  Scene scene = block_scene(MaterialModel::corotational, Integrator::implicit_euler);
+  scene.material.damping = 0.05;
+  scene.gravity = Vec3(0, 0, -9.81);
+  const Real eps = 1e-9;
+  scene.constraints = {
+      {{Box3(Vec3(-1, -1, -eps), Vec3(1, 1, eps))}, {true, true, true}, Vec3::Zero()}};
+  const TetMesh mesh = box_of(scene);
+  const Real limit = stable_time_step(mesh, kE, kNu, 1000, 1.0);
+  scene.solver.dt = 10 * limit;
+  scene.solver.steps = static_cast<std::int64_t>(std::ceil(3.0 / scene.solver.dt));
+  scene.solver.tolerance = 1e-8;
+  const auto dynamic = run_scene_on(scene, mesh);
+  ASSERT_TRUE(dynamic.finite);
+  EXPECT_LT(dynamic.max_speed, 1e-4);
+
+  scene.solver = {Integrator::static_equilibrium, 1.0, 1, 1e-10};
+  const auto statics = run_scene_on(scene, mesh);
+  ASSERT_TRUE(statics.converged);
+  const Real sag = statics.displacement.rowwise().norm().maxCoeff();
+  ASSERT_GT(sag, 0);
+  EXPECT_LT((dynamic.displacement - statics.displacement).rowwise().norm().maxCoeff() / sag, 1e-2);
+}
+
+TEST(SceneRun, EveryModelAndIntegratorRunsTheSagFinite) {
+  for (const auto model :
+       {MaterialModel::mass_spring, MaterialModel::linear, MaterialModel::corotational,
+        MaterialModel::corotational_polar, MaterialModel::stvk, MaterialModel::neohookean}) {
+    for (const auto integrator : {Integrator::symplectic_euler, Integrator::central_difference,
+                                  Integrator::adaptive_explicit, Integrator::implicit_euler}) {
+      Scene scene = block_scene(model, integrator);
+      scene.material.damping = 0.05;
+      scene.gravity = Vec3(0, 0, -9.81);
+      const Real eps = 1e-9;
+      scene.constraints = {
+          {{Box3(Vec3(-1, -1, -eps), Vec3(1, 1, eps))}, {true, true, true}, Vec3::Zero()}};
+      const TetMesh mesh = box_of(scene);
+      scene.solver.dt = 0.5 * stable_time_step(mesh, kE, kNu, 1000);
+      scene.solver.steps = 200;
+      const auto result = run_scene_on(scene, mesh);
+      EXPECT_TRUE(result.finite) << static_cast<int>(model) << " " << static_cast<int>(integrator);
+      // Gravity pulls the top down and nothing up.
+      EXPECT_LT(result.displacement.col(2).minCoeff(), 0);
+    }
+  }
+}
+
+TEST(SceneRun, SelectionsThatPickNoNodeAreNamed) {
+  Scene scene = block_scene(MaterialModel::linear, Integrator::static_equilibrium);
+  scene.loads = {{{Box3(Vec3(1, 1, 1), Vec3(2, 2, 2))}, Vec3(0, 0, 1)}};
+  try {
+    run_scene_on(scene, box_of(scene));
+    FAIL() << "expected a SceneError";
+  } catch (const SceneError& e) {
+    EXPECT_STREQ(e.what(), "loads[0].where.box: selects no node");
+  }
+}
+
+}  // namespace
+}  // namespace incise::sim
