@@ -5,21 +5,37 @@
 #include <fstream>
 #include <optional>
 
+#include "sim/cli/scene_mesh.h"
 #include "sim/io/result_json.h"
 #include "sim/io/scene_json.h"
+#include "sim/mesh/mesh_file_error.h"
+#include "sim/mesh/mesh_info.h"
+#include "sim/mesh/read_mesh_file.h"
+#include "sim/mesh/vtu_writer.h"
 #include "sim/scene/run_scene.h"
+#include "sim/scene/scene_run.h"
 
 namespace incise::sim {
 namespace {
 
-constexpr const char* kUsage = "usage: incise solve SCENE.json --out RESULT.json, or incise --help";
+constexpr const char* kUsage =
+    "usage: incise solve SCENE.json --out RESULT.json, incise mesh-info MESH, or incise --help";
 
 constexpr const char* kHelp =
     R"(incise - the Incise soft-tissue simulation core from the command line
 
 usage:
   incise solve SCENE.json --out RESULT.json   run a scene, write its result
+  incise mesh-info MESH                       counts, labels, size and quality of a tet mesh
   incise --help                               show this text
+
+MESH: a gmsh .msh file (ASCII 2.2 or 4.1; tetrahedra and their physical tags as labels) or a
+  TetGen mesh (FILE.node, FILE.ele or the base name FILE; the first .ele attribute is the label).
+  mesh-info prints the node and tet counts, tets per label, bounding box, total volume, and per
+  tet volume, aspect ratio (longest edge / (2 sqrt(6) inradius), 1 for the regular tet) and
+  min/max dihedral angles (range, mean, histogram). Tets read negatively oriented are flipped;
+  a malformed file (truncated, bad counts or indices, non-finite coordinates, a zero-volume tet)
+  is one error line "incise: FILE:LINE: problem" and exit code 2.
 
 SCENE.json (units SI; members marked ? are optional):
   { "mesh": {"box": {"size": [Lx, Ly, Lz], "cells": [nx, ny, nz]}},
@@ -29,11 +45,20 @@ SCENE.json (units SI; members marked ? are optional):
     "loads"?: [ {"where": {"box": ...}, "force": [fx, fy, fz]} ],
     "gravity"?: [0, 0, -9.81],
     "solver": {"integrator": "symplectic_euler", "dt": 1e-4, "steps": 10000} }
-  mesh.box       a box with its corner at the origin, 6 tets per cell
-  material       "mss": volumetric mass-spring system (Paloc et al. 2006): node mass from
-                 density, spring stiffness from E; nu is checked but a mass-spring system has
-                 no free Poisson ratio. damping in [0, 1] scales each spring's damping
-                 2 sqrt(k (m_i + m_j)) (default 0.1)
+  mesh           one of: "box": a box with its corner at the origin, 5 tets per cell;
+                 "file": "organ.msh" (or TetGen) relative to the scene file, labels from it;
+                 "generate": {"shape": "sphere"|"ellipsoid"|"liver", "centre"?: [x, y, z],
+                 "radius": r | "radii": [rx, ry, rz], "cell_size": h} (CGAL Mesh_3)
+  material       model: "mss" (mass-spring, Paloc et al. 2006; no free Poisson ratio),
+                 "linear", "corotational" (QR), "corotational_polar", "stvk", "neohookean"
+                 (seed 003, eq. 4). damping in [0, 1]: for mss the fraction of
+                 2 sqrt(k (m_i + m_j)) per spring, for FEM a viscosity of damping * l_min / c
+                 (default 0.1)
+  materials?     {"<label>": {"E", "nu", "density", "damping"?}}: per tissue label
+  solver         integrator: "symplectic_euler", "central_difference", "adaptive_explicit",
+                 "implicit_euler" (CG to "tolerance"?, default 1e-8) or "static" (Newton to
+                 "tolerance"; "steps"? load increments, dt unused)
+  output?        {"vtu": "final.vtu"}: the final state for ParaView, next to the scene file
   where.box      selects the nodes inside the box (inclusive, tolerance 1e-6 of the mesh size);
                  a box that selects no node is an error
   fix            holds the named coordinates ("x", "xz", "xyz", ...) at rest
@@ -46,14 +71,15 @@ SCENE.json (units SI; members marked ? are optional):
 RESULT.json:
   {"nodes": N, "tets": M, "rest": [[x, y, z], ...], "displacement": [[ux, uy, uz], ...],
    "steps": k, "ms_per_step": median wall time of a step, "max_speed": largest node speed at
-   the end [m/s], "finite": true}
+   the end [m/s], "finite": true, "solver": {"converged": bool, "iterations": n,
+   "relative_residual": x, "inverted_elements": n}}
 
 exit codes:
   0  done
   1  the state became non-finite (RESULT.json is written with "finite": false; try a smaller
      dt) or an internal error
-  2  usage error, unreadable or invalid scene (one line on stderr names the key), or
-     RESULT.json cannot be written
+  2  usage error, unreadable or invalid scene (one line on stderr names the key),
+     RESULT.json cannot be written, or an unreadable or malformed mesh file
 )";
 
 int usage_error(std::ostream& err, const std::string& problem) {
@@ -80,11 +106,30 @@ int solve(const std::vector<std::string>& args, std::ostream& err) {
   if (!result_file) return usage_error(err, "solve needs --out RESULT.json");
 
   RunResult result;
+  Scene scene;
+  const std::filesystem::path scene_dir = std::filesystem::path(*scene_file).parent_path();
   try {
-    result = run_scene(read_scene_file(*scene_file));
+    scene = read_scene_file(*scene_file);
+    // The live sessions' path (a box of mass-springs, symplectic Euler) as before; every other
+    // combination through the general runner.
+    const bool classic = scene.mesh.source == MeshSource::box &&
+                         scene.material.model == MaterialModel::mass_spring &&
+                         scene.solver.integrator == Integrator::symplectic_euler;
+    result = classic ? run_scene(scene) : run_scene_on(scene, build_scene_mesh(scene, scene_dir));
   } catch (const SceneError& error) {
     err << "incise: " << *scene_file << ": " << error.what() << "\n";
     return kExitUsage;
+  }
+  if (!scene.vtu_output.empty()) {
+    const auto vtu = scene_dir / scene.vtu_output;
+    try {
+      TetMesh final_state = build_scene_mesh(scene, scene_dir);
+      final_state.x = result.final_positions;
+      write_vtu(vtu, final_state);
+    } catch (const std::exception& error) {
+      err << "incise: " << vtu.string() << ": " << error.what() << "\n";
+      return kExitUsage;
+    }
   }
 
   std::ofstream out(*result_file);
@@ -102,6 +147,21 @@ int solve(const std::vector<std::string>& args, std::ostream& err) {
   return kExitOk;
 }
 
+int mesh_info(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+  if (args.size() != 2) return usage_error(err, "mesh-info needs exactly one mesh file");
+  if (!args[1].empty() && args[1][0] == '-') return usage_error(err, "unknown option " + args[1]);
+  TetMesh mesh;
+  try {
+    mesh = read_mesh_file(args[1]);
+  } catch (const MeshFileError& error) {
+    err << "incise: " << error.what() << "\n";
+    return kExitUsage;
+  }
+  out << "file: " << args[1] << "\n";
+  print_mesh_info(mesh, out);
+  return kExitOk;
+}
+
 }  // namespace
 
 int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
@@ -113,6 +173,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
       return kExitOk;
     }
     if (args[0] == "solve") return solve(args, err);
+    if (args[0] == "mesh-info") return mesh_info(args, out, err);
     return usage_error(err, "unknown command " + args[0]);
   } catch (const std::exception& error) {
     err << "incise: internal error: " << error.what() << "\n";

@@ -29,7 +29,12 @@ json result_to_json(const RunResult& result) {
           {"steps", result.steps},
           {"ms_per_step", number(result.ms_per_step)},
           {"max_speed", number(result.max_speed)},
-          {"finite", result.finite}};
+          {"finite", result.finite},
+          {"solver",
+           {{"converged", result.converged},
+            {"iterations", result.iterations},
+            {"relative_residual", number(result.relative_residual)},
+            {"inverted_elements", result.inverted_elements}}}};
 }
 
 }  // namespace incise::sim
