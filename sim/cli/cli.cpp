@@ -57,7 +57,8 @@ SCENE.json (units SI; members marked ? are optional):
   materials?     {"<label>": {"E", "nu", "density", "damping"?}}: per tissue label
   solver         integrator: "symplectic_euler", "central_difference", "adaptive_explicit",
                  "implicit_euler" (CG to "tolerance"?, default 1e-8) or "static" (Newton to
-                 "tolerance"; "steps"? load increments, dt unused)
+                 "tolerance"; "steps"? load increments, dt unused); "linear_solver"?: "cg"
+                 (matrix-free, default), "assembled_cg" or "ldlt"
   output?        {"vtu": "final.vtu"}: the final state for ParaView, next to the scene file
   where.box      selects the nodes inside the box (inclusive, tolerance 1e-6 of the mesh size);
                  a box that selects no node is an error

@@ -167,7 +167,8 @@ Load read_load(const json& value, const std::string& path) {
 }
 
 SolverSettings read_solver(const json& value) {
-  const JsonObjectReader object(value, "solver", {"integrator", "dt", "steps", "tolerance"});
+  const JsonObjectReader object(value, "solver",
+                                {"integrator", "dt", "steps", "tolerance", "linear_solver"});
   static const std::pair<const char*, Integrator> integrators[] = {
       {"symplectic_euler", Integrator::symplectic_euler},
       {"central_difference", Integrator::central_difference},
@@ -191,6 +192,20 @@ SolverSettings read_solver(const json& value) {
   solver.dt = is_static && !object.has("dt") ? 1.0 : object.number("dt");
   solver.steps = is_static && !object.has("steps") ? 1 : object.integer("steps");
   if (object.has("tolerance")) solver.tolerance = object.number("tolerance");
+  if (object.has("linear_solver")) {
+    const std::string name = object.string("linear_solver");
+    if (name == "cg") {
+      solver.linear_solver = LinearSolverChoice::cg;
+    } else if (name == "assembled_cg") {
+      solver.linear_solver = LinearSolverChoice::assembled_cg;
+    } else if (name == "ldlt") {
+      solver.linear_solver = LinearSolverChoice::ldlt;
+    } else {
+      throw SceneError(
+          object.path("linear_solver"),
+          "unknown linear solver " + describe(json(name)) + " (expected: cg, assembled_cg, ldlt)");
+    }
+  }
   return solver;
 }
 

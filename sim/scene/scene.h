@@ -93,11 +93,18 @@ enum class Integrator {
   static_equilibrium,  // "static": the equilibrium (Newton with line search); dt and steps unused
 };
 
+enum class LinearSolverChoice { cg, assembled_cg, ldlt };
+
 struct SolverSettings {
   Integrator integrator = Integrator::symplectic_euler;  // "integrator"
   Real dt = 0;                                           // "dt" [s], > 0
   std::int64_t steps = 0;                                // "steps", >= 1
   Real tolerance = 1e-8;  // "tolerance": relative residual of iterative solves, in (0, 1)
+  // "linear_solver" of implicit_euler and static: "cg" (matrix-free conjugate gradients, Jacobi
+  // preconditioned; the default), "assembled_cg" (the same on an assembled sparse matrix, whose
+  // pattern is kept between steps) or "ldlt" (a sparse Cholesky factorisation preconditioning CG:
+  // few iterations, costly factorisations; for small stiff problems).
+  LinearSolverChoice linear_solver = LinearSolverChoice::cg;
 };
 
 // Where a live view of the scene looks from, as plain values (the renderer makes a camera of it).

@@ -69,6 +69,18 @@ Boundary resolve_boundary(const Scene& scene, const TetMesh& mesh) {
   return b;
 }
 
+LinearSolver linear_solver_of(LinearSolverChoice choice) {
+  switch (choice) {
+    case LinearSolverChoice::assembled_cg:
+      return LinearSolver::assembled_cg;
+    case LinearSolverChoice::ldlt:
+      return LinearSolver::assembled_ldlt;
+    case LinearSolverChoice::cg:
+      break;
+  }
+  return LinearSolver::matrix_free_cg;
+}
+
 double median(std::vector<double> v) {
   if (v.empty()) return 0;
   const auto middle = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
@@ -164,6 +176,7 @@ RunResult run_scene_on(const Scene& scene, TetMesh mesh) {
     }
     case Integrator::implicit_euler: {
       ImplicitEulerSettings s;
+      s.linear.solver = linear_solver_of(scene.solver.linear_solver);
       s.linear.cg.tolerance = scene.solver.tolerance;
       s.linear.cg.max_iterations = 10 * mesh.num_nodes() + 100;
       implicit.emplace(s);
@@ -172,6 +185,7 @@ RunResult run_scene_on(const Scene& scene, TetMesh mesh) {
     case Integrator::static_equilibrium: {
       StaticSettings s;
       s.tolerance = scene.solver.tolerance;
+      s.linear.solver = linear_solver_of(scene.solver.linear_solver);
       statics.emplace(s);
       break;
     }

@@ -196,6 +196,26 @@ TEST(SceneRun, EveryModelAndIntegratorRunsTheSagFinite) {
   }
 }
 
+// The scene chooses the linear solver; all three reach the same equilibrium.
+TEST(SceneRun, TheThreeLinearSolversAgree) {
+  Scene scene = block_scene(MaterialModel::corotational_polar, Integrator::static_equilibrium);
+  scene.gravity = Vec3(0, 0, -9.81);
+  const Real eps = 1e-9;
+  scene.constraints = {
+      {{Box3(Vec3(-eps, -1, -1), Vec3(eps, 1, 1))}, {true, true, true}, Vec3::Zero()}};
+  const TetMesh mesh = box_of(scene);
+  scene.solver.linear_solver = LinearSolverChoice::cg;
+  const auto cg = run_scene_on(scene, mesh);
+  const Real sag = cg.displacement.rowwise().norm().maxCoeff();
+  ASSERT_GT(sag, 0);
+  for (const auto choice : {LinearSolverChoice::assembled_cg, LinearSolverChoice::ldlt}) {
+    scene.solver.linear_solver = choice;
+    const auto other = run_scene_on(scene, mesh);
+    ASSERT_TRUE(other.converged) << static_cast<int>(choice);
+    EXPECT_LT((other.displacement - cg.displacement).rowwise().norm().maxCoeff() / sag, 1e-6);
+  }
+}
+
 TEST(SceneRun, SelectionsThatPickNoNodeAreNamed) {
   Scene scene = block_scene(MaterialModel::linear, Integrator::static_equilibrium);
   scene.loads = {{{Box3(Vec3(1, 1, 1), Vec3(2, 2, 2))}, Vec3(0, 0, 1)}};
