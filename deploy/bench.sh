@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs the benchmarks (they measure; the tests assert correctness) and writes their output to
-# results/bench-<UTC time>.txt. Takes about three minutes; run it on a quiet machine, and quote
+# results/bench-<UTC time>.txt. Takes about seven minutes; run it on a quiet machine, and quote
 # the figures of one run together. Usage: bash deploy/bench.sh [--quick]  (--quick: 10 s runs)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -31,5 +31,11 @@ out=results/bench-$(date -u +%Y%m%dT%H%M%SZ).txt
   echo
   echo "## live path on loopback (server + agent + one viewer), ${live_seconds} s"
   "$bin/bench_live" --seconds "$live_seconds"
+  echo
+  echo "## speed against error: every model x integrator (results/accuracy.csv, results/*.svg)"
+  if [ "${1:-}" = "--quick" ]; then "$bin/bench_accuracy" --quick; else "$bin/bench_accuracy"; fi
+  echo
+  echo "## per-tet kernels and implicit steps (Google Benchmark)"
+  "$bin/bench_models"
 } 2>&1 | tee "$out"
 echo "deploy/bench.sh: wrote $out"
