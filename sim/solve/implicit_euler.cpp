@@ -74,7 +74,17 @@ ImplicitStepReport ImplicitEuler::step(Real h, const Vec3& gravity, const Points
   } else {
     dv_.setZero();
   }
-  const CgReport cg = system_.solve(rhs_, dv_);
+  CgReport cg = system_.solve(rhs_, dv_);
+  const bool warm = settings_.warm_start && has_last_dv_;
+  if (cg.breakdown && warm) {
+    // Negative curvature (an indefinite K, e.g. Neo-Hookean with an inverted tet) can stop CG
+    // before it improves the guess; kept, the last step's dv would be added again every step.
+    // Start again from zero, where a breakdown leaves dv = 0 (no implicit correction this step).
+    dv_.setZero();
+    const int warm_iterations = cg.iterations;
+    cg = system_.solve(rhs_, dv_);
+    cg.iterations += warm_iterations;
+  }
   report.iterations = cg.iterations;
   report.relative_residual = cg.relative_residual;
   report.converged = cg.converged;
@@ -84,8 +94,9 @@ ImplicitStepReport ImplicitEuler::step(Real h, const Vec3& gravity, const Points
     has_last_dv_ = false;
     return report;
   }
+  // A broken-down solve is no guess for the next step.
   last_dv_ = dv_;
-  has_last_dv_ = true;
+  has_last_dv_ = !cg.breakdown;
 
   dv_ += held_dv_;
   v += dv_;

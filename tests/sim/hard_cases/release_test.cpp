@@ -1,0 +1,255 @@
+// Hard cases released from a state run_scene_on cannot start from (it starts at rest): a node
+// yanked five body lengths away, and a tet pushed through its opposite face. The scene's model
+// (make_model, so the same materials and damping as a scene run) is stepped by implicit Euler with
+// the base clamped; after release the body must come back to its rest shape within 1% of its
+// size, or, for a model that cannot cope, say so through health().inverted_elements.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "sim/mesh/box_mesher.h"
+#include "sim/scene/scene_run.h"
+#include "sim/solve/implicit_euler.h"
+
+namespace incise::sim {
+namespace {
+
+constexpr Real kSize = 0.02;  // cube edge [m]
+constexpr Real kE = 3000, kNu = 0.3, kDensity = 1000;
+
+std::string name_of(MaterialModel model) {
+  switch (model) {
+    case MaterialModel::mass_spring:
+      return "mss";
+    case MaterialModel::linear:
+      return "linear";
+    case MaterialModel::corotational:
+      return "corotational";
+    case MaterialModel::corotational_polar:
+      return "corotational_polar";
+    case MaterialModel::stvk:
+      return "stvk";
+    case MaterialModel::neohookean:
+      return "neohookean";
+  }
+  return "?";
+}
+
+// A body under implicit Euler as run_scene_on sets it up (CG to 1e-8, as many iterations as it
+// may need), its base z = 0 clamped, starting from x with v = 0.
+class ClampedCube {
+ public:
+  ClampedCube(MaterialModel model, Real damping, const TetMesh& mesh, Points x)
+      : mesh_(mesh),
+        x_(std::move(x)),
+        v_(Points::Zero(mesh.num_nodes(), 3)),
+        integrator_(implicit_settings(mesh)) {
+    Scene scene;
+    scene.material = {model, kE, kNu, kDensity, damping};
+    model_ = make_model(scene, mesh);
+    prescribed_.mask = AxisMask::Zero(mesh.num_nodes(), 3);
+    prescribed_.position = mesh.rest;
+    for (int i = 0; i < mesh.num_nodes(); ++i) {
+      if (mesh.rest(i, 2) == 0) prescribed_.mask.row(i).setOnes();
+    }
+  }
+
+  // Holds node on all axes at position (until release).
+  void hold(int node, const Vec3& position) {
+    prescribed_.mask.row(node).setOnes();
+    prescribed_.position.row(node) = position.transpose();
+  }
+  void release(int node) { prescribed_.mask.row(node).setZero(); }
+
+  // steps steps of dt; false as soon as one is not finite.
+  bool step(Real dt, int steps) {
+    for (int n = 0; n < steps; ++n) {
+      const auto report =
+          integrator_.step(dt, Vec3::Zero(), Points(), prescribed_, *model_, x_, v_);
+      if (!report.finite) return false;
+      unconverged_steps_ += report.converged ? 0 : 1;
+    }
+    return true;
+  }
+
+  // The largest node distance from rest over the cube's edge.
+  Real shape_error() const { return (x_ - mesh_.rest).rowwise().norm().maxCoeff() / kSize; }
+  // Inverted tets at the current state (evaluates the forces, which updates health()).
+  int inverted_elements() {
+    Points f = Points::Zero(mesh_.num_nodes(), 3);
+    model_->add_forces(x_, v_, f);
+    return model_->health().inverted_elements;
+  }
+  const Points& x() const { return x_; }
+  int unconverged_steps() const { return unconverged_steps_; }
+
+ private:
+  static ImplicitEulerSettings implicit_settings(const TetMesh& mesh) {
+    ImplicitEulerSettings settings;
+    settings.linear.cg.tolerance = 1e-8;
+    settings.linear.cg.max_iterations = 10 * mesh.num_nodes() + 100;
+    return settings;
+  }
+
+  const TetMesh& mesh_;
+  Points x_, v_;
+  std::unique_ptr<Model> model_;
+  ImplicitEuler integrator_;
+  Prescribed prescribed_;
+  int unconverged_steps_ = 0;
+};
+
+// Whether the model promises to undo inversion (its header): St Venant-Kirchhoff has mirrored
+// rest states, and the scene's mass-spring model is built without its volume term, so springs
+// alone cannot tell a tet from its mirror image.
+bool restores_inversion(MaterialModel model) {
+  return model != MaterialModel::stvk && model != MaterialModel::mass_spring;
+}
+
+// The top corner node (4, 4, 4) of the 4 x 4 x 4 cube is dragged 5 cube edges away along the
+// diagonal in 20 steps, then let go. Steps of 5 ms are about 7 times the explicit limit.
+struct YankOutcome {
+  bool finite = false;
+  Real held_distance = 0;  // [cube edges] when released
+  Real shape_error = 0;    // after the release steps
+  int inverted_at_end = 0;
+};
+
+YankOutcome yank_and_release(MaterialModel model, Real damping, Real dt, int release_steps) {
+  static const TetMesh mesh = make_box_mesh(Vec3(kSize, kSize, kSize), Vec3i(4, 4, 4));
+  const int node = 4 + 5 * (4 + 5 * 4);
+  const Vec3 rest = row3(mesh.rest, node);
+  const Vec3 far = rest + 5 * kSize * Vec3(1, 1, 1).normalized();
+  ClampedCube cube(model, damping, mesh, mesh.rest);
+  YankOutcome out;
+  constexpr int kDragSteps = 20;
+  for (int n = 0; n < kDragSteps; ++n) {
+    cube.hold(node, rest + Real(n + 1) / kDragSteps * (far - rest));
+    if (!cube.step(dt, 1)) return out;
+  }
+  out.held_distance = (row3(cube.x(), node) - rest).norm() / kSize;
+  cube.release(node);
+  out.finite = cube.step(dt, release_steps);
+  out.shape_error = cube.shape_error();
+  out.inverted_at_end = cube.inverted_elements();
+  return out;
+}
+
+TEST(HardCaseRelease, NodeYankedFiveBodyLengthsAwayComesBackToRest) {
+  for (const auto model :
+       {MaterialModel::mass_spring, MaterialModel::linear, MaterialModel::corotational,
+        MaterialModel::corotational_polar, MaterialModel::stvk, MaterialModel::neohookean}) {
+    SCOPED_TRACE(name_of(model));
+    const YankOutcome out = yank_and_release(model, 0.1, 5e-3, 400);
+    ASSERT_TRUE(out.finite);
+    EXPECT_NEAR(out.held_distance, 5, 1e-12);
+    if (model == MaterialModel::mass_spring) {
+      // It cannot untangle the tets the snap-back turned inside out (no volume term), and says
+      // so: measured 112 inverted tets, 2.5 cube edges from rest.
+      EXPECT_TRUE(out.shape_error < 0.01 || out.inverted_at_end > 0) << out.shape_error;
+      continue;
+    }
+    EXPECT_LT(out.shape_error, 0.01);  // measured 1e-9 to 4e-9
+    EXPECT_EQ(out.inverted_at_end, 0);
+  }
+}
+
+// DISABLED: the Neo-Hookean model blows up after the release at 2 ms steps (about 3 times the
+// explicit limit; 5 ms passes above): measured 3.8e14 cube edges from rest with 176 inverted
+// tets, while every step still reports finite. Cause: the snap-back inverts tets, where the model's
+// exact Hessian (neo_hookean_fem.h) is indefinite; implicit Euler takes one linearisation per
+// step and CG stops at the negative curvature, so the step is not a solution and nothing limits it
+// (no definiteness fix of the element Hessians, no step control). Cold-starting CG does not help
+// here (5.4e16 cube edges); the assembled LDLT variant stops after 33 steps with finite = false.
+// Enable once implicit Euler copes with an indefinite K.
+TEST(HardCaseRelease, DISABLED_NeoHookeanYankReleasedAtThreeTimesTheExplicitLimit) {
+  const YankOutcome out = yank_and_release(MaterialModel::neohookean, 0.1, 2e-3, 1000);
+  ASSERT_TRUE(out.finite);
+  EXPECT_LT(out.shape_error, 0.01);
+}
+
+// DISABLED: corotational (QR) with damping 1 (critical for the mesh's highest mode) at 2 ms ends
+// tangled: 102 inverted tets, 5.8 cube edges from rest, every CG solve converged. QR's rotation
+// (r3 = r1 x r2, corotational_fem.h) leaves a set of neighbouring inverted tets that hold each
+// other in place; the polar variant recovers in the same run (1.5e-3). It does say so
+// (inverted_elements > 0), but does not recover.
+TEST(HardCaseRelease, DISABLED_CorotationalQrYankReleasedWithFullDamping) {
+  const YankOutcome out = yank_and_release(MaterialModel::corotational, 1.0, 2e-3, 500);
+  ASSERT_TRUE(out.finite);
+  EXPECT_LT(out.shape_error, 0.01);
+}
+
+// The 3 x 3 x 3 cube's top corner (3, 3, 3) belongs to one tet only (the corner tet of its cell,
+// box_mesher.h); mirroring it through the plane of its three neighbours pushes that tet through
+// its opposite face and leaves every other tet as it was.
+struct InvertedStart {
+  TetMesh mesh = make_box_mesh(Vec3(kSize, kSize, kSize), Vec3i(3, 3, 3));
+  Points x;
+  InvertedStart() {
+    x = mesh.rest;
+    const int corner = 3 + 4 * (3 + 4 * 3);
+    const Real cell = kSize / 3;
+    x.row(corner) -= Eigen::RowVector3d(1, 1, 1) * (2 * cell / 3);  // twice its altitude a / sqrt 3
+  }
+};
+
+struct InversionOutcome {
+  bool finite = false;
+  int inverted_at_start = 0;
+  int inverted_at_end = 0;
+  Real shape_error = 0;
+  int unconverged_steps = 0;  // steps whose CG solve missed its tolerance
+};
+
+InversionOutcome release_inverted(MaterialModel model, Real dt, int steps) {
+  static const InvertedStart start;
+  ClampedCube cube(model, 0.1, start.mesh, start.x);
+  InversionOutcome out;
+  out.inverted_at_start = cube.inverted_elements();
+  out.finite = cube.step(dt, steps);
+  out.inverted_at_end = cube.inverted_elements();
+  out.shape_error = cube.shape_error();
+  out.unconverged_steps = cube.unconverged_steps();
+  return out;
+}
+
+TEST(HardCaseRelease, TetPushedThroughItsOppositeFaceTurnsBack) {
+  // 1 ms is about the explicit limit of this mesh (0.96 ms); 1 s of simulated time.
+  for (const auto model :
+       {MaterialModel::mass_spring, MaterialModel::linear, MaterialModel::corotational,
+        MaterialModel::corotational_polar, MaterialModel::stvk, MaterialModel::neohookean}) {
+    SCOPED_TRACE(name_of(model));
+    const InversionOutcome out = release_inverted(model, 1e-3, 1000);
+    ASSERT_TRUE(out.finite);
+    EXPECT_EQ(out.inverted_at_start, 1);
+    if (restores_inversion(model)) {
+      // Measured 6e-5 (linear), 3.8e-4 (QR), 4.1e-4 (polar), 1.2e-3 (Neo-Hookean, whose CG stops
+      // at negative curvature in 2 of the steps while the tet is inverted).
+      EXPECT_LT(out.shape_error, 0.01);
+      EXPECT_EQ(out.inverted_at_end, 0);
+      // Linear and corotational K are positive semi-definite in every state, so every CG solve
+      // must converge; the Neo-Hookean K is indefinite while the tet is inverted.
+      if (model != MaterialModel::neohookean) {
+        EXPECT_EQ(out.unconverged_steps, 0);
+      }
+    } else {
+      // A mirrored tet is a rest state of these two: no force turns it back, and they say so.
+      EXPECT_EQ(out.inverted_at_end, 1);
+    }
+  }
+}
+
+// The same at 3 ms (3 times the explicit limit). The Neo-Hookean Hessian is indefinite while the
+// tet is inverted, so CG can stop at negative curvature; this once diverged (to 8.8e39 cube edges)
+// when ImplicitEuler kept the warm-start guess of such a broken-down solve. It now restarts cold.
+TEST(HardCaseRelease, NeoHookeanTetPushedThroughItsFaceAtThreeTimesTheLimit) {
+  const InversionOutcome out = release_inverted(MaterialModel::neohookean, 3e-3, 1000);
+  ASSERT_TRUE(out.finite);
+  EXPECT_LT(out.shape_error, 0.01);
+  EXPECT_EQ(out.inverted_at_end, 0);
+}
+
+}  // namespace
+}  // namespace incise::sim
