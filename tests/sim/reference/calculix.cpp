@@ -46,7 +46,8 @@ void write_input(const CalculixProblem& p, const std::filesystem::path& file) {
   out << "*STEP\n*STATIC\n*CLOAD\n";
   for (int i = 0; i < p.node_loads.rows(); ++i) {
     for (int d = 0; d < 3; ++d) {
-      if (p.node_loads(i, d) != 0) out << i + 1 << ", " << d + 1 << ", " << p.node_loads(i, d) << "\n";
+      if (p.node_loads(i, d) != 0)
+        out << i + 1 << ", " << d + 1 << ", " << p.node_loads(i, d) << "\n";
     }
   }
   out << "*NODE PRINT, NSET=NALL\nU\n*END STEP\n";
@@ -85,11 +86,12 @@ Points read_displacements(const std::filesystem::path& dat, int num_nodes) {
 
 Points solve_linear_static(const CalculixProblem& problem, const std::filesystem::path& dir) {
   const auto ccx = find_ccx();
-  if (!ccx) throw std::runtime_error("CalculiX (ccx) is not installed: apt-get install calculix-ccx");
+  if (!ccx)
+    throw std::runtime_error("CalculiX (ccx) is not installed: apt-get install calculix-ccx");
   std::filesystem::create_directories(dir);
   write_input(problem, dir / "job.inp");
-  const std::string command = "cd '" + dir.string() + "' && '" + ccx->string() +
-                              "' -i job > ccx.log 2>&1";
+  const std::string command =
+      "cd '" + dir.string() + "' && '" + ccx->string() + "' -i job > ccx.log 2>&1";
   const int status = std::system(command.c_str());
   if (status != 0) {
     std::ifstream log(dir / "ccx.log");
