@@ -1,5 +1,6 @@
 #include "calculix.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -20,7 +21,7 @@ namespace {
 void write_input(const CalculixProblem& p, const std::filesystem::path& file) {
   const auto& mesh = *p.mesh;
   std::ofstream out(file);
-  out.precision(17);
+  out.precision(15);  // ccx reads at most 20 characters per number
   out << "*HEADING\nincise reference problem\n*NODE, NSET=NALL\n";
   for (int i = 0; i < mesh.num_nodes(); ++i) {
     out << i + 1 << ", " << mesh.rest(i, 0) << ", " << mesh.rest(i, 1) << ", " << mesh.rest(i, 2)
@@ -35,19 +36,47 @@ void write_input(const CalculixProblem& p, const std::filesystem::path& file) {
       out << ", " << mesh.tets(t, k) + 1;
     out << "\n";
   }
-  out << "*MATERIAL, NAME=TISSUE\n*ELASTIC\n"
-      << p.youngs_modulus << ", " << p.poisson_ratio << "\n"
-      << "*SOLID SECTION, ELSET=EALL, MATERIAL=TISSUE\n";
-  if (!p.fixed_nodes.empty()) {
+  out << "*MATERIAL, NAME=TISSUE\n";
+  if (p.material == CalculixMaterial::linear_elastic) {
+    out << "*ELASTIC\n" << p.youngs_modulus << ", " << p.poisson_ratio << "\n";
+  } else {
+    const Real mu = p.youngs_modulus / (2 * (1 + p.poisson_ratio));
+    const Real bulk = p.youngs_modulus / (3 * (1 - 2 * p.poisson_ratio));
+    out << "*HYPERELASTIC, NEO HOOKE\n" << mu / 2 << ", " << 2 / bulk << "\n";
+  }
+  out << "*SOLID SECTION, ELSET=EALL, MATERIAL=TISSUE\n";
+  // Zero displacements belong to the model; non-zero ones to the step (ccx refuses them before).
+  if (!p.fixed_nodes.empty() || !p.prescribed.empty()) {
     out << "*BOUNDARY\n";
     for (const int n : p.fixed_nodes)
       out << n + 1 << ", 1, 3, 0.\n";
+    for (const auto& d : p.prescribed) {
+      if (d.value == 0) out << d.node + 1 << ", " << d.dof + 1 << ", " << d.dof + 1 << ", 0.\n";
+    }
   }
-  out << "*STEP\n*STATIC\n*CLOAD\n";
+  if (p.material == CalculixMaterial::linear_elastic) {
+    out << "*STEP\n*STATIC\n";
+  } else {
+    const Real increment = 1.0 / std::max(1, p.increments);
+    out << "*STEP, NLGEOM, INC=1000\n*STATIC\n"
+        << increment << ", 1.0, 1e-6, " << increment << "\n";
+  }
+  const bool moves = std::any_of(p.prescribed.begin(), p.prescribed.end(),
+                                 [](const PrescribedDof& d) { return d.value != 0; });
+  if (moves) {
+    out << "*BOUNDARY\n";
+    for (const auto& d : p.prescribed) {
+      if (d.value != 0) {
+        out << d.node + 1 << ", " << d.dof + 1 << ", " << d.dof + 1 << ", " << d.value << "\n";
+      }
+    }
+  }
+  if (p.node_loads.rows() > 0) out << "*CLOAD\n";
   for (int i = 0; i < p.node_loads.rows(); ++i) {
     for (int d = 0; d < 3; ++d) {
-      if (p.node_loads(i, d) != 0)
+      if (p.node_loads(i, d) != 0) {
         out << i + 1 << ", " << d + 1 << ", " << p.node_loads(i, d) << "\n";
+      }
     }
   }
   out << "*NODE PRINT, NSET=NALL\nU\n*END STEP\n";
@@ -62,7 +91,8 @@ Points read_displacements(const std::filesystem::path& dat, int num_nodes) {
   int read = 0;
   while (std::getline(in, line)) {
     if (line.find("displacements") != std::string::npos) {
-      in_block = true;
+      in_block = true;  // one block per printed increment: the last one is the end of the step
+      read = 0;
       continue;
     }
     if (!in_block) continue;
