@@ -16,51 +16,17 @@
 #include "sim/mesh/box_mesher.h"
 #include "sim/mesh/msh_writer.h"
 
+#include "cli_fixture.h"
+
 namespace incise::sim {
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+using test::CliRun;
 
-struct CliRun {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-std::string read_file(const fs::path& path) {
-  std::ifstream stream(path);
-  std::ostringstream text;
-  text << stream.rdbuf();
-  return text.str();
-}
-
-class Cli : public ::testing::Test {
+class Cli : public test::CliFixture {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("incise_cli_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  fs::path write(const std::string& name, const std::string& text) {
-    const fs::path path = dir_ / name;
-    std::ofstream(path) << text;
-    return path;
-  }
-
-  // Runs incise with the arguments (already shell-quoted where needed) in the temp folder.
-  CliRun incise(const std::string& arguments) {
-    const std::string command = "cd '" + dir_.string() + "' && '" INCISE_CLI_PATH "' " + arguments +
-                                " > out.txt 2> err.txt";
-    const int status = std::system(command.c_str());
-    CliRun run;
-    run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    run.out = read_file(dir_ / "out.txt");
-    run.err = read_file(dir_ / "err.txt");
-    return run;
-  }
-
   static json small_scene() {
     return json::parse(R"({
       "mesh": {"box": {"size": [0.02, 0.02, 0.04], "cells": [2, 2, 4]}},
@@ -70,8 +36,6 @@ class Cli : public ::testing::Test {
       "solver": {"integrator": "symplectic_euler", "dt": 1e-4, "steps": 3000}
     })");
   }
-
-  fs::path dir_;
 };
 
 // Exactly one line, ending in a newline.
@@ -84,7 +48,7 @@ TEST_F(Cli, SolvesASceneAndWritesTheResult) {
   const CliRun run = incise("solve scene.json --out result.json");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_EQ(run.err, "");
-  const json result = json::parse(read_file(dir_ / "result.json"));
+  const json result = json::parse(test::read_file(dir_ / "result.json"));
   EXPECT_EQ(result.at("nodes"), 3 * 3 * 5);
   EXPECT_EQ(result.at("tets"), 5 * 2 * 2 * 4);
   EXPECT_EQ(result.at("rest").size(), 45u);
@@ -102,7 +66,7 @@ TEST_F(Cli, SolvesASceneAndWritesTheResult) {
 TEST_F(Cli, TheExampleSceneSettles) {
   const CliRun run = incise("solve '" INCISE_SCENES_DIR "/clamped_box.json' --out result.json");
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  const json result = json::parse(read_file(dir_ / "result.json"));
+  const json result = json::parse(test::read_file(dir_ / "result.json"));
   EXPECT_EQ(result.at("finite"), true);
   EXPECT_LT(result.at("max_speed").get<double>(), 1e-6);
 }
@@ -155,7 +119,7 @@ TEST_F(Cli, NonFiniteStateGivesExitCode1AndAResult) {
   EXPECT_EQ(run.exit_code, 1);
   EXPECT_TRUE(one_line(run.err)) << run.err;
   EXPECT_NE(run.err.find("non-finite"), std::string::npos) << run.err;
-  const json result = json::parse(read_file(dir_ / "result.json"));
+  const json result = json::parse(test::read_file(dir_ / "result.json"));
   EXPECT_EQ(result.at("finite"), false);
   EXPECT_LT(result.at("steps").get<int>(), 100000);
 }
@@ -206,7 +170,7 @@ TEST_F(Cli, MeshFilesModelsIntegratorsAndVtuOutput) {
   write("static.json", scene.dump());
   CliRun run = incise("solve static.json --out r.json");
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  const json result = json::parse(read_file(dir_ / "r.json"));
+  const json result = json::parse(test::read_file(dir_ / "r.json"));
   EXPECT_EQ(result.at("tets"), box.num_tets());
   EXPECT_TRUE(result.at("solver").at("converged").get<bool>());
   EXPECT_LT(result.at("solver").at("relative_residual").get<double>(), 1e-10);
@@ -218,7 +182,7 @@ TEST_F(Cli, MeshFilesModelsIntegratorsAndVtuOutput) {
     }
   }
   EXPECT_DOUBLE_EQ(lowest_top, -0.002);
-  const std::string vtu = read_file(dir_ / "final.vtu");
+  const std::string vtu = test::read_file(dir_ / "final.vtu");
   EXPECT_NE(vtu.find("NumberOfCells=\"" + std::to_string(box.num_tets()) + "\""),
             std::string::npos);
 
@@ -236,7 +200,7 @@ TEST_F(Cli, MeshFilesModelsIntegratorsAndVtuOutput) {
   write("sphere.json", generated.dump());
   run = incise("solve sphere.json --out s.json");
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  const json sphere = json::parse(read_file(dir_ / "s.json"));
+  const json sphere = json::parse(test::read_file(dir_ / "s.json"));
   EXPECT_GT(sphere.at("tets").get<int>(), 20);
   // Every generated node lies within the sphere (up to the meshing tolerance).
   for (const auto& p : sphere.at("rest")) {

@@ -16,23 +16,13 @@
 #include "sim/mesh/tetgen_writer.h"
 #include "test_text.h"
 
+#include "cli_fixture.h"
+
 namespace incise::sim {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct CliRun {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-std::string read_text(const fs::path& path) {
-  std::ifstream stream(path);
-  std::ostringstream text;
-  text << stream.rdbuf();
-  return text.str();
-}
+using test::CliRun;
 
 // The value after "key: " on the line that starts with key.
 std::string value_of(const std::string& out, const std::string& key) {
@@ -42,31 +32,7 @@ std::string value_of(const std::string& out, const std::string& key) {
   return out.substr(start, out.find('\n', start) - start);
 }
 
-class MeshInfoCli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("incise_mesh_info_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  void write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-  }
-
-  CliRun incise(const std::string& arguments) {
-    const std::string command = "cd '" + dir_.string() + "' && '" INCISE_CLI_PATH "' " + arguments +
-                                " > out.txt 2> err.txt";
-    const int status = std::system(command.c_str());
-    CliRun run;
-    run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    run.out = read_text(dir_ / "out.txt");
-    run.err = read_text(dir_ / "err.txt");
-    return run;
-  }
-
-  fs::path dir_;
-};
+class MeshInfoCli : public test::CliFixture {};
 
 TEST_F(MeshInfoCli, ReportsCountsLabelsBoxVolumeAndQuality) {
   // 2 x 2 x 1 cubic cells of edge 0.05: 18 nodes, 20 tets (4 regular, 16 right-corner).

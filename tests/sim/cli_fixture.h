@@ -1,0 +1,62 @@
+#pragma once
+// Runs the real incise binary (INCISE_CLI_PATH, from CMake) as a user would: in a private
+// temporary folder, arguments as on a shell line, stdout, stderr and the exit code captured.
+// Shared by the CLI tests of sim_tests and sim_mesh_io_tests.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace incise::sim::test {
+
+struct CliRun {
+  int exit_code = -1;  // -1 when the process did not exit normally
+  std::string out;
+  std::string err;
+};
+
+inline std::string read_file(const std::filesystem::path& path) {
+  std::ifstream stream(path);
+  std::ostringstream text;
+  text << stream.rdbuf();
+  return text.str();
+}
+
+class CliFixture : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("incise_cli_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_suite()->name()) + "_" +
+            std::to_string(::getpid()));
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  std::filesystem::path write(const std::string& name, const std::string& text) {
+    const std::filesystem::path path = dir_ / name;
+    std::ofstream(path) << text;
+    return path;
+  }
+
+  // Runs incise with the arguments (already shell-quoted where needed) in the temp folder.
+  CliRun incise(const std::string& arguments) {
+    const std::string command = "cd '" + dir_.string() + "' && '" INCISE_CLI_PATH "' " + arguments +
+                                " > out.txt 2> err.txt";
+    const int status = std::system(command.c_str());
+    CliRun run;
+    run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    run.out = read_file(dir_ / "out.txt");
+    run.err = read_file(dir_ / "err.txt");
+    return run;
+  }
+
+  std::filesystem::path dir_;
+};
+
+}  // namespace incise::sim::test
