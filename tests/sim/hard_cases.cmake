@@ -8,4 +8,5 @@ add_executable(sim_hard_cases_tests
   hard_cases/difficult_inputs_test.cpp
 )
 target_link_libraries(sim_hard_cases_tests PRIVATE incise_sim GTest::gtest_main)
+target_include_directories(sim_hard_cases_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
 gtest_discover_tests(sim_hard_cases_tests DISCOVERY_TIMEOUT 30 PROPERTIES TIMEOUT 300)

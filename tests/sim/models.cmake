@@ -7,4 +7,5 @@ add_executable(sim_models_tests
   models/tet_elements_test.cpp
 )
 target_link_libraries(sim_models_tests PRIVATE incise_sim GTest::gtest_main)
+target_include_directories(sim_models_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
 gtest_discover_tests(sim_models_tests DISCOVERY_TIMEOUT 30)

@@ -9,6 +9,7 @@
 #include <iostream>
 #include <string>
 
+#include "closed_forms.h"
 #include "reference/calculix.h"
 #include "sim/mesh/box_mesher.h"
 #include "sim/scene/scene_error.h"
@@ -76,26 +77,6 @@ TEST(SceneRun, LinearBlockCompressionMatchesTheClosedForm) {
   }
 }
 
-// The lateral stretch of seed 003's compressible Neo-Hookean block under uniaxial stretch l1 with
-// traction-free sides (its eq. 15): P22 = mu l2 + (lambda (J - 1) - mu / J) J / l2 = 0, J = l1
-// l2^2, solved here by Newton's method on l2.
-Real neo_hookean_lateral_stretch(Real l1) {
-  const Real mu = kE / (2 * (1 + kNu));
-  const Real lambda = kE * kNu / ((1 + kNu) * (1 - 2 * kNu));
-  auto p22 = [&](Real l2) {
-    const Real J = l1 * l2 * l2;
-    return mu * l2 + (lambda * (J - 1) - mu / J) * J / l2;
-  };
-  Real l2 = 1;
-  for (int i = 0; i < 100; ++i) {
-    const Real h = 1e-7;
-    const Real step = p22(l2) / ((p22(l2 + h) - p22(l2 - h)) / (2 * h));
-    l2 -= step;
-    if (std::abs(step) < 1e-15) break;
-  }
-  return l2;
-}
-
 TEST(SceneRun, NeoHookeanBlockCompressionMatchesSeed003) {
   for (const Real strain : {0.01, 0.05, 0.10, 0.20}) {
     Scene scene = block_scene(MaterialModel::neohookean, Integrator::static_equilibrium);
@@ -103,7 +84,8 @@ TEST(SceneRun, NeoHookeanBlockCompressionMatchesSeed003) {
     compress(scene, strain);
     const auto result = run_scene_on(scene, box_of(scene));
     ASSERT_TRUE(result.converged) << strain;
-    const Real l2 = neo_hookean_lateral_stretch(1 - strain);
+    const auto lame = test::lame_parameters(kE, kNu);
+    const Real l2 = test::neo_hookean_lateral_stretch(1 - strain, lame.mu, lame.lambda);
     EXPECT_LT(relative_error(result,
                              [&](const Vec3& p) {
                                return Vec3((l2 - 1) * p.x(), (l2 - 1) * p.y(), -strain * p.z());

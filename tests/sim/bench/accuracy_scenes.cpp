@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "closed_forms.h"
 #include "sim/mesh/box_mesher.h"
 
 namespace incise::bench {
@@ -11,26 +12,6 @@ namespace {
 using sim::Box3;
 
 constexpr Real kEps = 1e-9;  // selection boxes drawn on a face
-
-// Seed 003, eq. 15: with lateral faces traction-free, P22 = mu l2 + (lambda (J - 1) - mu / J) J /
-// l2 = 0 with J = l1 l2^2; Newton's method on l2 (central-difference derivative).
-Real neo_hookean_lateral_stretch(Real l1) {
-  const Real mu = kYoungsModulus / (2 * (1 + kPoissonRatio));
-  const Real lambda =
-      kYoungsModulus * kPoissonRatio / ((1 + kPoissonRatio) * (1 - 2 * kPoissonRatio));
-  const auto p22 = [&](Real l2) {
-    const Real j = l1 * l2 * l2;
-    return mu * l2 + (lambda * (j - 1) - mu / j) * j / l2;
-  };
-  Real l2 = 1;
-  for (int i = 0; i < 100; ++i) {
-    const Real h = 1e-7;
-    const Real step = p22(l2) / ((p22(l2 + h) - p22(l2 - h)) / (2 * h));
-    l2 -= step;
-    if (std::abs(step) < 1e-15) break;
-  }
-  return l2;
-}
 
 sim::Scene soft_tissue_scene() {
   sim::Scene scene;
@@ -75,7 +56,8 @@ std::optional<Points> compression_closed_form(sim::MaterialModel model, Real str
   if (model == sim::MaterialModel::linear) {
     lateral = kPoissonRatio * strain;
   } else if (model == sim::MaterialModel::neohookean) {
-    lateral = neo_hookean_lateral_stretch(1 - strain) - 1;
+    const auto lame = sim::test::lame_parameters(kYoungsModulus, kPoissonRatio);
+    lateral = sim::test::neo_hookean_lateral_stretch(1 - strain, lame.mu, lame.lambda) - 1;
   } else {
     return std::nullopt;
   }

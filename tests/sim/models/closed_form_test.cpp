@@ -9,6 +9,8 @@
 #include "sim/models/linear_fem.h"
 #include "sim/models/neo_hookean_fem.h"
 
+#include "closed_forms.h"
+
 namespace incise::sim::testing {
 namespace {
 
@@ -18,13 +20,6 @@ constexpr Real kMu = 1034.5;
 ElementMaterial brain() {
   return {kMu * (3 * kLambda + 2 * kMu) / (kLambda + kMu), kLambda / (2 * kLambda + 2 * kMu), 1040,
           0};
-}
-
-// Seed 003 eq. 15: the lateral stretch of a uniaxial stretch lambda_1 with free lateral faces.
-Real neo_hookean_lateral_stretch(Real l1) {
-  const Real root =
-      std::sqrt((kMu - kLambda * l1) * (kMu - kLambda * l1) + 4 * kLambda * l1 * l1 * kMu);
-  return std::sqrt((-kMu + kLambda * l1 + root) / (2 * kLambda * l1 * l1));
 }
 
 // Seed 003 eq. 4, S = mu (I - C^-1) + lambda J (J - 1) C^-1, written independently of the kernel.
@@ -79,7 +74,7 @@ TEST(NeoHookeanClosedForm, UniaxialCompressionMatchesEquation15) {
   NeoHookeanFem model(mesh, {brain()});
   for (Real compression : {0.01, 0.05, 0.10, 0.20}) {
     const Real l1 = 1 - compression;
-    const Real l2 = neo_hookean_lateral_stretch(l1);
+    const Real l2 = sim::test::neo_hookean_lateral_stretch(l1, kMu, kLambda);
     EXPECT_GT(l2, 1);  // compressible: the block bulges
     const Mat3 f = Vec3(l1, l2, l2).asDiagonal();
     const Mat3 s = equation_4(f);
