@@ -48,6 +48,7 @@ struct CorotationalKernel {
   Mat3 stress_differential(const State& state, const Mat3& d_deformation, const Lame& lame) const {
     return state.rotation * linear_stress(sym(state.rotation.transpose() * d_deformation), lame);
   }
+  Mat3 stiffness_frame(const State& state) const { return state.rotation; }
   Mat3 damping_frame(const State& state) const { return state.deformation; }
 };
 

@@ -26,6 +26,7 @@ struct LinearKernel {
   Mat3 stress_differential(const State&, const Mat3& d_deformation, const Lame& lame) const {
     return linear_stress(sym(d_deformation), lame);
   }
+  Mat3 stiffness_frame(const State&) const { return Mat3::Identity(); }
   Mat3 damping_frame(const State&) const { return Mat3::Identity(); }
 };
 

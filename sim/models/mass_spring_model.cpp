@@ -34,6 +34,7 @@ MassSpringModel::MassSpringModel(const TetMesh& mesh, std::vector<ElementMateria
 
 void MassSpringModel::update_topology(const TetMesh& mesh) {
   rebuild(mesh);
+  ++revision_;
 }
 
 void MassSpringModel::rebuild(const TetMesh& mesh) {
@@ -150,6 +151,23 @@ void MassSpringModel::add_damping_times(const Points& dv, Points& out) const {
     const Vec3 d_dv = damping_(s) * u.dot(row3(dv, i) - row3(dv, j)) * u;
     out.row(i) += d_dv.transpose();
     out.row(j) -= d_dv.transpose();
+  }
+}
+
+void MassSpringModel::add_damping_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const {
+  for (Eigen::Index s = 0; s < springs_.rows(); ++s) {
+    const int i = springs_(s, 0);
+    const int j = springs_(s, 1);
+    const Vec3 u = direction_.row(s).transpose();
+    const Mat3 d = damping_(s) * u * u.transpose();  // the dashpot along the spring
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) {
+        triplets.emplace_back(3 * i + r, 3 * i + c, d(r, c));
+        triplets.emplace_back(3 * j + r, 3 * j + c, d(r, c));
+        triplets.emplace_back(3 * i + r, 3 * j + c, -d(r, c));
+        triplets.emplace_back(3 * j + r, 3 * i + c, -d(r, c));
+      }
+    }
   }
 }
 

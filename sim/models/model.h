@@ -11,7 +11,9 @@
 //   energy     E(x), the elastic potential [J]; f_elastic = -dE/dx
 // A model is built on a mesh's rest configuration and per-tet materials (from tissue labels).
 #include <Eigen/Sparse>
+#include <cstdint>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "sim/core/types.h"
@@ -39,6 +41,24 @@ enum class MassLumping {
   consistent,  // the full consistent mass matrix (only where a solver asks for it)
 };
 
+// Where an assembled solver keeps the 3x3 blocks it receives from Model::add_system_blocks: block
+// k adds to the column-major 3x3 values at values + slots[k], or, for slots[k] < 0, adds its
+// transpose at values + (-slots[k] - 1) (a solver that stores only one triangle of the symmetric
+// matrix keeps block (i, j) with i > j as the transpose of (j, i)).
+struct BlockTarget {
+  Real* values = nullptr;
+  const int* slots = nullptr;
+
+  void add(std::size_t k, const Mat3& block) const {
+    const int slot = slots[k];
+    if (slot >= 0) {
+      Eigen::Map<Mat3>(values + slot) += block;
+    } else {
+      Eigen::Map<Mat3>(values + (-slot - 1)) += block.transpose();
+    }
+  }
+};
+
 class Model {
  public:
   virtual ~Model() = default;
@@ -62,6 +82,25 @@ class Model {
   // of freedom (node i's x, y, z are 3i, 3i+1, 3i+2), appended to triplets; duplicates add up. For
   // the assembled (block-sparse) solver variant.
   virtual void add_stiffness_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const = 0;
+
+  // D as (row, column, value) entries, with the same conventions as add_stiffness_triplets (D of
+  // the last prepare_stiffness where it depends on the state).
+  virtual void add_damping_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const = 0;
+
+  // Block assembly of the symmetric b D + c K for the assembled solvers, without a triplet per
+  // entry and step. system_blocks appends node pairs (i, j), in an order that stays fixed until
+  // the topology changes (topology_revision); add_system_blocks then adds block k's values through
+  // target.add(k, block). The matrix is the sum over the blocks of block k at (i, j) and, for
+  // i != j, its transpose at (j, i): a model lists each off-diagonal pair of an element once.
+  // Duplicate pairs add up. The defaults go through the triplets (those on or below the block
+  // diagonal, one block each: correct, slow, and add_system_blocks allocates); the FEM models
+  // override them with the 10 node pairs of each tet.
+  virtual void system_blocks(std::vector<std::pair<int, int>>& blocks) const;
+  virtual void add_system_blocks(Real damping_scale, Real stiffness_scale,
+                                 const BlockTarget& target) const;
+  // Changes whenever update_topology changed the elements (so that a solver rebuilds its sparsity
+  // pattern); models whose topology never changes may keep the default.
+  virtual std::uint64_t topology_revision() const { return 0; }
 
   // Elastic potential energy at x [J].
   virtual Real potential_energy(const Points& x) const = 0;

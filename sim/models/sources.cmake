@@ -2,6 +2,7 @@
 set(INCISE_SIM_MODELS_SOURCES ${INCISE_SIM_MODELS_SOURCES}
   models/corotational_fem.cpp
   models/linear_fem.cpp
+  models/model.cpp
   models/mass_spring_model.cpp
   models/neo_hookean_fem.cpp
   models/rotation_extraction.cpp

@@ -23,6 +23,8 @@
 // net torque (P_v F^T = F S_v F^T is symmetric), and D is symmetric positive semi-definite.
 // add_forces uses the frame at x; add_damping_times uses the frame of the last prepare_stiffness.
 #include <cmath>
+#include <concepts>
+#include <cstdint>
 #include <vector>
 
 #include "sim/models/model.h"
@@ -45,6 +47,26 @@ inline Mat3 linear_stress(const Mat3& e, const Lame& lame) {
 inline Mat3 sym(const Mat3& a) {
   return Real(0.5) * (a + a.transpose());
 }
+
+// The 3x3 block (b, a) of the element matrix of the linear elastic stress in a frame A,
+// dP = A C(sym(A^T dF)), for nodes with shape-function gradients g_a, g_b: the force on node b
+// from a unit move u of node a is
+//   K_ba u = V0 [mu (g_a . g_b) A A^T + mu h_a h_b^T + lambda h_b h_a^T] u,   h = A g
+// (dF = u g_a^T, then C(sym(A^T dF)) g_b expanded). A = R gives the corotational stiffness
+// R K_rest R^T, A = I the linear one, A = F the Kelvin-Voigt damping of the rotation-invariant
+// models.
+inline Mat3 frame_block(const Vec3& g_a, const Vec3& g_b, const Vec3& h_a, const Vec3& h_b,
+                        const Mat3& frame_gram, const Lame& lame, Real volume) {
+  return volume * (lame.mu * g_a.dot(g_b) * frame_gram + lame.mu * h_a * h_b.transpose() +
+                   lame.lambda * h_b * h_a.transpose());
+}
+
+// The kernels whose stress differential is the linear one in a frame (stiffness_frame(state)):
+// their element stiffness comes from frame_block, 5-10x cheaper than column by column.
+template <class Kernel>
+concept FrameLinearKernel = requires(const Kernel& k, const typename Kernel::State& s) {
+  { k.stiffness_frame(s) } -> std::convertible_to<Mat3>;
+};
 
 // |det F| below this counts as a degenerate element in ModelHealth (a millionth of the rest
 // volume).
@@ -118,11 +140,7 @@ class TetFemModel : public Model {
   void add_stiffness_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const override {
     for (int t = 0; t < elements_.num_tets(); ++t) {
       const std::size_t ts = static_cast<std::size_t>(t);
-      // Shape-function gradients g_a (columns): g_k is row k - 1 of Dm^-1, g_0 = -(g_1 + g_2 +
-      // g_3).
-      Eigen::Matrix<Real, 3, 4> g;
-      g.rightCols<3>() = elements_.rest_inverse[ts].transpose();
-      g.col(0) = -g.rightCols<3>().rowwise().sum();
+      const Gradients g = gradients(t);
       const Real volume = elements_.rest_volume(t);
       // Column (a, c) of the element K: a unit displacement of node a along c, dF = e_c g_a^T.
       for (int a = 0; a < 4; ++a) {
@@ -142,6 +160,103 @@ class TetFemModel : public Model {
     }
   }
 
+  void add_damping_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const override {
+    for (int t = 0; t < elements_.num_tets(); ++t) {
+      const Real beta = elements_.damping(t);
+      const std::size_t ts = static_cast<std::size_t>(t);
+      const Mat3 frame = kernel_.damping_frame(states_[ts]);
+      const Mat3 gram = frame * frame.transpose();
+      const Gradients g = gradients(t);
+      const Gradients h = frame * g;
+      for (int a = 0; a < 4; ++a) {
+        for (int b = 0; b < 4; ++b) {
+          const Mat3 block = beta * frame_block(g.col(a), g.col(b), h.col(a), h.col(b), gram,
+                                                elements_.lame[ts], elements_.rest_volume(t));
+          for (int r = 0; r < 3; ++r) {
+            for (int c = 0; c < 3; ++c) {
+              triplets.emplace_back(3 * elements_.tets(t, b) + r, 3 * elements_.tets(t, a) + c,
+                                    block(r, c));
+            }
+          }
+        }
+      }
+    }
+  }
+
+  // 10 blocks per tet, (b, a) for b >= a (Model: the off-diagonal ones are mirrored).
+  void system_blocks(std::vector<std::pair<int, int>>& blocks) const override {
+    for (int t = 0; t < elements_.num_tets(); ++t) {
+      for (int a = 0; a < 4; ++a) {
+        for (int b = a; b < 4; ++b)
+          blocks.emplace_back(elements_.tets(t, b), elements_.tets(t, a));
+      }
+    }
+  }
+
+  void add_system_blocks(Real damping_scale, Real stiffness_scale,
+                         const BlockTarget& target) const override {
+    for (int t = 0; t < elements_.num_tets(); ++t) {
+      const std::size_t ts = static_cast<std::size_t>(t);
+      const Lame& lame = elements_.lame[ts];
+      const Real volume = elements_.rest_volume(t);
+      const Gradients g = gradients(t);
+      const Real beta = damping_scale * elements_.damping(t);
+      const Mat3 damping_frame = kernel_.damping_frame(states_[ts]);
+      const Mat3 damping_gram = damping_frame * damping_frame.transpose();
+      const Gradients hd = damping_frame * g;
+      if constexpr (FrameLinearKernel<Kernel>) {
+        // frame_block for the stiffness (frame A, scale c) and the damping (frame A_d, scale b
+        // beta) summed with the scalars folded in once per tet:
+        //   block = (g_a . g_b) S + h_a p_b^T + q_b h_a^T + hd_a pd_b^T + qd_b hd_a^T.
+        const Mat3 frame = kernel_.stiffness_frame(states_[ts]);
+        const Gradients h = frame * g;
+        const Real k_scale = stiffness_scale * volume;
+        const Real d_scale = beta * volume;
+        const Mat3 gram =
+            (k_scale * lame.mu) * (frame * frame.transpose()) + (d_scale * lame.mu) * damping_gram;
+        const Gradients p = (k_scale * lame.mu) * h;
+        const Gradients q = (k_scale * lame.lambda) * h;
+        const Gradients pd = (d_scale * lame.mu) * hd;
+        const Gradients qd = (d_scale * lame.lambda) * hd;
+        std::size_t k = 10 * ts;
+        for (int a = 0; a < 4; ++a) {
+          for (int b = a; b < 4; ++b) {
+            Mat3 block = g.col(a).dot(g.col(b)) * gram;
+            block.noalias() += h.col(a) * p.col(b).transpose();
+            block.noalias() += q.col(b) * h.col(a).transpose();
+            if (beta > 0) {
+              block.noalias() += hd.col(a) * pd.col(b).transpose();
+              block.noalias() += qd.col(b) * hd.col(a).transpose();
+            }
+            target.add(k++, block);
+          }
+        }
+      } else {
+        // Column (a, c) of the element K: a unit move of node a along c, dF = e_c g_a^T.
+        std::size_t k = 10 * ts;
+        for (int a = 0; a < 4; ++a) {
+          Mat3 columns[4];
+          for (int c = 0; c < 3; ++c) {
+            Mat3 d_deformation = Mat3::Zero();
+            d_deformation.row(c) = g.col(a).transpose();
+            const Mat3 dp = kernel_.stress_differential(states_[ts], d_deformation, lame);
+            for (int b = a; b < 4; ++b)
+              columns[b].col(c) = (stiffness_scale * volume) * dp * g.col(b);
+          }
+          for (int b = a; b < 4; ++b) {
+            if (beta > 0) {
+              columns[b] += beta * frame_block(g.col(a), g.col(b), hd.col(a), hd.col(b),
+                                               damping_gram, lame, volume);
+            }
+            target.add(k++, columns[b]);
+          }
+        }
+      }
+    }
+  }
+
+  std::uint64_t topology_revision() const override { return revision_; }
+
   Real potential_energy(const Points& x) const override {
     Real energy = 0;
     for (int t = 0; t < elements_.num_tets(); ++t) {
@@ -152,7 +267,10 @@ class TetFemModel : public Model {
     return energy;
   }
 
-  void update_topology(const TetMesh& mesh) override { rebuild(mesh); }
+  void update_topology(const TetMesh& mesh) override {
+    rebuild(mesh);
+    ++revision_;
+  }
 
   ModelHealth health() const override { return health_; }
 
@@ -160,6 +278,17 @@ class TetFemModel : public Model {
   const Kernel& kernel() const { return kernel_; }
 
  private:
+  using Gradients = Eigen::Matrix<Real, 3, 4>;
+
+  // Shape-function gradients g_a of tet t (columns): g_k is row k - 1 of Dm^-1, g_0 = -(g_1 + g_2
+  // + g_3).
+  Gradients gradients(int t) const {
+    Gradients g;
+    g.rightCols<3>() = elements_.rest_inverse[static_cast<std::size_t>(t)].transpose();
+    g.col(0) = -g.rightCols<3>().rowwise().sum();
+    return g;
+  }
+
   // Element data from the mesh's rest state; the linearisation starts at rest.
   void rebuild(const TetMesh& mesh) {
     elements_ = make_tet_elements(mesh, materials_);
@@ -174,6 +303,7 @@ class TetFemModel : public Model {
   TetElements elements_;
   std::vector<typename Kernel::State> states_;
   ModelHealth health_;
+  std::uint64_t revision_ = 0;
 };
 
 }  // namespace incise::sim

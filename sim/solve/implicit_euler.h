@@ -52,6 +52,8 @@ class ImplicitEuler {
   void reset() { has_last_dv_ = false; }
 
   const ImplicitEulerSettings& settings() const { return settings_; }
+  // The linear system of the last step (its matrix, pattern and preconditioner statistics).
+  const ConstrainedSystem& system() const { return system_; }
 
  private:
   ImplicitEulerSettings settings_;

@@ -79,12 +79,13 @@ void BM_Model(benchmark::State& state, MaterialModel model_kind, Op op) {
       benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
-void BM_ImplicitStep(benchmark::State& state, sim::LinearSolver solver) {
+void BM_ImplicitStep(benchmark::State& state, sim::LinearSolver solver,
+                     sim::Preconditioner preconditioner) {
   const int thousand_tets = static_cast<int>(state.range(0));
   const sim::TetMesh mesh = sim::make_box_mesh(Vec3::Constant(kSize), cells_for(thousand_tets));
   auto model = sim::make_model(tissue_scene(MaterialModel::corotational), mesh);
   sim::ImplicitEulerSettings settings;
-  settings.linear = {solver, sim::Preconditioner::jacobi, sim::CgSettings{1e-6, 2000}};
+  settings.linear = {solver, preconditioner, sim::CgSettings{1e-6, 2000}};
   sim::ImplicitEuler implicit(settings);
   // Clamped at x = 0, hanging sideways under gravity.
   sim::Prescribed prescribed;
@@ -102,6 +103,7 @@ void BM_ImplicitStep(benchmark::State& state, sim::LinearSolver solver) {
   for (int i = 0; i < 2; ++i)
     implicit.step(dt, gravity, no_loads, prescribed, *model, x, v);
   double iterations = 0, converged = 0;
+  const int factorisations_before = implicit.system().factorisations();
   for (auto _ : state) {
     const auto report = implicit.step(dt, gravity, no_loads, prescribed, *model, x, v);
     iterations += report.iterations;
@@ -111,6 +113,11 @@ void BM_ImplicitStep(benchmark::State& state, sim::LinearSolver solver) {
   state.counters["tets"] = static_cast<double>(mesh.num_tets());
   state.counters["cg_iters"] = benchmark::Counter(iterations, benchmark::Counter::kAvgIterations);
   state.counters["converged"] = benchmark::Counter(converged, benchmark::Counter::kAvgIterations);
+  if (preconditioner == sim::Preconditioner::incomplete_cholesky) {
+    state.counters["factorisations"] =
+        benchmark::Counter(implicit.system().factorisations() - factorisations_before,
+                           benchmark::Counter::kAvgIterations);
+  }
 }
 
 #define INCISE_MODEL_BENCHMARKS(kind)                                                           \
@@ -132,21 +139,20 @@ INCISE_MODEL_BENCHMARKS(corotational_polar);
 INCISE_MODEL_BENCHMARKS(stvk);
 INCISE_MODEL_BENCHMARKS(neohookean);
 
-BENCHMARK_CAPTURE(BM_ImplicitStep, matrix_free_cg, sim::LinearSolver::matrix_free_cg)
-    ->Arg(6)
-    ->Arg(24)
-    ->Unit(benchmark::kMillisecond)
-    ->Iterations(10);
-BENCHMARK_CAPTURE(BM_ImplicitStep, assembled_cg, sim::LinearSolver::assembled_cg)
-    ->Arg(6)
-    ->Arg(24)
-    ->Unit(benchmark::kMillisecond)
-    ->Iterations(10);
-BENCHMARK_CAPTURE(BM_ImplicitStep, assembled_ldlt, sim::LinearSolver::assembled_ldlt)
-    ->Arg(6)
-    ->Arg(24)
-    ->Unit(benchmark::kMillisecond)
-    ->Iterations(4);
+#define INCISE_IMPLICIT_BENCHMARK(solver, preconditioner, repeats)                         \
+  BENCHMARK_CAPTURE(BM_ImplicitStep, solver##_##preconditioner, sim::LinearSolver::solver, \
+                    sim::Preconditioner::preconditioner)                                   \
+      ->Arg(6)                                                                             \
+      ->Arg(24)                                                                            \
+      ->Unit(benchmark::kMillisecond)                                                      \
+      ->Iterations(repeats)
+
+INCISE_IMPLICIT_BENCHMARK(matrix_free_cg, jacobi, 10);
+INCISE_IMPLICIT_BENCHMARK(matrix_free_cg, block_jacobi, 10);
+INCISE_IMPLICIT_BENCHMARK(assembled_cg, jacobi, 10);
+INCISE_IMPLICIT_BENCHMARK(assembled_cg, block_jacobi, 10);
+INCISE_IMPLICIT_BENCHMARK(assembled_cg, incomplete_cholesky, 20);
+INCISE_IMPLICIT_BENCHMARK(assembled_ldlt, none, 4);
 
 }  // namespace
 }  // namespace incise::bench

@@ -49,6 +49,21 @@ void LinearModel::add_stiffness_triplets(std::vector<Eigen::Triplet<Real>>& trip
   }
 }
 
+void LinearModel::add_damping_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const {
+  for (Eigen::Index i = 0; i < masses_.size(); ++i) {
+    for (int a = 0; a < 3; ++a) {
+      const int d = static_cast<int>(3 * i + a);
+      triplets.emplace_back(d, d, alpha_ * masses_(i));
+    }
+  }
+  for (int j = 0; j < stiffness_.outerSize(); ++j) {
+    for (SparseMatrix::InnerIterator it(stiffness_, j); it; ++it) {
+      triplets.emplace_back(static_cast<int>(it.row()), static_cast<int>(it.col()),
+                            beta_ * it.value());
+    }
+  }
+}
+
 Real LinearModel::potential_energy(const Points& x) const {
   const Points u = x - rest_;
   return 0.5 * as_vector(u).dot(stiffness_ * as_vector(u));

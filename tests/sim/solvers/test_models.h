@@ -25,6 +25,7 @@ class LinearModel : public Model {
   void add_stiffness_times(const Points& dx, Points& out) const override;
   void add_damping_times(const Points& dv, Points& out) const override;
   void add_stiffness_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const override;
+  void add_damping_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const override;
   Real potential_energy(const Points& x) const override;
   void update_topology(const TetMesh&) override {}
   ModelHealth health() const override { return {}; }
@@ -65,6 +66,7 @@ class NonlinearSprings : public Model {
   void add_stiffness_times(const Points& dx, Points& out) const override;
   void add_damping_times(const Points&, Points&) const override {}
   void add_stiffness_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const override;
+  void add_damping_triplets(std::vector<Eigen::Triplet<Real>>&) const override {}
   Real potential_energy(const Points& x) const override;
   void update_topology(const TetMesh&) override {}
   ModelHealth health() const override { return {}; }

@@ -1,0 +1,41 @@
+#include "sim/models/model.h"
+
+namespace incise::sim {
+namespace {
+
+// The triplets of K then D whose row node is at or below the column node: with the mirror of
+// the off-diagonal ones they give the whole symmetric matrix.
+bool on_or_below_block_diagonal(const Eigen::Triplet<Real>& t) {
+  return t.row() / 3 >= t.col() / 3;
+}
+
+}  // namespace
+
+// The defaults: one block per triplet on or below the block diagonal, holding its single entry.
+void Model::system_blocks(std::vector<std::pair<int, int>>& blocks) const {
+  std::vector<Eigen::Triplet<Real>> triplets;
+  add_stiffness_triplets(triplets);
+  add_damping_triplets(triplets);
+  for (const auto& t : triplets) {
+    if (on_or_below_block_diagonal(t)) blocks.emplace_back(t.row() / 3, t.col() / 3);
+  }
+}
+
+void Model::add_system_blocks(Real damping_scale, Real stiffness_scale,
+                              const BlockTarget& target) const {
+  std::vector<Eigen::Triplet<Real>> triplets;
+  add_stiffness_triplets(triplets);
+  const std::size_t stiffness_count = triplets.size();
+  add_damping_triplets(triplets);
+  std::size_t k = 0;
+  for (std::size_t t = 0; t < triplets.size(); ++t) {
+    const auto& entry = triplets[t];
+    if (!on_or_below_block_diagonal(entry)) continue;
+    Mat3 block = Mat3::Zero();
+    block(entry.row() % 3, entry.col() % 3) =
+        (t < stiffness_count ? stiffness_scale : damping_scale) * entry.value();
+    target.add(k++, block);
+  }
+}
+
+}  // namespace incise::sim
