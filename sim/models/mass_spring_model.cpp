@@ -34,7 +34,7 @@ MassSpringModel::MassSpringModel(const TetMesh& mesh, std::vector<ElementMateria
 
 void MassSpringModel::update_topology(const TetMesh& mesh) {
   rebuild(mesh);
-  ++revision_;
+  topology_changed();
 }
 
 void MassSpringModel::rebuild(const TetMesh& mesh) {

@@ -43,7 +43,6 @@ class MassSpringModel final : public Model {
   void add_damping_times(const Points& dv, Points& out) const override;
   void add_stiffness_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const override;
   void add_damping_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const override;
-  std::uint64_t topology_revision() const override { return revision_; }
   Real potential_energy(const Points& x) const override;
   void update_topology(const TetMesh& mesh) override;
   ModelHealth health() const override { return health_; }
@@ -69,7 +68,6 @@ class MassSpringModel final : public Model {
   VecX transverse_;                // #springs k (1 - l0 / l) (0 for a degenerate spring)
   std::vector<Mat3> deformation_;  // #tets F (volume term only)
   ModelHealth health_;
-  std::uint64_t revision_ = 0;
 };
 
 }  // namespace incise::sim

@@ -1,5 +1,7 @@
 #include "sim/models/model.h"
 
+#include <atomic>
+
 namespace incise::sim {
 namespace {
 
@@ -10,6 +12,11 @@ bool on_or_below_block_diagonal(const Eigen::Triplet<Real>& t) {
 }
 
 }  // namespace
+
+std::uint64_t Model::next_topology_revision() {
+  static std::atomic<std::uint64_t> counter{1};
+  return counter.fetch_add(1, std::memory_order_relaxed);
+}
 
 // The defaults: one block per triplet on or below the block diagonal, holding its single entry.
 void Model::system_blocks(std::vector<std::pair<int, int>>& blocks) const {

@@ -98,9 +98,10 @@ class Model {
   virtual void system_blocks(std::vector<std::pair<int, int>>& blocks) const;
   virtual void add_system_blocks(Real damping_scale, Real stiffness_scale,
                                  const BlockTarget& target) const;
-  // Changes whenever update_topology changed the elements (so that a solver rebuilds its sparsity
-  // pattern); models whose topology never changes may keep the default.
-  virtual std::uint64_t topology_revision() const { return 0; }
+  // Unique in the process to this model's current elements: a new model, and update_topology,
+  // take a new value (so that a solver keeping a sparsity pattern sees a different model even
+  // at the same address).
+  std::uint64_t topology_revision() const { return topology_revision_; }
 
   // Elastic potential energy at x [J].
   virtual Real potential_energy(const Points& x) const = 0;
@@ -109,6 +110,18 @@ class Model {
   virtual void update_topology(const TetMesh& mesh) = 0;
 
   virtual ModelHealth health() const = 0;
+
+ protected:
+  Model() : topology_revision_(next_topology_revision()) {}
+  Model(const Model&) = default;
+  Model& operator=(const Model&) = default;
+  // For update_topology implementations.
+  void topology_changed() { topology_revision_ = next_topology_revision(); }
+
+ private:
+  static std::uint64_t next_topology_revision();
+
+  std::uint64_t topology_revision_;
 };
 
 }  // namespace incise::sim

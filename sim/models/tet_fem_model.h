@@ -255,8 +255,6 @@ class TetFemModel : public Model {
     }
   }
 
-  std::uint64_t topology_revision() const override { return revision_; }
-
   Real potential_energy(const Points& x) const override {
     Real energy = 0;
     for (int t = 0; t < elements_.num_tets(); ++t) {
@@ -269,7 +267,7 @@ class TetFemModel : public Model {
 
   void update_topology(const TetMesh& mesh) override {
     rebuild(mesh);
-    ++revision_;
+    topology_changed();
   }
 
   ModelHealth health() const override { return health_; }
@@ -303,7 +301,6 @@ class TetFemModel : public Model {
   TetElements elements_;
   std::vector<typename Kernel::State> states_;
   ModelHealth health_;
-  std::uint64_t revision_ = 0;
 };
 
 }  // namespace incise::sim

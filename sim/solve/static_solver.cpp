@@ -30,6 +30,10 @@ Real StaticSolver::residual(Model& model, const Points& x, Points& r, Real& reac
   return r.cwiseProduct(free_).norm();
 }
 
+Real StaticSolver::potential(const Model& model, const Points& x) const {
+  return model.potential_energy(x) - load_.cwiseProduct(x).sum();
+}
+
 StaticReport StaticSolver::solve(const Vec3& gravity, const Points& external_forces,
                                  const Prescribed& prescribed, Model& model, Points& x) {
   const VecX& m = model.masses();
@@ -89,7 +93,10 @@ StaticReport StaticSolver::solve(const Vec3& gravity, const Points& external_for
       report.finite = false;
       break;
     }
-    // Backtracking on the residual norm.
+    // Backtracking: a step is taken when it decreases the residual norm or the total potential
+    // (static_solver.h); the potential is evaluated only when the residual test fails.
+    const Real slope = -r_.cwiseProduct(free_).cwiseProduct(dx_).sum();  // grad Phi . dx
+    Real potential_here = std::numeric_limits<Real>::quiet_NaN();
     Real step = 1;
     Real trial_norm = 0, trial_reactions = 0;
     bool decreased = false;
@@ -99,6 +106,13 @@ StaticReport StaticSolver::solve(const Vec3& gravity, const Points& external_for
       if (std::isfinite(trial_norm) && trial_norm <= (1 - 1e-4 * step) * r_norm) {
         decreased = true;
         break;
+      }
+      if (std::isfinite(trial_norm) && slope < 0) {
+        if (std::isnan(potential_here)) potential_here = potential(model, x);
+        if (potential(model, x_trial_) <= potential_here + 1e-4 * step * slope) {
+          decreased = true;
+          break;
+        }
       }
       step /= 2;
     }

@@ -6,7 +6,13 @@
 // tightened with the residual, eta = min(0.01, relative residual), so that convergence stays
 // quadratic near the solution; Eisenstat and Walker, SIAM J. Sci. Comput. 17, 1996) and
 // backtracks dx by halving until the residual norm decreases (Armijo: ||r(x + s dx)|| <=
-// (1 - 1e-4 s) ||r(x)||; Dennis and Schnabel 1983, 6.3).
+// (1 - 1e-4 s) ||r(x)||; Dennis and Schnabel 1983, 6.3) or the total potential
+//   Phi(x) = E(x) - (f_external + M g) . x,   grad Phi = -r,
+// does (Armijo on Phi: Phi(x + s dx) <= Phi(x) + 1e-4 s grad Phi . dx). The second test keeps
+// Newton going where the tangent is only approximate (the QR corotational K omits the change of
+// R; a positive definite approximation still gives a descent direction of Phi, where the residual
+// norm may first grow); the first one decides near the solution, where differences of Phi drown
+// in round-off.
 // Relative residual: ||r_free|| / scale, scale = the largest of ||f_external + M g||, the norm of
 // the reactions (internal forces on the held coordinates) and the first iteration's ||r_free||;
 // so a loaded, a displacement-driven and an already balanced problem all have a meaningful
@@ -58,6 +64,8 @@ class StaticSolver {
   // r = f_internal(x, 0) + load; returns ||r|| over free coordinates, the reactions' norm in
   // reaction_norm (NaN if not finite).
   Real residual(Model& model, const Points& x, Points& r, Real& reaction_norm);
+  // Phi(x) = E(x) - load . x.
+  Real potential(const Model& model, const Points& x) const;
 
   StaticSettings settings_;
   ConstrainedSystem system_;
