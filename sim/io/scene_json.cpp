@@ -167,8 +167,9 @@ Load read_load(const json& value, const std::string& path) {
 }
 
 SolverSettings read_solver(const json& value) {
-  const JsonObjectReader object(value, "solver",
-                                {"integrator", "dt", "steps", "tolerance", "linear_solver"});
+  const JsonObjectReader object(
+      value, "solver",
+      {"integrator", "dt", "steps", "tolerance", "linear_solver", "preconditioner"});
   static const std::pair<const char*, Integrator> integrators[] = {
       {"symplectic_euler", Integrator::symplectic_euler},
       {"central_difference", Integrator::central_difference},
@@ -204,6 +205,25 @@ SolverSettings read_solver(const json& value) {
       throw SceneError(
           object.path("linear_solver"),
           "unknown linear solver " + describe(json(name)) + " (expected: cg, assembled_cg, ldlt)");
+    }
+  }
+  if (object.has("preconditioner")) {
+    const std::string name = object.string("preconditioner");
+    if (name == "jacobi") {
+      solver.preconditioner = PreconditionerChoice::jacobi;
+    } else if (name == "block_jacobi") {
+      solver.preconditioner = PreconditionerChoice::block_jacobi;
+    } else if (name == "incomplete_cholesky") {
+      solver.preconditioner = PreconditionerChoice::incomplete_cholesky;
+    } else {
+      throw SceneError(object.path("preconditioner"),
+                       "unknown preconditioner " + describe(json(name)) +
+                           " (expected: jacobi, block_jacobi, incomplete_cholesky)");
+    }
+    if (solver.preconditioner == PreconditionerChoice::incomplete_cholesky &&
+        solver.linear_solver != LinearSolverChoice::assembled_cg) {
+      throw SceneError(object.path("preconditioner"),
+                       "incomplete_cholesky needs \"linear_solver\": \"assembled_cg\"");
     }
   }
   return solver;

@@ -95,6 +95,8 @@ enum class Integrator {
 
 enum class LinearSolverChoice { cg, assembled_cg, ldlt };
 
+enum class PreconditionerChoice { automatic, jacobi, block_jacobi, incomplete_cholesky };
+
 struct SolverSettings {
   Integrator integrator = Integrator::symplectic_euler;  // "integrator"
   Real dt = 0;                                           // "dt" [s], > 0
@@ -105,6 +107,10 @@ struct SolverSettings {
   // pattern is kept between steps) or "ldlt" (a sparse Cholesky factorisation preconditioning CG:
   // few iterations, costly factorisations; for small stiff problems).
   LinearSolverChoice linear_solver = LinearSolverChoice::cg;
+  // "preconditioner" of the CG solvers: "jacobi", "block_jacobi" (a node's 3x3 block) or
+  // "incomplete_cholesky" (block IC(0), kept between steps; assembled_cg only). Default
+  // (automatic): incomplete_cholesky with assembled_cg, jacobi with cg.
+  PreconditionerChoice preconditioner = PreconditionerChoice::automatic;
 };
 
 // Where a live view of the scene looks from, as plain values (the renderer makes a camera of it).

@@ -96,7 +96,7 @@ TEST_F(Cli, EmptySelectionUnknownKeyAndBadJsonAreReported) {
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_EQ(run.err,
             "incise: b.json: solver.order: unknown key (expected one of: integrator, dt, "
-            "steps, tolerance, linear_solver)\n");
+            "steps, tolerance, linear_solver, preconditioner)\n");
 
   write("c.json", "{\"mesh\": {\"box\": ");
   run = incise("solve c.json --out r.json");

@@ -188,10 +188,16 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"/solver/steps", "\"many\"", "solver.steps: must be an integer (got \"many\")"},
         BadCase{"/solver/order", "2",
                 "solver.order: unknown key (expected one of: integrator, dt, steps, tolerance, "
-                "linear_solver)"},
+                "linear_solver, preconditioner)"},
         BadCase{"/solver/linear_solver", "\"gauss\"",
                 "solver.linear_solver: unknown linear solver \"gauss\" (expected: cg, "
                 "assembled_cg, ldlt)"},
+        BadCase{"/solver/preconditioner", "\"ilu\"",
+                "solver.preconditioner: unknown preconditioner \"ilu\" (expected: jacobi, "
+                "block_jacobi, incomplete_cholesky)"},
+        BadCase{"/solver/preconditioner", "\"incomplete_cholesky\"",
+                "solver.preconditioner: incomplete_cholesky needs \"linear_solver\": "
+                "\"assembled_cg\""},
         BadCase{"/tool", "0.005", "tool: must be an object (got 0.005)"},
         BadCase{"/tool/radius", "0", "tool.radius: must be positive (got 0)"},
         BadCase{"/tool/radius", "\"big\"", "tool.radius: must be a number (got \"big\")"},
