@@ -1,0 +1,16 @@
+# Tests for sim/remesh/: predicates, the mutable mesh, flips, insertion and removal sequences
+# checked against every invariant after each operation, and exact restoration by decimation.
+add_executable(sim_remesh_tests
+  remesh/predicates_test.cpp
+  remesh/remesh_fixtures.cpp
+  remesh/remesh_mesh_test.cpp
+  remesh/remesh_sequence_test.cpp
+)
+target_link_libraries(sim_remesh_tests PRIVATE incise_sim_remesh GTest::gtest_main)
+target_include_directories(sim_remesh_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
+gtest_discover_tests(sim_remesh_tests DISCOVERY_TIMEOUT 30)
+
+# Benchmark: cost per insertion and per removal; built with the tests, run by hand.
+add_executable(bench_remesh remesh/bench_remesh.cpp remesh/remesh_fixtures.cpp)
+target_link_libraries(bench_remesh PRIVATE incise_sim_remesh)
+target_include_directories(bench_remesh PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
