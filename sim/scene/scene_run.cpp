@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iomanip>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "sim/models/corotational_fem.h"
 #include "sim/models/linear_fem.h"
@@ -112,6 +115,13 @@ std::vector<ElementMaterial> element_materials(const Scene& scene, const TetMesh
 
 std::unique_ptr<Model> make_model(const Scene& scene, const TetMesh& mesh) {
   auto materials = element_materials(scene, mesh);
+  // The static Newton solve keeps the exact Hessian, for quadratic convergence near the
+  // equilibrium (its line search copes with an indefinite K); a time step takes one linearisation
+  // and needs M + h D + h^2 K positive definite, which the exact Hessian is not once tets are
+  // compressed hard or inverted (a yank released at 2 ms blew up to 1e14 body sizes with it).
+  const Tangent tangent = scene.solver.integrator == Integrator::static_equilibrium
+                              ? Tangent::exact
+                              : Tangent::projected;
   try {
     switch (scene.material.model) {
       case MaterialModel::mass_spring:
@@ -125,9 +135,10 @@ std::unique_ptr<Model> make_model(const Scene& scene, const TetMesh& mesh) {
         return std::make_unique<CorotationalFem>(mesh, std::move(materials),
                                                  RotationExtraction::polar);
       case MaterialModel::stvk:
-        return std::make_unique<StVenantKirchhoffFem>(mesh, std::move(materials));
+        return std::make_unique<StVenantKirchhoffFem>(mesh, std::move(materials), tangent);
       case MaterialModel::neohookean:
-        return std::make_unique<NeoHookeanFem>(mesh, std::move(materials));
+        return std::make_unique<NeoHookeanFem>(mesh, std::move(materials),
+                                               NeoHookeanKernel{}.extension_below, tangent);
     }
   } catch (const std::invalid_argument& error) {
     throw SceneError("mesh", error.what());
@@ -135,7 +146,7 @@ std::unique_ptr<Model> make_model(const Scene& scene, const TetMesh& mesh) {
   throw SceneError("material.model", "not supported");
 }
 
-RunResult run_scene_on(const Scene& scene, TetMesh mesh) {
+CheckedRun run_scene_checked(const Scene& scene, TetMesh mesh) {
   validate_scene(scene);
   if (mesh.num_tets() == 0) throw SceneError("mesh", "has no tetrahedra");
   auto model = make_model(scene, mesh);
@@ -149,7 +160,12 @@ RunResult run_scene_on(const Scene& scene, TetMesh mesh) {
   const Real dt = scene.solver.dt;
   const std::int64_t ramp = std::max<std::int64_t>(1, steps / 2);
 
-  RunResult result;
+  CheckedRun checked;
+  RunResult& result = checked.result;
+  const auto diagonal = [](const Points& p) {
+    return (p.colwise().maxCoeff() - p.colwise().minCoeff()).norm();
+  };
+  const Real rest_diagonal = diagonal(mesh.rest);
   std::vector<double> step_ms;
   step_ms.reserve(static_cast<std::size_t>(std::min(steps, kMaxTimedSteps)));
   const std::int64_t stride = (steps + kMaxTimedSteps - 1) / kMaxTimedSteps;
@@ -247,8 +263,25 @@ RunResult run_scene_on(const Scene& scene, TetMesh mesh) {
               .count());
     }
     ++result.steps;
+    if (!result.finite) {
+      checked.stop = RunStop::not_finite;
+      checked.status = "not finite at step " + std::to_string(n + 1) +
+                       ": a position, velocity or solve became NaN or infinite";
+      break;
+    }
+    const Real extent = diagonal(x) / rest_diagonal;
+    checked.peak_extent = std::max(checked.peak_extent, extent);
+    if (!(extent <= kDivergedExtent)) {
+      result.finite = false;
+      checked.stop = RunStop::diverged;
+      std::ostringstream status;
+      status << std::setprecision(3) << "diverged at step " << n + 1 << ": the body is " << extent
+             << " times its rest size (limit " << kDivergedExtent << "); try a smaller solver.dt";
+      checked.status = status.str();
+      break;
+    }
   }
-  if (!result.finite) --result.steps;  // the step that failed left the last finite state
+  if (!result.finite) --result.steps;  // the steps before the one that failed
 
   result.ms_per_step = median(std::move(step_ms));
   result.rest = mesh.rest;
@@ -261,7 +294,11 @@ RunResult run_scene_on(const Scene& scene, TetMesh mesh) {
   const auto health = model->health();
   result.inverted_elements = health.inverted_elements;
   result.final_positions = x;
-  return result;
+  return checked;
+}
+
+RunResult run_scene_on(const Scene& scene, TetMesh mesh) {
+  return run_scene_checked(scene, std::move(mesh)).result;
 }
 
 }  // namespace incise::sim

@@ -14,6 +14,7 @@
 // "displace" constraints ramp over the first half of the steps of a dynamic run, as in
 // Simulation. Loads are split equally over their selected nodes.
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "sim/mesh/tet_mesh.h"
@@ -30,11 +31,40 @@ namespace incise::sim {
 std::vector<ElementMaterial> element_materials(const Scene& scene, const TetMesh& mesh);
 
 // The model scene.material.model names, on mesh. Throws SceneError("mesh", ...) if the mesh
-// cannot carry it (e.g. an inverted tet).
+// cannot carry it (e.g. an inverted tet). St Venant-Kirchhoff and Neo-Hookean get the exact
+// Hessian as K for the static solve and its positive semi-definite projection for the time
+// integrators (projected_tangent.h: implicit Euler's CG needs it; the explicit ones never use K).
 std::unique_ptr<Model> make_model(const Scene& scene, const TetMesh& mesh);
 
-// Runs the scene on mesh (whose rest configuration it starts from) and reports as run_scene.
+// Why a run stopped.
+enum class RunStop {
+  completed,   // every step taken
+  not_finite,  // a position or velocity became NaN or infinite (or a solve failed)
+  diverged,    // finite, but the body grew past kDivergedExtent times its rest size
+};
+
+// A run whose deformed bounding box has a diagonal above this many times the rest one has blown
+// up: no tissue scene stretches a body a hundredfold (a node yanked 5 body lengths away gives
+// about 3), and the measure ignores translation (a falling body never trips it) and changes by less
+// than a factor 2 under rotation.
+inline constexpr Real kDivergedExtent = 100;
+
+// The run's result and how it ended. result.finite is false unless stop is completed, so that
+// RESULT.json and the CLI's exit code report a diverged run as failed.
+struct CheckedRun {
+  RunResult result;
+  RunStop stop = RunStop::completed;
+  std::string status = "completed";  // else one line: what happened, at which step, the numbers
+  Real peak_extent = 1;  // largest deformed bounding-box diagonal over the rest one, over the run
+};
+
+// Runs the scene on mesh (whose rest configuration it starts from); after every step, checks that
+// the state is finite and that the body has not diverged (above), and stops at the first step that
+// fails. result.steps counts the steps before that one; result's final state is the failed one.
 // Throws SceneError for selections that pick no node or a mesh the model refuses.
+CheckedRun run_scene_checked(const Scene& scene, TetMesh mesh);
+
+// run_scene_checked(scene, mesh).result: reports as run_scene.
 RunResult run_scene_on(const Scene& scene, TetMesh mesh);
 
 }  // namespace incise::sim

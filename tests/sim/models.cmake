@@ -4,6 +4,8 @@ add_executable(sim_models_tests
   models/hard_cases_test.cpp
   models/model_fixtures.cpp
   models/model_laws_test.cpp
+  models/projected_tangent_test.cpp
+  models/system_blocks_test.cpp
   models/tet_elements_test.cpp
 )
 target_link_libraries(sim_models_tests PRIVATE incise_sim GTest::gtest_main)
