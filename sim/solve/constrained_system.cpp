@@ -112,7 +112,12 @@ bool ConstrainedSystem::prepare(const Model& model, Real mass_scale, Real dampin
       }
       return true;
     case Preconditioner::incomplete_cholesky:
-      return (incomplete_valid_ && !pattern_rebuilt_) || factorise_incomplete();
+      if ((incomplete_valid_ && !pattern_rebuilt_) || factorise_incomplete()) return true;
+      // No positive pivots even with the largest shift (an indefinite tangent): this step is
+      // preconditioned by the diagonal instead (precondition() checks incomplete_valid_).
+      for (Eigen::Index d = 0; d < 3 * n; ++d)
+        diagonal_.data()[d] = matrix_.diagonal_block(static_cast<int>(d / 3))(d % 3, d % 3);
+      break;
   }
   for (Eigen::Index d = 0; d < 3 * n; ++d) {
     Real& entry = diagonal_.data()[d];
@@ -234,6 +239,7 @@ void ConstrainedSystem::precondition(const Points& r, Points& z) const {
       z = z.cwiseProduct(*free_);
       return;
     case Preconditioner::incomplete_cholesky:
+      if (!incomplete_valid_) break;  // the diagonal fallback of prepare
       incomplete_.solve(r, z);
       z = z.cwiseProduct(*free_);
       return;
