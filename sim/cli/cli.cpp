@@ -72,13 +72,14 @@ SCENE.json (units SI; members marked ? are optional):
 RESULT.json:
   {"nodes": N, "tets": M, "rest": [[x, y, z], ...], "displacement": [[ux, uy, uz], ...],
    "steps": k, "ms_per_step": median wall time of a step, "max_speed": largest node speed at
-   the end [m/s], "finite": true, "solver": {"converged": bool, "iterations": n,
+   the end [m/s], "finite": true, "status": "completed" (else why and at which step),
+   "solver": {"converged": bool, "iterations": n,
    "relative_residual": x, "inverted_elements": n}}
 
 exit codes:
   0  done
-  1  the state became non-finite (RESULT.json is written with "finite": false; try a smaller
-     dt) or an internal error
+  1  the state became non-finite or diverged (RESULT.json is written with "finite": false and
+     the "status"; stderr has the same line; try a smaller dt) or an internal error
   2  usage error, unreadable or invalid scene (one line on stderr names the key),
      RESULT.json cannot be written, or an unreadable or malformed mesh file
 )";
@@ -116,7 +117,8 @@ int solve(const std::vector<std::string>& args, std::ostream& err) {
     const bool classic = scene.mesh.source == MeshSource::box &&
                          scene.material.model == MaterialModel::mass_spring &&
                          scene.solver.integrator == Integrator::symplectic_euler;
-    result = classic ? run_scene(scene) : run_scene_on(scene, build_scene_mesh(scene, scene_dir));
+    result = classic ? run_scene(scene)
+                     : run_scene_checked(scene, build_scene_mesh(scene, scene_dir)).result;
   } catch (const SceneError& error) {
     err << "incise: " << *scene_file << ": " << error.what() << "\n";
     return kExitUsage;
@@ -141,8 +143,7 @@ int solve(const std::vector<std::string>& args, std::ostream& err) {
     return kExitUsage;
   }
   if (!result.finite) {
-    err << "incise: " << *scene_file << ": the state became non-finite at step " << result.steps
-        << " (try a smaller solver.dt)\n";
+    err << "incise: " << *scene_file << ": " << result.status << "\n";
     return kExitFailed;
   }
   return kExitOk;

@@ -30,6 +30,7 @@ json result_to_json(const RunResult& result) {
           {"ms_per_step", number(result.ms_per_step)},
           {"max_speed", number(result.max_speed)},
           {"finite", result.finite},
+          {"status", result.status},
           {"solver",
            {{"converged", result.converged},
             {"iterations", result.iterations},

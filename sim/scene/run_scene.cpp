@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <string>
 #include <vector>
 
 #include "sim/scene/simulation.h"
@@ -27,6 +28,8 @@ RunResult run_scene(const Scene& scene) {
     }
     if (!simulation.state_finite()) {
       result.finite = false;
+      result.status = "not finite at step " + std::to_string(n + 1) +
+                      ": a position or velocity became NaN or infinite; try a smaller solver.dt";
       break;
     }
   }

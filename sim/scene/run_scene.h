@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 #include "sim/core/types.h"
 #include "sim/scene/scene.h"
@@ -15,7 +16,10 @@ struct RunResult {
   std::int64_t steps = 0;  // steps taken; fewer than solver.steps if the state blew up
   double ms_per_step = 0;  // median wall time of one step [ms]
   Real max_speed = 0;      // largest node speed at the end [m/s]
-  bool finite = true;      // false if the run stopped on a non-finite state
+  bool finite = true;      // false if the run stopped on a non-finite or diverged state
+  // "completed", or one line saying why the run stopped (scene_run.h: not finite, diverged) and
+  // at which step.
+  std::string status = "completed";
   // Iterative solvers (implicit_euler, static, adaptive_explicit; scene_run.h): whether every
   // solve met solver.tolerance, the iterations (CG, Newton or adaptive steps) in all, and the
   // worst relative residual. Direct steps leave the defaults.

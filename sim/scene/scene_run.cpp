@@ -84,6 +84,24 @@ LinearSolver linear_solver_of(LinearSolverChoice choice) {
   return LinearSolver::matrix_free_cg;
 }
 
+// The scene's preconditioner; automatic: the block incomplete Cholesky where there is an
+// assembled matrix to factorise, Jacobi otherwise.
+Preconditioner preconditioner_of(const SolverSettings& solver) {
+  switch (solver.preconditioner) {
+    case PreconditionerChoice::jacobi:
+      return Preconditioner::jacobi;
+    case PreconditionerChoice::block_jacobi:
+      return Preconditioner::block_jacobi;
+    case PreconditionerChoice::incomplete_cholesky:
+      return Preconditioner::incomplete_cholesky;
+    case PreconditionerChoice::automatic:
+      break;
+  }
+  return solver.linear_solver == LinearSolverChoice::assembled_cg
+             ? Preconditioner::incomplete_cholesky
+             : Preconditioner::jacobi;
+}
+
 double median(std::vector<double> v) {
   if (v.empty()) return 0;
   const auto middle = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
@@ -193,6 +211,7 @@ CheckedRun run_scene_checked(const Scene& scene, TetMesh mesh) {
     case Integrator::implicit_euler: {
       ImplicitEulerSettings s;
       s.linear.solver = linear_solver_of(scene.solver.linear_solver);
+      s.linear.preconditioner = preconditioner_of(scene.solver);
       s.linear.cg.tolerance = scene.solver.tolerance;
       s.linear.cg.max_iterations = 10 * mesh.num_nodes() + 100;
       implicit.emplace(s);
@@ -202,6 +221,7 @@ CheckedRun run_scene_checked(const Scene& scene, TetMesh mesh) {
       StaticSettings s;
       s.tolerance = scene.solver.tolerance;
       s.linear.solver = linear_solver_of(scene.solver.linear_solver);
+      s.linear.preconditioner = preconditioner_of(scene.solver);
       statics.emplace(s);
       break;
     }
@@ -294,6 +314,7 @@ CheckedRun run_scene_checked(const Scene& scene, TetMesh mesh) {
   const auto health = model->health();
   result.inverted_elements = health.inverted_elements;
   result.final_positions = x;
+  result.status = checked.status;
   return checked;
 }
 

@@ -56,6 +56,7 @@ TEST_F(Cli, SolvesASceneAndWritesTheResult) {
   EXPECT_EQ(result.at("steps"), 3000);
   EXPECT_GT(result.at("ms_per_step").get<double>(), 0);
   EXPECT_EQ(result.at("finite"), true);
+  EXPECT_EQ(result.at("status"), "completed");
   EXPECT_LT(result.at("max_speed").get<double>(), 1e-4);  // settled (peak is ~0.05 m/s)
   // The top corner (node 44) sags, the clamped base (node 0) stays.
   EXPECT_EQ(result.at("rest")[44], json::parse("[0.02, 0.02, 0.04]"));
@@ -118,10 +119,29 @@ TEST_F(Cli, NonFiniteStateGivesExitCode1AndAResult) {
   const CliRun run = incise("solve scene.json --out result.json");
   EXPECT_EQ(run.exit_code, 1);
   EXPECT_TRUE(one_line(run.err)) << run.err;
-  EXPECT_NE(run.err.find("non-finite"), std::string::npos) << run.err;
+  EXPECT_EQ(run.err.rfind("incise: scene.json: not finite at step ", 0), 0u) << run.err;
   const json result = json::parse(test::read_file(dir_ / "result.json"));
   EXPECT_EQ(result.at("finite"), false);
   EXPECT_LT(result.at("steps").get<int>(), 100000);
+  EXPECT_EQ("incise: scene.json: " + result.at("status").get<std::string>() + "\n", run.err);
+}
+
+// The general runner (here linear FEM) stops a run that grows without bound before it overflows,
+// and says so in the result and on stderr.
+TEST_F(Cli, DivergedRunGivesExitCode1AndTheStatus) {
+  json scene = small_scene();
+  scene["material"]["model"] = "linear";
+  scene["solver"]["dt"] = 0.05;
+  scene["solver"]["steps"] = 100000;
+  write("scene.json", scene.dump());
+  const CliRun run = incise("solve scene.json --out result.json");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_TRUE(one_line(run.err)) << run.err;
+  EXPECT_EQ(run.err.rfind("incise: scene.json: diverged at step ", 0), 0u) << run.err;
+  const json result = json::parse(test::read_file(dir_ / "result.json"));
+  EXPECT_EQ(result.at("finite"), false);
+  EXPECT_LT(result.at("steps").get<int>(), 1000);
+  EXPECT_EQ("incise: scene.json: " + result.at("status").get<std::string>() + "\n", run.err);
 }
 
 TEST_F(Cli, UsageErrorsGiveExitCode2AndAUsageLine) {

@@ -18,7 +18,7 @@ TEST(ResultToJson, WritesTheContractFields) {
   result.ms_per_step = 0.25;
   result.max_speed = 1.5e-3;
   const nlohmann::json json = result_to_json(result);
-  EXPECT_EQ(json.size(), 9u);
+  EXPECT_EQ(json.size(), 10u);
   EXPECT_EQ(json.at("nodes"), 2);
   EXPECT_EQ(json.at("tets"), 7);
   EXPECT_EQ(json.at("rest"), nlohmann::json::parse("[[0.0, 0.0, 0.0], [0.1, 0.2, 0.3]]"));
@@ -27,6 +27,7 @@ TEST(ResultToJson, WritesTheContractFields) {
   EXPECT_EQ(json.at("ms_per_step"), 0.25);
   EXPECT_EQ(json.at("max_speed"), 1.5e-3);
   EXPECT_EQ(json.at("finite"), true);
+  EXPECT_EQ(json.at("status"), "completed");
   EXPECT_EQ(json.at("solver"), nlohmann::json::parse(R"({"converged": true, "iterations": 0,
                                                          "relative_residual": 0.0,
                                                          "inverted_elements": 0})"));
