@@ -39,7 +39,8 @@ MESH: a gmsh .msh file (ASCII 2.2 or 4.1; tetrahedra and their physical tags as 
 
 SCENE.json (units SI; members marked ? are optional):
   { "mesh": {"box": {"size": [Lx, Ly, Lz], "cells": [nx, ny, nz]}},
-    "material": {"model": "mss", "E": 3000, "nu": 0.45, "density": 1000, "damping"?: 0.1},
+    "material": {"model": "mss", "E": 3000, "nu": 0.45, "density": 1000, "damping"?: 0.1,
+                 "volume_stiffness"?: 0 (mss only: the volume-preservation term, times E)},
     "constraints"?: [ {"where": {"box": [[x0, y0, z0], [x1, y1, z1]]}, "fix": "xyz"},
                       {"where": {"box": ...}, "displace": [dx, dy, dz], "axes"?: "x"} ],
     "loads"?: [ {"where": {"box": ...}, "force": [fx, fy, fz]} ],
@@ -116,6 +117,7 @@ int solve(const std::vector<std::string>& args, std::ostream& err) {
     // combination through the general runner.
     const bool classic = scene.mesh.source == MeshSource::box &&
                          scene.material.model == MaterialModel::mass_spring &&
+                         scene.material.volume_stiffness == 0 &&
                          scene.solver.integrator == Integrator::symplectic_euler;
     result = classic ? run_scene(scene)
                      : run_scene_checked(scene, build_scene_mesh(scene, scene_dir)).result;

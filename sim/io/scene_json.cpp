@@ -91,7 +91,8 @@ void read_constants(const JsonObjectReader& object, Material& material) {
 }
 
 Material read_material(const json& value) {
-  const JsonObjectReader object(value, "material", {"model", "E", "nu", "density", "damping"});
+  const JsonObjectReader object(value, "material",
+                                {"model", "E", "nu", "density", "damping", "volume_stiffness"});
   static const std::pair<const char*, MaterialModel> models[] = {
       {"mss", MaterialModel::mass_spring},
       {"linear", MaterialModel::linear},
@@ -112,6 +113,14 @@ Material read_material(const json& value) {
   }
   material.model = found->second;
   read_constants(object, material);
+  if (object.has("volume_stiffness")) {
+    if (material.model != MaterialModel::mass_spring) {
+      throw SceneError(object.path("volume_stiffness"),
+                       "only the mss model has a volume term (the FEM models' volume response "
+                       "comes from nu)");
+    }
+    material.volume_stiffness = object.number("volume_stiffness");
+  }
   return material;
 }
 

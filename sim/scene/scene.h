@@ -59,6 +59,9 @@ struct Material {
                            // ratio and ignores it
   Real density = 0;        // "density" [kg/m^3], > 0
   Real damping = 0.1;      // "damping", in [0, 1]: fraction of the model's reference damping
+  // "volume_stiffness" (mss only), >= 0: the mass-spring model's volume-preservation term, as a
+  // multiple of E (mass_spring_model.h); 0 = springs only.
+  Real volume_stiffness = 0;
 };
 
 // The nodes a constraint or load acts on: those inside box (closed, widened by

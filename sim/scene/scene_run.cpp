@@ -143,7 +143,8 @@ std::unique_ptr<Model> make_model(const Scene& scene, const TetMesh& mesh) {
   try {
     switch (scene.material.model) {
       case MaterialModel::mass_spring:
-        return std::make_unique<MassSpringModel>(mesh, std::move(materials));
+        return std::make_unique<MassSpringModel>(mesh, std::move(materials),
+                                                 scene.material.volume_stiffness);
       case MaterialModel::linear:
         return std::make_unique<LinearFem>(mesh, std::move(materials));
       case MaterialModel::corotational:

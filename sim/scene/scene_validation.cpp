@@ -79,6 +79,10 @@ void validate_material(const std::string& path, const Material& material) {
     throw SceneError(path + ".damping",
                      "must be in [0, 1] (got " + format_number(material.damping) + ")");
   }
+  if (!(material.volume_stiffness >= 0) || !std::isfinite(material.volume_stiffness)) {
+    throw SceneError(path + ".volume_stiffness",
+                     "must not be negative (got " + format_number(material.volume_stiffness) + ")");
+  }
 }
 
 void validate_mesh(const MeshSpec& mesh) {

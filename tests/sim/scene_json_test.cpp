@@ -31,6 +31,7 @@ json good_scene() {
 
 TEST(ParseScene, ReadsEveryMember) {
   const Scene scene = parse_scene(good_scene());
+  EXPECT_EQ(scene.material.volume_stiffness, 0);
   EXPECT_EQ(scene.mesh.box.size, Vec3(0.1, 0.02, 0.03));
   EXPECT_EQ(scene.mesh.box.cells, Vec3i(10, 2, 3));
   EXPECT_EQ(scene.material.model, MaterialModel::mass_spring);
@@ -102,6 +103,21 @@ struct BadCase {
   const char* message;  // SceneError::what()
 };
 
+TEST(ParseScene, VolumeStiffnessBelongsToTheMassSpringModel) {
+  json value = good_scene();
+  value["material"]["volume_stiffness"] = 2.5;
+  EXPECT_EQ(parse_scene(value).material.volume_stiffness, 2.5);
+  value["material"]["model"] = "linear";
+  try {
+    parse_scene(value);
+    FAIL() << "expected a SceneError";
+  } catch (const SceneError& e) {
+    EXPECT_STREQ(e.what(),
+                 "material.volume_stiffness: only the mss model has a volume term (the FEM "
+                 "models' volume response comes from nu)");
+  }
+}
+
 class ParseSceneErrors : public ::testing::TestWithParam<BadCase> {};
 
 TEST_P(ParseSceneErrors, NameTheKeyAndTheProblem) {
@@ -136,7 +152,9 @@ INSTANTIATE_TEST_SUITE_P(
                 "corotational_polar, stvk, neohookean)"},
         BadCase{"/material/youngs", "1",
                 "material.youngs: unknown key (expected one of: model, E, nu, density, "
-                "damping)"},
+                "damping, volume_stiffness)"},
+        BadCase{"/material/volume_stiffness", "-1",
+                "material.volume_stiffness: must not be negative (got -1)"},
         BadCase{"/material", "[]", "material: must be an object (got [])"},
         BadCase{"/mesh", nullptr, "mesh: is required"},
         BadCase{"/material", nullptr, "material: is required"},

@@ -242,6 +242,35 @@ TEST(SceneRun, TheThreeLinearSolversAgree) {
   }
 }
 
+// The mass-spring model's volume term (material.volume_stiffness) resists the volume change of a
+// compressed block that springs alone let through: the block keeps more of its volume with it.
+TEST(SceneRun, MassSpringVolumeTermKeepsTheVolume) {
+  const auto volume_after = [](Real volume_stiffness) {
+    Scene scene = block_scene(MaterialModel::mass_spring, Integrator::static_equilibrium);
+    scene.material.volume_stiffness = volume_stiffness;
+    scene.solver.tolerance = 1e-9;
+    compress(scene, 0.1);
+    const TetMesh mesh = box_of(scene);
+    const auto result = run_scene_on(scene, mesh);
+    EXPECT_TRUE(result.converged) << volume_stiffness;
+    Real volume = 0;
+    for (int t = 0; t < mesh.num_tets(); ++t) {
+      Mat3 edges;
+      for (int k = 0; k < 3; ++k) {
+        edges.col(k) = row3(result.final_positions, mesh.tets(t, k + 1)) -
+                       row3(result.final_positions, mesh.tets(t, 0));
+      }
+      volume += edges.determinant() / 6;
+    }
+    return volume / (0.02 * 0.02 * 0.02);
+  };
+  const Real springs_only = volume_after(0);
+  const Real with_volume_term = volume_after(5);
+  EXPECT_LT(springs_only, 0.97);  // a 10% compression loses volume with springs alone
+  EXPECT_GT(with_volume_term, springs_only + 0.02);
+  EXPECT_LT(with_volume_term, 1.0);
+}
+
 // The scene chooses the preconditioner; every choice reaches the same implicit trajectory (to the
 // CG tolerance), and the incomplete Cholesky takes fewer CG iterations than Jacobi.
 TEST(SceneRun, ThePreconditionersAgree) {
