@@ -59,7 +59,9 @@ SCENE.json (units SI; members marked ? are optional):
   solver         integrator: "symplectic_euler", "central_difference", "adaptive_explicit",
                  "implicit_euler" (CG to "tolerance"?, default 1e-8) or "static" (Newton to
                  "tolerance"; "steps"? load increments, dt unused); "linear_solver"?: "cg"
-                 (matrix-free, default), "assembled_cg" or "ldlt"
+                 (matrix-free, default), "assembled_cg" (fastest above a few hundred tets) or
+                 "ldlt"; "preconditioner"?: "jacobi", "block_jacobi" or "incomplete_cholesky"
+                 (assembled_cg only; its default there)
   output?        {"vtu": "final.vtu"}: the final state for ParaView, next to the scene file
   where.box      selects the nodes inside the box (inclusive, tolerance 1e-6 of the mesh size);
                  a box that selects no node is an error
