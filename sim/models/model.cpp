@@ -1,6 +1,8 @@
 #include "sim/models/model.h"
 
+#include <algorithm>
 #include <atomic>
+#include <stdexcept>
 
 namespace incise::sim {
 namespace {
@@ -12,6 +14,28 @@ bool on_or_below_block_diagonal(const Eigen::Triplet<Real>& t) {
 }
 
 }  // namespace
+
+void Model::update_elements(const TetMesh& mesh, const std::vector<char>& alive,
+                            std::span<const int>) {
+  if (alive.size() != static_cast<std::size_t>(mesh.num_tets())) {
+    throw std::invalid_argument("update_elements: alive must have one entry per tet slot");
+  }
+  TetMesh compact;
+  compact.rest = mesh.rest;
+  compact.x = mesh.x.rows() == mesh.rest.rows() ? mesh.x : mesh.rest;
+  compact.v = Points::Zero(mesh.rest.rows(), 3);
+  const auto count = std::count_if(alive.begin(), alive.end(), [](char a) { return a != 0; });
+  compact.tets.resize(count, 4);
+  compact.labels.resize(count);
+  Eigen::Index row = 0;
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    if (alive[static_cast<std::size_t>(t)] == 0) continue;
+    compact.tets.row(row) = mesh.tets.row(t);
+    compact.labels(row) = mesh.labels.size() == 0 ? 0 : mesh.labels(t);
+    ++row;
+  }
+  update_topology(compact);
+}
 
 std::uint64_t Model::next_topology_revision() {
   static std::atomic<std::uint64_t> counter{1};

@@ -12,6 +12,7 @@
 // A model is built on a mesh's rest configuration and per-tet materials (from tissue labels).
 #include <Eigen/Sparse>
 #include <cstdint>
+#include <span>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -108,6 +109,17 @@ class Model {
 
   // Rebuilds per-element data after the mesh's topology changed (remeshing, cutting).
   virtual void update_topology(const TetMesh& mesh) = 0;
+
+  // A local topology change instead (remeshing, cutting). Slot view: mesh.tets row s is element
+  // slot s, holding a tet where alive[s] != 0 (other rows are ignored, whatever they hold);
+  // mesh.rest has a row per node slot (it may have grown: new nodes; a node left without tets
+  // keeps its row and gets no mass). `changed` lists the slots whose tet appeared, disappeared or
+  // was replaced since the model was built or last updated. The FEM models recompute only those
+  // elements and their nodes' masses; the default compacts the alive tets and calls
+  // update_topology (correct, not local). Throws std::invalid_argument for a bad new tet, with the
+  // model unchanged.
+  virtual void update_elements(const TetMesh& mesh, const std::vector<char>& alive,
+                               std::span<const int> changed);
 
   virtual ModelHealth health() const = 0;
 

@@ -8,6 +8,7 @@
 //   [f1 f2 f3] = -V0 P Dm^-T,  f0 = -(f1 + f2 + f3)
 // (the gradient of V0 Psi(F) with respect to the node positions).
 #include <Eigen/Sparse>
+#include <span>
 #include <vector>
 
 #include "sim/core/types.h"
@@ -34,8 +35,13 @@ struct TetElements {
   VecX damping;                    // #tets ElementMaterial::damping
   VecX density;                    // #tets [kg/m^3]
   VecX masses;                     // #nodes lumped masses [kg]: density V0 / 4 from each tet
+  // #tets: 1 where the slot holds an element. After local updates (update_tet_elements) slots
+  // may be empty; every element loop skips them.
+  std::vector<char> alive_slots;
+  std::vector<int> node_elements;  // #nodes: how many elements each node belongs to
 
-  int num_tets() const { return static_cast<int>(tets.rows()); }
+  int num_tets() const { return static_cast<int>(tets.rows()); }  // slots, alive or not
+  bool alive(int t) const { return alive_slots[static_cast<std::size_t>(t)] != 0; }
   int num_nodes() const { return static_cast<int>(masses.size()); }
 };
 
@@ -45,6 +51,17 @@ struct TetElements {
 // material constant out of range (E > 0, -1 < nu < 0.5, density > 0, damping >= 0) or a tet with
 // non-positive rest volume.
 TetElements make_tet_elements(const TetMesh& mesh, const std::vector<ElementMaterial>& materials);
+
+// Local update after a topology change (remeshing, cutting): mesh.tets row s is slot s, holding an
+// element where alive[s] != 0 (other rows are ignored). Only the slots in `changed` are
+// recomputed: an element leaving a slot takes its mass off its nodes, one arriving adds its own.
+// The arrays grow to mesh's slot and node counts (new nodes start without mass). A node whose
+// last element left gets exactly zero mass. Throws std::invalid_argument as make_tet_elements
+// for a new element (bad label or node, non-positive rest volume), checked before anything
+// changes.
+void update_tet_elements(TetElements& elements, const TetMesh& mesh, const std::vector<char>& alive,
+                         std::span<const int> changed,
+                         const std::vector<ElementMaterial>& materials);
 
 // The consistent mass matrix M_ij = density V0 (1 + delta_ij) / 20 of each tet's linear shape
 // functions, per coordinate, appended as (row, column, value) over the 3 #nodes degrees of

@@ -86,6 +86,7 @@ class TetFemModel : public Model {
   void add_forces(const Points& x, const Points& v, Points& f) override {
     ModelHealth health;
     for (int t = 0; t < elements_.num_tets(); ++t) {
+      if (!elements_.alive(t)) continue;
       const Mat3& dm_inv = elements_.rest_inverse[static_cast<std::size_t>(t)];
       const Lame& lame = elements_.lame[static_cast<std::size_t>(t)];
       const Mat3 deformation = edge_matrix(x, elements_.tets, t) * dm_inv;
@@ -107,6 +108,7 @@ class TetFemModel : public Model {
 
   void prepare_stiffness(const Points& x) override {
     for (int t = 0; t < elements_.num_tets(); ++t) {
+      if (!elements_.alive(t)) continue;
       const Mat3 deformation =
           edge_matrix(x, elements_.tets, t) * elements_.rest_inverse[static_cast<std::size_t>(t)];
       states_[static_cast<std::size_t>(t)] =
@@ -116,6 +118,7 @@ class TetFemModel : public Model {
 
   void add_stiffness_times(const Points& dx, Points& out) const override {
     for (int t = 0; t < elements_.num_tets(); ++t) {
+      if (!elements_.alive(t)) continue;
       const std::size_t ts = static_cast<std::size_t>(t);
       const Mat3 d_deformation = edge_matrix(dx, elements_.tets, t) * elements_.rest_inverse[ts];
       // K = -df/dx, so K dx is the force of -dP.
@@ -127,6 +130,7 @@ class TetFemModel : public Model {
 
   void add_damping_times(const Points& dv, Points& out) const override {
     for (int t = 0; t < elements_.num_tets(); ++t) {
+      if (!elements_.alive(t)) continue;
       const Real beta = elements_.damping(t);
       if (!(beta > 0)) continue;
       const std::size_t ts = static_cast<std::size_t>(t);
@@ -139,6 +143,7 @@ class TetFemModel : public Model {
 
   void add_stiffness_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const override {
     for (int t = 0; t < elements_.num_tets(); ++t) {
+      if (!elements_.alive(t)) continue;
       const std::size_t ts = static_cast<std::size_t>(t);
       const Gradients g = gradients(t);
       const Real volume = elements_.rest_volume(t);
@@ -162,6 +167,7 @@ class TetFemModel : public Model {
 
   void add_damping_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const override {
     for (int t = 0; t < elements_.num_tets(); ++t) {
+      if (!elements_.alive(t)) continue;
       const Real beta = elements_.damping(t);
       const std::size_t ts = static_cast<std::size_t>(t);
       const Mat3 frame = kernel_.damping_frame(states_[ts]);
@@ -186,6 +192,7 @@ class TetFemModel : public Model {
   // 10 blocks per tet, (b, a) for b >= a (Model: the off-diagonal ones are mirrored).
   void system_blocks(std::vector<std::pair<int, int>>& blocks) const override {
     for (int t = 0; t < elements_.num_tets(); ++t) {
+      if (!elements_.alive(t)) continue;
       for (int a = 0; a < 4; ++a) {
         for (int b = a; b < 4; ++b)
           blocks.emplace_back(elements_.tets(t, b), elements_.tets(t, a));
@@ -195,7 +202,9 @@ class TetFemModel : public Model {
 
   void add_system_blocks(Real damping_scale, Real stiffness_scale,
                          const BlockTarget& target) const override {
+    std::size_t k = 0;  // the block of system_blocks' order
     for (int t = 0; t < elements_.num_tets(); ++t) {
+      if (!elements_.alive(t)) continue;
       const std::size_t ts = static_cast<std::size_t>(t);
       const Lame& lame = elements_.lame[ts];
       const Real volume = elements_.rest_volume(t);
@@ -218,7 +227,6 @@ class TetFemModel : public Model {
         const Gradients q = (k_scale * lame.lambda) * h;
         const Gradients pd = (d_scale * lame.mu) * hd;
         const Gradients qd = (d_scale * lame.lambda) * hd;
-        std::size_t k = 10 * ts;
         for (int a = 0; a < 4; ++a) {
           for (int b = a; b < 4; ++b) {
             Mat3 block = g.col(a).dot(g.col(b)) * gram;
@@ -233,7 +241,6 @@ class TetFemModel : public Model {
         }
       } else {
         // Column (a, c) of the element K: a unit move of node a along c, dF = e_c g_a^T.
-        std::size_t k = 10 * ts;
         for (int a = 0; a < 4; ++a) {
           Mat3 columns[4];
           for (int c = 0; c < 3; ++c) {
@@ -258,6 +265,7 @@ class TetFemModel : public Model {
   Real potential_energy(const Points& x) const override {
     Real energy = 0;
     for (int t = 0; t < elements_.num_tets(); ++t) {
+      if (!elements_.alive(t)) continue;
       const std::size_t ts = static_cast<std::size_t>(t);
       const Mat3 deformation = edge_matrix(x, elements_.tets, t) * elements_.rest_inverse[ts];
       energy += elements_.rest_volume(t) * kernel_.energy_density(deformation, elements_.lame[ts]);
@@ -267,6 +275,22 @@ class TetFemModel : public Model {
 
   void update_topology(const TetMesh& mesh) override {
     rebuild(mesh);
+    topology_changed();
+  }
+
+  // Local: only the changed slots' element data, linearisation and nodes' masses (model.h).
+  void update_elements(const TetMesh& mesh, const std::vector<char>& alive,
+                       std::span<const int> changed) override {
+    update_tet_elements(elements_, mesh, alive, changed, materials_);
+    states_.resize(static_cast<std::size_t>(elements_.num_tets()),
+                   kernel_.linearize(Mat3::Identity(), Lame{}));
+    for (const int t : changed) {
+      if (!elements_.alive(t)) continue;
+      const std::size_t ts = static_cast<std::size_t>(t);
+      states_[ts] =
+          kernel_.linearize(edge_matrix(mesh.rest, elements_.tets, t) * elements_.rest_inverse[ts],
+                            elements_.lame[ts]);
+    }
     topology_changed();
   }
 

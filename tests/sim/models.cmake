@@ -2,6 +2,7 @@
 add_executable(sim_models_tests
   models/closed_form_test.cpp
   models/hard_cases_test.cpp
+  models/local_update_test.cpp
   models/model_fixtures.cpp
   models/model_laws_test.cpp
   models/projected_tangent_test.cpp
