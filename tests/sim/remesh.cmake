@@ -5,6 +5,10 @@ add_executable(sim_remesh_tests
   remesh/remesh_fixtures.cpp
   remesh/remesh_mesh_test.cpp
   remesh/remesh_sequence_test.cpp
+  # Drivers: size and quality control, decimation, state transfer, the time-step floor.
+  remesh/decimation_test.cpp
+  remesh/refinement_test.cpp
+  remesh/state_transfer_test.cpp
 )
 target_link_libraries(sim_remesh_tests PRIVATE incise_sim_remesh GTest::gtest_main)
 target_include_directories(sim_remesh_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
@@ -14,3 +18,7 @@ gtest_discover_tests(sim_remesh_tests DISCOVERY_TIMEOUT 30)
 add_executable(bench_remesh remesh/bench_remesh.cpp remesh/remesh_fixtures.cpp)
 target_link_libraries(bench_remesh PRIVATE incise_sim_remesh)
 target_include_directories(bench_remesh PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
+
+# Benchmark: a refinement pass around a 1 cm tool region on a 7,200-tet box and its decimation.
+add_executable(bench_refinement remesh/bench_refinement.cpp)
+target_link_libraries(bench_refinement PRIVATE incise_sim_remesh)
