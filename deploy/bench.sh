@@ -40,6 +40,7 @@ out=results/bench-$(date -u +%Y%m%dT%H%M%SZ).txt
   echo
   echo "## remeshing: one insertion / one removal (issue 5)"
   "$bin/bench_remesh"
+  "$bin/bench_refinement"
   echo
   echo "## active region: a local poke on a 5.8k-tet box, with and without (issue 5)"
   "$bin/bench_active_region" 3000 20 0.02 5e-5 1e-4
