@@ -154,36 +154,34 @@ void MassSpringModel::add_damping_times(const Points& dv, Points& out) const {
   }
 }
 
+namespace {
+
+// The triplets of a two-node element with matrix [b, -b; -b, b] on nodes i and j.
+void add_pair_triplets(int i, int j, const Mat3& b, std::vector<Eigen::Triplet<Real>>& triplets) {
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) {
+      triplets.emplace_back(3 * i + r, 3 * i + c, b(r, c));
+      triplets.emplace_back(3 * j + r, 3 * j + c, b(r, c));
+      triplets.emplace_back(3 * i + r, 3 * j + c, -b(r, c));
+      triplets.emplace_back(3 * j + r, 3 * i + c, -b(r, c));
+    }
+  }
+}
+
+}  // namespace
+
 void MassSpringModel::add_damping_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const {
   for (Eigen::Index s = 0; s < springs_.rows(); ++s) {
-    const int i = springs_(s, 0);
-    const int j = springs_(s, 1);
     const Vec3 u = direction_.row(s).transpose();
-    const Mat3 d = damping_(s) * u * u.transpose();  // the dashpot along the spring
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) {
-        triplets.emplace_back(3 * i + r, 3 * i + c, d(r, c));
-        triplets.emplace_back(3 * j + r, 3 * j + c, d(r, c));
-        triplets.emplace_back(3 * i + r, 3 * j + c, -d(r, c));
-        triplets.emplace_back(3 * j + r, 3 * i + c, -d(r, c));
-      }
-    }
+    // The dashpot acts along the spring.
+    add_pair_triplets(springs_(s, 0), springs_(s, 1), damping_(s) * u * u.transpose(), triplets);
   }
 }
 
 void MassSpringModel::add_stiffness_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const {
   for (Eigen::Index s = 0; s < springs_.rows(); ++s) {
-    const int i = springs_(s, 0);
-    const int j = springs_(s, 1);
-    const Mat3 k = spring_tangent(static_cast<int>(s));
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) {
-        triplets.emplace_back(3 * i + r, 3 * i + c, k(r, c));
-        triplets.emplace_back(3 * j + r, 3 * j + c, k(r, c));
-        triplets.emplace_back(3 * i + r, 3 * j + c, -k(r, c));
-        triplets.emplace_back(3 * j + r, 3 * i + c, -k(r, c));
-      }
-    }
+    add_pair_triplets(springs_(s, 0), springs_(s, 1), spring_tangent(static_cast<int>(s)),
+                      triplets);
   }
   // The volume term column by column: node a moved along c, dF = e_c g_a^T.
   for (std::size_t t = 0; t < deformation_.size(); ++t) {

@@ -85,47 +85,37 @@ bool SymmetricBlockMatrix::all_finite() const {
       .allFinite();
 }
 
-void SymmetricBlockMatrix::lower_pattern(Eigen::SparseMatrix<Real>& lower) {
+template <class Visit>
+void SymmetricBlockMatrix::for_each_lower_entry(const Visit& visit) const {
   // Stored block (i, j), j >= i, entry (r, c) is A(3 i + r, 3 j + c) = A(3 j + c, 3 i + r): its
   // lower-triangle position is row 3 j + c, column 3 i + r (for the diagonal block only r >= c).
-  std::vector<Eigen::Triplet<Real>> entries;
-  entries.reserve(values_.size());
   for (int i = 0; i < nodes(); ++i) {
-    for (int b = row_start_[static_cast<std::size_t>(i)];
-         b < row_start_[static_cast<std::size_t>(i) + 1]; ++b) {
-      const int j = column_[static_cast<std::size_t>(b)];
+    for (int b = row_start(i); b < row_start(i + 1); ++b) {
+      const int j = column(b);
       for (int c = 0; c < 3; ++c) {
         for (int r = 0; r < 3; ++r) {
           if (i == j && r < c) continue;
-          entries.emplace_back(i == j ? 3 * i + r : 3 * j + c, i == j ? 3 * i + c : 3 * i + r,
-                               Real(0));
+          visit(9 * b + 3 * c + r, i == j ? 3 * i + r : 3 * j + c, i == j ? 3 * i + c : 3 * i + r);
         }
       }
     }
   }
+}
+
+void SymmetricBlockMatrix::lower_pattern(Eigen::SparseMatrix<Real>& lower) {
+  std::vector<Eigen::Triplet<Real>> entries;
+  entries.reserve(values_.size());
+  for_each_lower_entry([&](int, int row, int column) { entries.emplace_back(row, column, 0.0); });
   const int dofs = 3 * nodes();
   lower.resize(dofs, dofs);
   lower.setFromTriplets(entries.begin(), entries.end());
   const int* inner = lower.innerIndexPtr();
   const int* outer = lower.outerIndexPtr();
   lower_slot_.assign(values_.size(), -1);
-  for (int i = 0; i < nodes(); ++i) {
-    for (int b = row_start_[static_cast<std::size_t>(i)];
-         b < row_start_[static_cast<std::size_t>(i) + 1]; ++b) {
-      const int j = column_[static_cast<std::size_t>(b)];
-      for (int c = 0; c < 3; ++c) {
-        for (int r = 0; r < 3; ++r) {
-          if (i == j && r < c) continue;
-          const int row = i == j ? 3 * i + r : 3 * j + c;
-          const int column = i == j ? 3 * i + c : 3 * i + r;
-          const int* found =
-              std::lower_bound(inner + outer[column], inner + outer[column + 1], row);
-          lower_slot_[static_cast<std::size_t>(9 * b + 3 * c + r)] =
-              static_cast<int>(found - inner);
-        }
-      }
-    }
-  }
+  for_each_lower_entry([&](int value, int row, int column) {
+    const int* found = std::lower_bound(inner + outer[column], inner + outer[column + 1], row);
+    lower_slot_[static_cast<std::size_t>(value)] = static_cast<int>(found - inner);
+  });
 }
 
 void SymmetricBlockMatrix::copy_lower(Eigen::SparseMatrix<Real>& lower) const {

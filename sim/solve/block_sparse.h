@@ -59,6 +59,10 @@ class SymmetricBlockMatrix {
   Eigen::SparseMatrix<Real> full() const;
 
  private:
+  // visit(value index, row, column) for every stored value on or below the diagonal of A.
+  template <class Visit>
+  void for_each_lower_entry(const Visit& visit) const;
+
   std::vector<int> row_start_;   // #nodes + 1, block index of each block row's first block
   std::vector<int> column_;      // #blocks, the block column j >= the row
   std::vector<Real> values_;     // 9 #blocks
