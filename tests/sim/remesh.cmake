@@ -9,6 +9,9 @@ add_executable(sim_remesh_tests
   remesh/decimation_test.cpp
   remesh/refinement_test.cpp
   remesh/state_transfer_test.cpp
+  remesh/adaptation_regions_test.cpp
+  # The adaptive body: conservation, rest, no popping, round trip (models from make_model).
+  remesh/adaptive_body_test.cpp
 )
 target_link_libraries(sim_remesh_tests PRIVATE incise_sim_remesh GTest::gtest_main)
 target_include_directories(sim_remesh_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
@@ -22,3 +25,8 @@ target_include_directories(bench_remesh PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
 # Benchmark: a refinement pass around a 1 cm tool region on a 7,200-tet box and its decimation.
 add_executable(bench_refinement remesh/bench_refinement.cpp)
 target_link_libraries(bench_refinement PRIVATE incise_sim_remesh)
+
+# Benchmark: seed 000's probing experiment (its Figure 6): low-resolution, high-resolution and
+# adaptive mass-spring blocks probed by a sliding sphere; writes results/probing.csv.
+add_executable(bench_probing remesh/bench_probing.cpp)
+target_link_libraries(bench_probing PRIVATE incise_sim_remesh)
