@@ -42,6 +42,9 @@ out=results/bench-$(date -u +%Y%m%dT%H%M%SZ).txt
   "$bin/bench_remesh"
   "$bin/bench_refinement"
   echo
+  echo "## seed 000 probing: low / high / adaptive mesh (results/probing.csv)"
+  "$bin/bench_probing" results/probing.csv
+  echo
   echo "## active region: a local poke on a 5.8k-tet box, with and without (issue 5)"
   "$bin/bench_active_region" 3000 20 0.02 5e-5 1e-4
 } 2>&1 | tee "$out"
