@@ -1,5 +1,6 @@
 #include "sim/models/mass_spring_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -42,29 +43,35 @@ void MassSpringModel::rebuild(const TetMesh& mesh) {
   springs_ = unique_edges(elements_.tets);
   const TetEdgeIndices tet_springs = tet_edge_indices(elements_.tets, springs_);
   const Eigen::Index num_springs = springs_.rows();
-
-  VecX stiffness_volume = VecX::Zero(num_springs);  // sum E_t V_t
-  VecX damping_volume = VecX::Zero(num_springs);    // sum d_t V_t
-  VecX volume = VecX::Zero(num_springs);            // sum V_t
+  stiffness_volume_ = VecX::Zero(num_springs);
+  damping_volume_ = VecX::Zero(num_springs);
+  volume_ = VecX::Zero(num_springs);
+  tet_count_.assign(static_cast<std::size_t>(num_springs), 0);
   for (int t = 0; t < elements_.num_tets(); ++t) {
     for (int e = 0; e < 6; ++e) {
       const int s = tet_springs(t, e);
-      stiffness_volume(s) += elements_.youngs_modulus(t) * elements_.rest_volume(t);
-      damping_volume(s) += elements_.damping(t) * elements_.rest_volume(t);
-      volume(s) += elements_.rest_volume(t);
+      stiffness_volume_(s) += elements_.youngs_modulus(t) * elements_.rest_volume(t);
+      damping_volume_(s) += elements_.damping(t) * elements_.rest_volume(t);
+      volume_(s) += elements_.rest_volume(t);
+      ++tet_count_[static_cast<std::size_t>(s)];
     }
   }
   rest_lengths_.resize(num_springs);
   stiffness_.resize(num_springs);
   damping_.resize(num_springs);
+  spring_alive_.assign(static_cast<std::size_t>(num_springs), 1);
+  free_springs_.clear();
+  spring_of_edge_.clear();
+  node_springs_.assign(static_cast<std::size_t>(mesh.num_nodes()), {});
   for (Eigen::Index s = 0; s < num_springs; ++s) {
     const int i = springs_(s, 0);
     const int j = springs_(s, 1);
-    const Real length = (mesh.rest.row(j) - mesh.rest.row(i)).norm();
-    rest_lengths_(s) = length;
-    stiffness_(s) = stiffness_volume(s) / (length * length);
-    damping_(s) = damping_volume(s) / volume(s) * 2 *
-                  std::sqrt(stiffness_(s) * (elements_.masses(i) + elements_.masses(j)));
+    rest_lengths_(s) = (mesh.rest.row(j) - mesh.rest.row(i)).norm();
+    set_spring_constants(static_cast<int>(s));
+    spring_of_edge_[(static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(j)] =
+        static_cast<int>(s);
+    node_springs_[static_cast<std::size_t>(i)].push_back(static_cast<int>(s));
+    node_springs_[static_cast<std::size_t>(j)].push_back(static_cast<int>(s));
   }
   direction_.resize(num_springs, 3);
   transverse_.resize(num_springs);
@@ -74,9 +81,120 @@ void MassSpringModel::rebuild(const TetMesh& mesh) {
   health_ = {};
 }
 
+void MassSpringModel::set_spring_constants(int s) {
+  const int i = springs_(s, 0);
+  const int j = springs_(s, 1);
+  const Real length = rest_lengths_(s);
+  stiffness_(s) = stiffness_volume_(s) / (length * length);
+  damping_(s) = damping_volume_(s) / volume_(s) * 2 *
+                std::sqrt(stiffness_(s) * (elements_.masses(i) + elements_.masses(j)));
+}
+
+int MassSpringModel::spring_slot(int i, int j, const Points& rest) {
+  if (i > j) std::swap(i, j);
+  const std::uint64_t key = (static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(j);
+  const auto found = spring_of_edge_.find(key);
+  if (found != spring_of_edge_.end()) return found->second;
+  int s;
+  if (!free_springs_.empty()) {
+    s = free_springs_.back();
+    free_springs_.pop_back();
+  } else {
+    s = static_cast<int>(springs_.rows());
+    const Eigen::Index slots = s + 1;
+    springs_.conservativeResize(slots, 2);
+    for (VecX* v : {&rest_lengths_, &stiffness_, &damping_, &stiffness_volume_, &damping_volume_,
+                    &volume_, &transverse_}) {
+      v->conservativeResize(slots);
+    }
+    direction_.conservativeResize(slots, 3);
+    tet_count_.push_back(0);
+    spring_alive_.push_back(0);
+  }
+  springs_(s, 0) = i;
+  springs_(s, 1) = j;
+  rest_lengths_(s) = (rest.row(j) - rest.row(i)).norm();
+  stiffness_volume_(s) = damping_volume_(s) = volume_(s) = 0;
+  stiffness_(s) = damping_(s) = transverse_(s) = 0;
+  direction_.row(s).setZero();
+  tet_count_[static_cast<std::size_t>(s)] = 0;
+  spring_alive_[static_cast<std::size_t>(s)] = 1;
+  spring_of_edge_[key] = s;
+  if (node_springs_.size() < static_cast<std::size_t>(j) + 1) node_springs_.resize(j + 1);
+  node_springs_[static_cast<std::size_t>(i)].push_back(s);
+  node_springs_[static_cast<std::size_t>(j)].push_back(s);
+  return s;
+}
+
+void MassSpringModel::add_tet_share(const TetShare& share, int sign, const Points& rest,
+                                    std::vector<int>& touched) {
+  static constexpr int kEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+  for (const auto& edge : kEdges) {
+    const int s = spring_slot(share.nodes[edge[0]], share.nodes[edge[1]], rest);
+    stiffness_volume_(s) += sign * share.stiffness_volume;
+    damping_volume_(s) += sign * share.damping_volume;
+    volume_(s) += sign * share.volume;
+    tet_count_[static_cast<std::size_t>(s)] += sign;
+    touched.push_back(s);
+  }
+}
+
+MassSpringModel::TetShare MassSpringModel::share_of(int t) const {
+  const Real v = elements_.rest_volume(t);
+  return {{elements_.tets(t, 0), elements_.tets(t, 1), elements_.tets(t, 2), elements_.tets(t, 3)},
+          elements_.youngs_modulus(t) * v,
+          elements_.damping(t) * v,
+          v};
+}
+
+void MassSpringModel::update_elements(const TetMesh& mesh, const std::vector<char>& alive,
+                                      std::span<const int> changed) {
+  // The leaving tets' shares, taken before update_tet_elements overwrites their slots (it checks
+  // every new tet first and throws with nothing changed).
+  std::vector<TetShare> leaving;
+  for (const int t : changed) {
+    if (t >= 0 && t < elements_.num_tets() && elements_.alive(t)) leaving.push_back(share_of(t));
+  }
+  update_tet_elements(elements_, mesh, alive, changed, materials_);
+  std::vector<int> touched;
+  for (const TetShare& share : leaving)
+    add_tet_share(share, -1, mesh.rest, touched);
+  for (const int t : changed) {
+    if (elements_.alive(t)) add_tet_share(share_of(t), +1, mesh.rest, touched);
+  }
+  // Springs no tet holds any more are dropped; the others get new constants, and so does every
+  // spring at a node whose mass changed (its damping depends on the masses).
+  std::vector<int> nodes;
+  for (const int s : touched) {
+    const std::size_t ss = static_cast<std::size_t>(s);
+    if (!spring_alive_[ss]) continue;
+    const int i = springs_(s, 0);
+    const int j = springs_(s, 1);
+    nodes.push_back(i);
+    nodes.push_back(j);
+    if (tet_count_[ss] > 0) continue;
+    spring_alive_[ss] = 0;
+    free_springs_.push_back(s);
+    spring_of_edge_.erase((static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(j));
+    for (const int node : {i, j}) {
+      auto& list = node_springs_[static_cast<std::size_t>(node)];
+      list.erase(std::find(list.begin(), list.end(), s));
+    }
+  }
+  for (const int node : nodes) {
+    for (const int s : node_springs_[static_cast<std::size_t>(node)])
+      set_spring_constants(s);
+  }
+  if (volume_stiffness_ > 0) {
+    deformation_.resize(static_cast<std::size_t>(elements_.num_tets()), Mat3::Identity());
+  }
+  topology_changed();
+}
+
 void MassSpringModel::add_forces(const Points& x, const Points& v, Points& f) {
   ModelHealth health;
   for (Eigen::Index s = 0; s < springs_.rows(); ++s) {
+    if (!spring_alive_[static_cast<std::size_t>(s)]) continue;
     const int i = springs_(s, 0);
     const int j = springs_(s, 1);
     const SpringForce force = spring_force(row3(x, i), row3(x, j), row3(v, i), row3(v, j),
@@ -86,6 +204,7 @@ void MassSpringModel::add_forces(const Points& x, const Points& v, Points& f) {
     f.row(j) -= force.on_i.transpose();
   }
   for (int t = 0; t < elements_.num_tets(); ++t) {
+    if (!elements_.alive(t)) continue;
     const Mat3 deformation =
         edge_matrix(x, elements_.tets, t) * elements_.rest_inverse[static_cast<std::size_t>(t)];
     const Real j = deformation.determinant();
@@ -101,6 +220,7 @@ void MassSpringModel::add_forces(const Points& x, const Points& v, Points& f) {
 
 void MassSpringModel::prepare_stiffness(const Points& x) {
   for (Eigen::Index s = 0; s < springs_.rows(); ++s) {
+    if (!spring_alive_[static_cast<std::size_t>(s)]) continue;
     const Vec3 r = row3(x, springs_(s, 1)) - row3(x, springs_(s, 0));
     const Real length = r.norm();
     // As spring_force: below 1e-12 of the rest length the direction is round-off.
@@ -113,6 +233,7 @@ void MassSpringModel::prepare_stiffness(const Points& x) {
     }
   }
   for (std::size_t t = 0; t < deformation_.size(); ++t) {
+    if (!elements_.alive(static_cast<int>(t))) continue;
     deformation_[t] =
         edge_matrix(x, elements_.tets, static_cast<int>(t)) * elements_.rest_inverse[t];
   }
@@ -127,6 +248,7 @@ Mat3 MassSpringModel::spring_tangent(int s) const {
 
 void MassSpringModel::add_stiffness_times(const Points& dx, Points& out) const {
   for (Eigen::Index s = 0; s < springs_.rows(); ++s) {
+    if (!spring_alive_[static_cast<std::size_t>(s)]) continue;
     const int i = springs_(s, 0);
     const int j = springs_(s, 1);
     const Vec3 k_dx = spring_tangent(static_cast<int>(s)) * (row3(dx, i) - row3(dx, j));
@@ -134,6 +256,7 @@ void MassSpringModel::add_stiffness_times(const Points& dx, Points& out) const {
     out.row(j) -= k_dx.transpose();
   }
   for (std::size_t t = 0; t < deformation_.size(); ++t) {
+    if (!elements_.alive(static_cast<int>(t))) continue;
     const int ti = static_cast<int>(t);
     const Mat3& f = deformation_[t];
     const Mat3 df = edge_matrix(dx, elements_.tets, ti) * elements_.rest_inverse[t];
@@ -145,6 +268,7 @@ void MassSpringModel::add_stiffness_times(const Points& dx, Points& out) const {
 
 void MassSpringModel::add_damping_times(const Points& dv, Points& out) const {
   for (Eigen::Index s = 0; s < springs_.rows(); ++s) {
+    if (!spring_alive_[static_cast<std::size_t>(s)]) continue;
     const int i = springs_(s, 0);
     const int j = springs_(s, 1);
     const Vec3 u = direction_.row(s).transpose();
@@ -172,6 +296,7 @@ void add_pair_triplets(int i, int j, const Mat3& b, std::vector<Eigen::Triplet<R
 
 void MassSpringModel::add_damping_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const {
   for (Eigen::Index s = 0; s < springs_.rows(); ++s) {
+    if (!spring_alive_[static_cast<std::size_t>(s)]) continue;
     const Vec3 u = direction_.row(s).transpose();
     // The dashpot acts along the spring.
     add_pair_triplets(springs_(s, 0), springs_(s, 1), damping_(s) * u * u.transpose(), triplets);
@@ -180,11 +305,13 @@ void MassSpringModel::add_damping_triplets(std::vector<Eigen::Triplet<Real>>& tr
 
 void MassSpringModel::add_stiffness_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const {
   for (Eigen::Index s = 0; s < springs_.rows(); ++s) {
+    if (!spring_alive_[static_cast<std::size_t>(s)]) continue;
     add_pair_triplets(springs_(s, 0), springs_(s, 1), spring_tangent(static_cast<int>(s)),
                       triplets);
   }
   // The volume term column by column: node a moved along c, dF = e_c g_a^T.
   for (std::size_t t = 0; t < deformation_.size(); ++t) {
+    if (!elements_.alive(static_cast<int>(t))) continue;
     const int ti = static_cast<int>(t);
     Eigen::Matrix<Real, 3, 4> g;
     g.rightCols<3>() = elements_.rest_inverse[t].transpose();
@@ -210,11 +337,13 @@ void MassSpringModel::add_stiffness_triplets(std::vector<Eigen::Triplet<Real>>& 
 Real MassSpringModel::potential_energy(const Points& x) const {
   Real energy = 0;
   for (Eigen::Index s = 0; s < springs_.rows(); ++s) {
+    if (!spring_alive_[static_cast<std::size_t>(s)]) continue;
     const Real stretch = (x.row(springs_(s, 1)) - x.row(springs_(s, 0))).norm() - rest_lengths_(s);
     energy += stiffness_(s) / 2 * stretch * stretch;
   }
   if (volume_stiffness_ > 0) {
     for (int t = 0; t < elements_.num_tets(); ++t) {
+      if (!elements_.alive(t)) continue;
       const Real j =
           (edge_matrix(x, elements_.tets, t) * elements_.rest_inverse[static_cast<std::size_t>(t)])
               .determinant();

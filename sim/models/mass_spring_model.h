@@ -1,6 +1,9 @@
 #pragma once
 
+#include <cstdint>
+#include <span>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "sim/models/model.h"
@@ -45,16 +48,36 @@ class MassSpringModel final : public Model {
   void add_damping_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const override;
   Real potential_energy(const Points& x) const override;
   void update_topology(const TetMesh& mesh) override;
+  // Local (model.h): only the springs on the edges of the changed tets are re-summed, created or
+  // dropped, and the damping of the springs at nodes whose mass changed is recomputed. Dropped
+  // springs leave empty slots (spring_alive) that later springs reuse.
+  void update_elements(const TetMesh& mesh, const std::vector<char>& alive,
+                       std::span<const int> changed) override;
   ModelHealth health() const override { return health_; }
 
   const Edges& springs() const { return springs_; }           // #springs by 2 nodes (i < j)
   const VecX& stiffness() const { return stiffness_; }        // #springs k_ij [N/m]
   const VecX& damping() const { return damping_; }            // #springs c_ij [N s/m]
   const VecX& rest_lengths() const { return rest_lengths_; }  // #springs l_ij [m]
+  // #springs: 1 for a spring slot in use (all, until update_elements drops one).
+  const std::vector<char>& spring_alive() const { return spring_alive_; }
 
  private:
   void rebuild(const TetMesh& mesh);
   Mat3 spring_tangent(int s) const;
+  // The slot of spring (i, j) (created empty if absent).
+  int spring_slot(int i, int j, const Points& rest);
+  // What one tet adds to the sums of its six springs.
+  struct TetShare {
+    int nodes[4];
+    Real stiffness_volume, damping_volume, volume;  // E V, d V, V
+  };
+  TetShare share_of(int t) const;
+  // Adds (sign +1) or removes (-1) a tet's share; the springs it reached go to touched.
+  void add_tet_share(const TetShare& share, int sign, const Points& rest,
+                     std::vector<int>& touched);
+  // k and c of spring s from its sums and its nodes' masses.
+  void set_spring_constants(int s);
 
   std::vector<ElementMaterial> materials_;
   Real volume_stiffness_ = 0;
@@ -63,6 +86,15 @@ class MassSpringModel final : public Model {
   VecX stiffness_;
   VecX damping_;
   VecX rest_lengths_;
+  // Per spring slot: the sums of eqs. 5-7 over its tets and their number, kept for local updates.
+  VecX stiffness_volume_;  // sum E_t V_t
+  VecX damping_volume_;    // sum d_t V_t
+  VecX volume_;            // sum V_t
+  std::vector<int> tet_count_;
+  std::vector<char> spring_alive_;
+  std::vector<int> free_springs_;
+  std::unordered_map<std::uint64_t, int> spring_of_edge_;  // key i << 32 | j, i < j
+  std::vector<std::vector<int>> node_springs_;             // per node, its spring slots
   // Linearisation of the last prepare_stiffness.
   Points direction_;               // #springs u (0 for a degenerate spring)
   VecX transverse_;                // #springs k (1 - l0 / l) (0 for a degenerate spring)
