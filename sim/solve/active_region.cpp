@@ -1,5 +1,6 @@
 #include "sim/solve/active_region.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -102,19 +103,23 @@ void ActiveRegion::update_sets() {
 ActiveExplicitStepper::ActiveExplicitStepper(const TetMesh& mesh, ModelFactory factory,
                                              const ActiveRegionSettings& settings,
                                              const std::vector<int>& fixed)
-    : rest_(mesh.rest),
-      tets_(mesh.tets),
-      labels_(mesh.labels.size() == mesh.tets.rows()
-                  ? mesh.labels
-                  : Eigen::VectorXi(Eigen::VectorXi::Zero(mesh.tets.rows()))),
+    : mesh_(mesh),
       factory_(std::move(factory)),
       region_(mesh.tets, mesh.num_nodes(), settings),
       held_force_(Points::Zero(mesh.num_nodes(), 3)),
-      local_(static_cast<std::size_t>(mesh.num_nodes()), -1),
-      in_sub_(static_cast<std::size_t>(mesh.num_tets()), 0) {
-  const std::unique_ptr<Model> full = factory_(mesh);
-  masses_ = full->masses();
-  full->add_forces(mesh.x, mesh.v, held_force_);
+      in_sub_(static_cast<std::size_t>(mesh.num_tets()), 0),
+      sub_f_(mesh.num_nodes(), 3) {
+  if (mesh_.labels.size() != mesh_.tets.rows())
+    mesh_.labels = Eigen::VectorXi::Zero(mesh.tets.rows());
+  // The whole model once: the masses and the forces every node starts with. Then all its
+  // elements are dropped (Model::update_elements); the evaluated tets come back as they wake.
+  sub_model_ = factory_(mesh_);
+  masses_ = sub_model_->masses();
+  sub_model_->add_forces(mesh.x, mesh.v, held_force_);
+  std::vector<int> all(static_cast<std::size_t>(mesh.num_tets()));
+  for (int t = 0; t < mesh.num_tets(); ++t)
+    all[static_cast<std::size_t>(t)] = t;
+  sub_model_->update_elements(mesh_, in_sub_, all);
   for (const int node : fixed) {
     if (node < 0 || node >= mesh.num_nodes()) {
       throw std::invalid_argument("active region: fixed node " + std::to_string(node) +
@@ -130,74 +135,46 @@ ActiveExplicitStepper::ActiveExplicitStepper(const TetMesh& mesh, ModelFactory f
   }
 }
 
-void ActiveExplicitStepper::update_region(const Points& x, const Points& v) {
+void ActiveExplicitStepper::update_region() {
   region_.update_sets();
   const std::vector<int>& needed = region_.evaluated_tets();
-  bool covered = true;
-  for (const int t : needed)
-    covered = covered && in_sub_[t] != 0;
+  changed_.clear();
+  for (const int t : needed) {
+    if (in_sub_[static_cast<std::size_t>(t)] == 0) changed_.push_back(t);
+  }
   // A sub-model larger than needed still gives the exact forces (the argument above needs only
-  // that it holds the needed tets), so a sleeping region keeps it until it is half empty: the
-  // nodes of a decaying wave fall asleep one by one, and a rebuild per sleep would cost more
-  // than evaluating the sleepers' tets.
-  if (covered && 2 * needed.size() >= sub_tets_.size()) return;
-  rebuild(x, v);
-}
-
-void ActiveExplicitStepper::rebuild(const Points& x, const Points& v) {
-  metrics_.rebuilt = true;
-  for (const int node : sub_nodes_)
-    local_[node] = -1;
-  for (const int t : sub_tets_)
-    in_sub_[t] = 0;
-  sub_nodes_.clear();
-  sub_tets_ = region_.evaluated_tets();
-  if (sub_tets_.empty()) {
-    sub_model_.reset();
-    return;
-  }
-  const std::vector<int>& tets = sub_tets_;
-  Tets sub_tets(static_cast<Eigen::Index>(tets.size()), 4);
-  Eigen::VectorXi sub_labels(static_cast<Eigen::Index>(tets.size()));
-  for (std::size_t r = 0; r < tets.size(); ++r) {
-    const auto row = static_cast<Eigen::Index>(r);
-    in_sub_[tets[r]] = 1;
-    for (int k = 0; k < 4; ++k) {
-      const int node = tets_(tets[r], k);
-      if (local_[node] < 0) {
-        local_[node] = static_cast<int>(sub_nodes_.size());
-        sub_nodes_.push_back(node);
+  // that it holds the needed tets), so it keeps the tets of a region falling asleep until it is
+  // twice the size needed: the nodes of a decaying wave fall asleep one by one, and an update per
+  // sleep would cost more than evaluating the sleepers' tets.
+  const std::size_t size_after = sub_count_ + changed_.size();
+  const bool shrink = size_after > 2 * needed.size();
+  if (changed_.empty() && !shrink) return;
+  for (const int t : changed_)
+    in_sub_[static_cast<std::size_t>(t)] = 1;
+  if (shrink) {
+    // Everything in the sub-model that is not needed leaves it.
+    std::vector<char> keep(in_sub_.size(), 0);
+    for (const int t : needed)
+      keep[static_cast<std::size_t>(t)] = 1;
+    for (std::size_t t = 0; t < in_sub_.size(); ++t) {
+      if (in_sub_[t] != 0 && keep[t] == 0) {
+        in_sub_[t] = 0;
+        changed_.push_back(static_cast<int>(t));
       }
-      sub_tets(row, k) = local_[node];
     }
-    sub_labels(row) = labels_(tets[r]);
   }
-  const auto m = static_cast<Eigen::Index>(sub_nodes_.size());
-  Points sub_rest(m, 3);
-  sub_x_.resize(m, 3);
-  sub_v_.resize(m, 3);
-  sub_f_.resize(m, 3);
-  for (Eigen::Index j = 0; j < m; ++j)
-    sub_rest.row(j) = rest_.row(sub_nodes_[j]);
-  TetMesh sub = make_tet_mesh(std::move(sub_rest), std::move(sub_tets), std::move(sub_labels));
-  for (Eigen::Index j = 0; j < m; ++j) {
-    sub.x.row(j) = x.row(sub_nodes_[j]);
-    sub.v.row(j) = v.row(sub_nodes_[j]);
-  }
-  sub_model_ = factory_(sub);
+  sub_count_ = static_cast<std::size_t>(std::count(in_sub_.begin(), in_sub_.end(), 1));
+  metrics_.rebuilt = true;
+  sub_model_->update_elements(mesh_, in_sub_, changed_);
   ++rebuilds_;
 }
 
 void ActiveExplicitStepper::evaluate_forces(const Points& x, const Points& v) {
-  if (!sub_model_) return;
-  for (std::size_t j = 0; j < sub_nodes_.size(); ++j) {
-    sub_x_.row(static_cast<Eigen::Index>(j)) = x.row(sub_nodes_[j]);
-    sub_v_.row(static_cast<Eigen::Index>(j)) = v.row(sub_nodes_[j]);
-  }
+  if (sub_count_ == 0) return;
   sub_f_.setZero();
-  sub_model_->add_forces(sub_x_, sub_v_, sub_f_);
+  sub_model_->add_forces(x, v, sub_f_);
   for (const int node : region_.complete_nodes())
-    held_force_.row(node) = sub_f_.row(local_[node]);
+    held_force_.row(node) = sub_f_.row(node);
 }
 
 Real ActiveExplicitStepper::net_force(int node, const Vec3& gravity, const Points& external) const {
@@ -209,7 +186,7 @@ void ActiveExplicitStepper::step(Real dt, const Vec3& gravity, const Points& ext
   metrics_.wakes = 0;
   metrics_.sleeps = 0;
   metrics_.rebuilt = false;
-  if (region_.changed()) update_region(x, v);
+  if (region_.changed()) update_region();
   evaluate_forces(x, v);
 
   // Only nodes that are asleep can wake; their held forces are current on the frontier and
@@ -222,7 +199,7 @@ void ActiveExplicitStepper::step(Real dt, const Vec3& gravity, const Points& ext
     }
   }
   if (metrics_.wakes > 0) {
-    update_region(x, v);
+    update_region();
     evaluate_forces(x, v);
   }
 
@@ -238,7 +215,7 @@ void ActiveExplicitStepper::step(Real dt, const Vec3& gravity, const Points& ext
   }
   metrics_.active_nodes = static_cast<int>(region_.active_nodes().size());
   metrics_.active_tets = static_cast<int>(region_.active_tets().size());
-  metrics_.evaluated_tets = static_cast<int>(sub_tets_.size());
+  metrics_.evaluated_tets = static_cast<int>(sub_count_);
 }
 
 }  // namespace incise::sim

@@ -41,7 +41,7 @@ struct ActiveRegionMetrics {
                            // least half used)
   int wakes = 0;           // nodes woken this step (force or wake())
   int sleeps = 0;          // nodes that fell asleep this step
-  bool rebuilt = false;    // the sub-model was rebuilt this step
+  bool rebuilt = false;    // the sub-model's elements were updated this step
 };
 
 class ActiveRegion {
@@ -92,20 +92,21 @@ class ActiveRegion {
   std::vector<int> active_nodes_, active_tets_, evaluated_tets_, complete_nodes_;
 };
 
-// Builds the model of a sub-mesh (e.g. a lambda around make_model or a model's constructor).
+// Builds the model of a mesh (e.g. a lambda around make_model or a model's constructor).
 using ModelFactory = std::function<std::unique_ptr<Model>(const TetMesh&)>;
 
 // Symplectic Euler (as symplectic_euler_step) over the active region of a mesh. Forces come from a
-// sub-model built by the factory on the evaluated tets (active + halo), rebuilt only when the
-// active set changes. Why the halo: with it, every active and frontier node has all its tets and
-// all its neighbours' tets in the sub-mesh, so for any model whose force on a node depends on
-// the tets at the node and the masses of its neighbours (the FEM models, and the mass-spring
-// model's eq. 7 damping c_ij, which uses m_j) the sub-model's force on those nodes equals the
-// full model's exactly; the halo's outer nodes have wrong masses and forces, but they are frozen
-// (v = 0, so the mass-spring dampers between them and the frontier, whose c_ij uses those wrong
-// masses, exert no force) and their forces are not used. Integration uses the full model's masses.
-// A deep sleeping node (not in the sub-mesh) keeps the internal force last evaluated on it (all its
-// tets are frozen, so it does not change) for the wake test.
+// sub-model holding only the evaluated tets (active + halo): the factory's model of the whole mesh
+// with the other elements dropped, updated through Model::update_elements by the tets that enter
+// or leave the set (local in the FEM and mass-spring models). Why the halo: with it, every active
+// and frontier node has all its tets and all its neighbours' tets in the sub-mesh, so for any model
+// whose force on a node depends on the tets at the node and the masses of its neighbours (the FEM
+// models, and the mass-spring model's eq. 7 damping c_ij, which uses m_j) the sub-model's force on
+// those nodes equals the full model's exactly; the halo's outer nodes have wrong masses and forces,
+// but they are frozen (v = 0, so the mass-spring dampers between them and the frontier, whose c_ij
+// uses those wrong masses, exert no force) and their forces are not used. Integration uses the full
+// model's masses. A deep sleeping node (not in the sub-mesh) keeps the internal force last
+// evaluated on it (all its tets are frozen, so it does not change) for the wake test.
 class ActiveExplicitStepper {
  public:
   //   mesh     rest, tets and labels; the state x, v the stepper starts from (nodes with a
@@ -134,30 +135,28 @@ class ActiveExplicitStepper {
   const VecX& masses() const { return masses_; }  // full-mesh lumped masses [kg]
   // Internal force [N] last evaluated on each node (current for active and frontier nodes).
   const Points& internal_forces() const { return held_force_; }
-  int rebuilds() const { return rebuilds_; }  // sub-model builds so far
+  int rebuilds() const { return rebuilds_; }  // sub-model updates so far
 
  private:
-  void update_region(const Points& x, const Points& v);
-  void rebuild(const Points& x, const Points& v);
+  void update_region();
   void evaluate_forces(const Points& x, const Points& v);
   Real net_force(int node, const Vec3& gravity, const Points& external) const;
 
-  Points rest_;
-  Tets tets_;
-  Eigen::VectorXi labels_;
+  TetMesh mesh_;  // the model's slot view: every tet of the mesh is a slot
   ModelFactory factory_;
   ActiveRegion region_;
   VecX masses_;
   Points held_force_;
   ActiveRegionMetrics metrics_;
   int rebuilds_ = 0;
-  // The sub-model and its node map.
+  // The sub-model: the whole mesh's model whose elements outside the evaluated set are dropped
+  // (Model::update_elements), so that a change of the set costs only the tets that enter or
+  // leave it.
   std::unique_ptr<Model> sub_model_;
-  std::vector<int> sub_nodes_;        // sub-mesh node -> mesh node
-  std::vector<int> local_;            // mesh node -> sub-mesh node, -1 outside
-  std::vector<int> sub_tets_;         // sub-mesh tet -> mesh tet
-  std::vector<std::uint8_t> in_sub_;  // #tets, 1 for the tets of the sub-mesh
-  Points sub_x_, sub_v_, sub_f_;
+  std::vector<char> in_sub_;  // #tets, 1 for the tets the sub-model holds
+  std::size_t sub_count_ = 0;
+  std::vector<int> changed_;  // scratch: the slots of an update
+  Points sub_f_;
 };
 
 }  // namespace incise::sim
