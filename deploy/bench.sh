@@ -47,5 +47,8 @@ out=results/bench-$(date -u +%Y%m%dT%H%M%SZ).txt
   echo
   echo "## active region: a local poke on a 5.8k-tet box, with and without (issue 5)"
   "$bin/bench_active_region" 3000 20 0.02 5e-5 1e-4
+  echo
+  echo "## liver-like organ (~5k tets) probed by a scripted tool, full against active region"
+  "$bin/bench_liver" 4000 0.0085 5e-5 1e-4
 } 2>&1 | tee "$out"
 echo "deploy/bench.sh: wrote $out"
