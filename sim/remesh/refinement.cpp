@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sim/mesh/tet_adjacency.h"
+#include "sim/remesh/adaptation_regions.h"
 #include "sim/remesh/point_location.h"
 #include "sim/remesh/tet_shape.h"
 #include "sim/remesh/vertex_removal.h"
@@ -20,7 +21,14 @@ struct Candidate {
   Real badness;  // max(circumradius / target, ratio / B) > 1
   int tet;
   TetVertices vertices;  // to recognise a slot that has been reused since
-  bool operator<(const Candidate& other) const { return badness < other.badness; }
+  // Worst first; ties (common on regular meshes) by slot and then vertices, a total order, so the
+  // tets are split in the same order whatever order they were queued in (the full scan and the
+  // region walk of RefinementSettings::region queue them differently).
+  bool operator<(const Candidate& other) const {
+    if (badness != other.badness) return badness < other.badness;
+    if (tet != other.tet) return tet > other.tet;
+    return vertices > other.vertices;
+  }
 };
 
 struct Badness {
@@ -66,9 +74,9 @@ class Refiner {
       : mesh_(mesh), target_size_(target_size), settings_(settings), listener_(listener) {}
 
   RefinementStats run() {
-    for (int t = 0; t < mesh_.num_tet_slots(); ++t) {
-      if (mesh_.tet_alive(t)) consider(t);
-    }
+    gather_region_tets();
+    for (int t : region_tets_)
+      consider(t);
     while (!queue_.empty()) {
       if (stats_.insertions() >= settings_.max_insertions) {
         stats_.budget_exhausted = true;
@@ -79,8 +87,8 @@ class Refiner {
       if (!mesh_.tet_alive(c.tet) || mesh_.tet(c.tet) != c.vertices) continue;  // stale
       split(c.tet);
     }
-    for (int t = 0; t < mesh_.num_tet_slots(); ++t) {
-      if (!mesh_.tet_alive(t)) continue;
+    gather_region_tets();
+    for (int t : region_tets_) {
       const Badness bad = badness(mesh_, t, target_size_, settings_.max_radius_edge_ratio);
       stats_.unresolved_size += bad.too_large;
       stats_.unresolved_quality += bad.too_poor;
@@ -93,6 +101,100 @@ class Refiner {
     if (!given_up_.empty() && given_up_.count(sorted(mesh_.tet(t)))) return;
     const Badness bad = badness(mesh_, t, target_size_, settings_.max_radius_edge_ratio);
     if (bad.too_large || bad.too_poor) queue_.push({bad.value, t, mesh_.tet(t)});
+  }
+
+  // The tets that may be in the region, into region_tets_: every alive tet without a hint; with
+  // RefinementSettings::region, the tets whose bounding sphere meets the ball, found by a
+  // breadth-first search from a tet that meets it (see the setting for when that holds).
+  void gather_region_tets() {
+    region_tets_.clear();
+    if (!settings_.region) {
+      for (int t = 0; t < mesh_.num_tet_slots(); ++t) {
+        if (mesh_.tet_alive(t)) region_tets_.push_back(t);
+      }
+      return;
+    }
+    const RegionHint& hint = *settings_.region;
+    const int seed = seed_tet(hint);
+    if (seed < 0) {
+      for (int t = 0; t < mesh_.num_tet_slots(); ++t) {
+        if (mesh_.tet_alive(t) && meets(t, hint)) region_tets_.push_back(t);
+      }
+      return;
+    }
+    next_stamp();
+    region_tets_.push_back(seed);
+    visited_[static_cast<size_t>(seed)] = stamp_;
+    for (size_t i = 0; i < region_tets_.size(); ++i) {
+      const int t = region_tets_[i];
+      for (int k = 0; k < 4; ++k) {
+        const int n = mesh_.neighbor(t, k);
+        if (n < 0 || visited_[static_cast<size_t>(n)] == stamp_) continue;
+        visited_[static_cast<size_t>(n)] = stamp_;
+        if (meets(n, hint)) region_tets_.push_back(n);
+      }
+    }
+  }
+
+  // True if tet t's bounding sphere about its centroid meets the hint's ball.
+  bool meets(int t, const RegionHint& hint) const {
+    const auto x = corners(mesh_, t);
+    const Vec3 centroid = (x[0] + x[1] + x[2] + x[3]) / 4;
+    Real radius2 = 0;
+    for (const Vec3& corner : x)
+      radius2 = std::max(radius2, (corner - centroid).squaredNorm());
+    return intersects(hint, centroid, std::sqrt(radius2));
+  }
+
+  // A tet that really meets the hint's ball (point_tet_distance of the centre <= radius), so that
+  // it lies in the connected part of the region the search must cover; -1 if none was found.
+  // The walk to the centre stops at a constrained face: across an interior one (a label
+  // interface) it carries on from the other side; at the surface (centre outside the body) it
+  // descends to the neighbour nearest the centre while that gets nearer.
+  int seed_tet(const RegionHint& hint) {
+    constexpr int kMaxHops = 64;      // label interfaces crossed on the way
+    constexpr int kMaxDescent = 256;  // steps along the surface towards the centre
+    int start = 0;
+    while (start < mesh_.num_tet_slots() && !mesh_.tet_alive(start))
+      ++start;
+    if (start == mesh_.num_tet_slots()) return -1;
+    Location where = locate(mesh_, start, hint.center);
+    for (int hop = 0; hop < kMaxHops && where.kind == LocationKind::kBeyondConstraint; ++hop) {
+      const int across = mesh_.neighbor(where.tet, where.face);
+      if (across < 0) break;
+      where = locate(mesh_, across, hint.center);
+    }
+    if (where.tet < 0) return -1;
+    int t = where.tet;
+    Real distance = center_distance(t, hint);
+    for (int step = 0; step < kMaxDescent && distance > hint.radius; ++step) {
+      int nearest = -1;
+      for (int k = 0; k < 4; ++k) {
+        const int n = mesh_.neighbor(t, k);
+        if (n < 0) continue;
+        const Real d = center_distance(n, hint);
+        if (d < distance) {
+          distance = d;
+          nearest = n;
+        }
+      }
+      if (nearest < 0) break;
+      t = nearest;
+    }
+    return distance <= hint.radius ? t : -1;
+  }
+
+  Real center_distance(int t, const RegionHint& hint) const {
+    const auto x = corners(mesh_, t);
+    return point_tet_distance(hint.center, x[0], x[1], x[2], x[3]);
+  }
+
+  // A fresh mark for visited_, sized to the tet slots.
+  void next_stamp() {
+    if (static_cast<int>(visited_.size()) < mesh_.num_tet_slots()) {
+      visited_.resize(static_cast<size_t>(mesh_.num_tet_slots()), 0);
+    }
+    ++stamp_;
   }
 
   enum class Outcome { kInserted, kTooClose, kNotInsertable, kRolledBack };
@@ -229,10 +331,7 @@ class Refiner {
   // could miss a vertex beyond it). The cavity of an insertion may be larger, but its other
   // vertices are farther than l_min anyway.
   Real nearest_vertex_distance(int start, const Vec3& p) {
-    if (static_cast<int>(visited_.size()) < mesh_.num_tet_slots()) {
-      visited_.resize(static_cast<size_t>(mesh_.num_tet_slots()), 0);
-    }
-    ++stamp_;
+    next_stamp();
     Real nearest = std::numeric_limits<Real>::infinity();
     near_.assign(1, start);
     visited_[static_cast<size_t>(start)] = stamp_;
@@ -281,6 +380,7 @@ class Refiner {
   std::vector<int> visited_;
   int stamp_ = 0;
   std::vector<int> near_;
+  std::vector<int> region_tets_;
   // Tets (as sorted vertex sets) whose every point was refused: not tried again in this call,
   // also when an undo recreates them in another slot.
   std::set<TetVertices> given_up_;
@@ -302,6 +402,10 @@ RefinementStats refine(RemeshMesh& mesh, const SizeField& target_size,
         std::to_string(settings.max_radius_edge_ratio));
   }
   if (!target_size) throw std::invalid_argument("refinement needs a size field");
+  if (settings.region && !(settings.region->radius >= 0 && settings.region->center.allFinite() &&
+                           std::isfinite(settings.region->radius))) {
+    throw std::invalid_argument("refinement region hint needs a finite centre and radius >= 0");
+  }
   return Refiner(mesh, target_size, settings, listener).run();
 }
 

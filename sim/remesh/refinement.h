@@ -6,6 +6,7 @@
 // l_min, and so never lowers the stable time step below dt_min (see time_step_floor.h).
 
 #include <limits>
+#include <optional>
 
 #include "sim/core/types.h"
 #include "sim/remesh/remesh_mesh.h"
@@ -31,6 +32,15 @@ struct RefinementSettings {
   bool floor_altitudes = false;
   // Work bound per call: at most this many insertions; the next call carries on.
   int max_insertions = std::numeric_limits<int>::max();
+  // Optional: a ball holding every point where the size field is finite (region_hint_of). With
+  // it, a call looks only at the tets near the region instead of scanning every tet (twice: to
+  // queue the bad tets and to count the unresolved ones): it walks to the ball's centre (locate)
+  // and searches outwards over the tet adjacency, keeping the tets whose bounding sphere (about
+  // the centroid) meets the ball. Every tet of the region has its centroid in the ball, so the
+  // result is the full scan's, provided the body's part inside the ball is connected (always for
+  // a convex body; a ball reaching across a gap of a non-convex organ refines only the part the
+  // walk lands in).
+  std::optional<RegionHint> region;
 };
 
 struct RefinementStats {
@@ -79,7 +89,8 @@ struct RefinementStats {
 // remove_vertex if they fail. So no two vertices, one of them inserted, are closer than l_min,
 // and the shortest edge of the mesh is >= min(l_min, shortest distance between original vertices).
 // The mesh must be constrained Delaunay (make_constrained_delaunay). Every edit is reported to
-// `listener`. Throws std::invalid_argument for l_min <= 0, B <= sqrt(6)/4 or an empty field.
+// `listener`. Throws std::invalid_argument for l_min <= 0, B <= sqrt(6)/4, an empty field, or a
+// region hint with a non-finite centre, or a radius that is negative or not finite.
 RefinementStats refine(RemeshMesh& mesh, const SizeField& target_size,
                        const RefinementSettings& settings, const RemeshListener& listener = {});
 

@@ -32,6 +32,24 @@ SizeField sphere_size_field(const Vec3& center, Real radius, Real size) {
   };
 }
 
+RegionHint region_hint_of(const Box3& box) {
+  if (box.isEmpty()) throw std::invalid_argument("region hint box is empty");
+  return {box.center(), (box.max() - box.min()).norm() / 2};
+}
+
+RegionHint region_hint_of(const Vec3& center, Real radius) {
+  if (!(radius >= 0 && std::isfinite(radius))) {
+    throw std::invalid_argument("region hint radius must be >= 0 and finite, got " +
+                                std::to_string(radius));
+  }
+  return {center, radius};
+}
+
+bool intersects(const RegionHint& hint, const Vec3& center, Real radius) {
+  const Real reach = hint.radius + radius;
+  return (center - hint.center).squaredNorm() <= reach * reach;
+}
+
 bool in_region(const SizeField& field, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   return std::isfinite(field((a + b + c + d) / 4));
 }

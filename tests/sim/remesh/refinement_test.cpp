@@ -7,12 +7,14 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <Eigen/LU>
 
 #include "remesh/remesh_fixtures.h"
+#include "sim/mesh/box_mesher.h"
 #include "sim/remesh/decimation.h"
 #include "sim/remesh/flips.h"
 #include "sim/remesh/point_location.h"
@@ -213,6 +215,117 @@ TEST(Refinement, RejectsBadSettings) {
   EXPECT_THROW(refine(mesh, SizeField{}, settings), std::invalid_argument);
   EXPECT_THROW(box_size_field(Box3(Vec3::Zero(), Vec3::Ones()), 0), std::invalid_argument);
   EXPECT_THROW(sphere_size_field(Vec3::Zero(), -1, 0.1), std::invalid_argument);
+  settings.region = RegionHint{Vec3::Zero(), -1};
+  EXPECT_THROW(refine(mesh, field, settings), std::invalid_argument);
+  settings.region = RegionHint{Vec3(kInfinity, 0, 0), 1};
+  EXPECT_THROW(refine(mesh, field, settings), std::invalid_argument);
+  EXPECT_THROW(region_hint_of(Vec3::Zero(), -0.1), std::invalid_argument);
+  EXPECT_THROW(region_hint_of(Box3()), std::invalid_argument);
+}
+
+// What a refinement call did, for comparing two runs: the stats, the inserted and removed
+// vertices in order (with their rest points), and the resulting tets.
+struct RefinementTrace {
+  RefinementStats stats;
+  std::vector<std::pair<int, Vec3>> inserted;
+  std::vector<int> removed;
+  decltype(canonical_tets(std::declval<const RemeshMesh&>())) tets;
+  long field_calls = 0;
+};
+
+RefinementTrace traced_refine(const TetMesh& input, const SizeField& field,
+                              const RefinementSettings& settings) {
+  RemeshMesh mesh(input);
+  make_constrained_delaunay(mesh);
+  RefinementTrace trace;
+  RemeshListener listener;
+  listener.on_inserted = [&](const InsertedVertex& v, const TetChanges&) {
+    trace.inserted.emplace_back(v.vertex, v.rest_point);
+  };
+  listener.on_removal = [&](int v, const RemoveResult&) { trace.removed.push_back(v); };
+  const SizeField counted = [&](const Vec3& p) {
+    ++trace.field_calls;
+    return field(p);
+  };
+  trace.stats = refine(mesh, counted, settings, listener);
+  EXPECT_EQ(check_remesh_mesh(mesh), "");
+  trace.tets = canonical_tets(mesh);
+  return trace;
+}
+
+void expect_same_run(const RefinementTrace& full, const RefinementTrace& local) {
+  EXPECT_EQ(local.stats.insertions(), full.stats.insertions());
+  EXPECT_EQ(local.stats.constraint_splits, full.stats.constraint_splits);
+  EXPECT_EQ(local.stats.rejected_l_min, full.stats.rejected_l_min);
+  EXPECT_EQ(local.stats.rejected_other, full.stats.rejected_other);
+  EXPECT_EQ(local.stats.rolled_back, full.stats.rolled_back);
+  EXPECT_EQ(local.stats.unresolved_size, full.stats.unresolved_size);
+  EXPECT_EQ(local.stats.unresolved_quality, full.stats.unresolved_quality);
+  EXPECT_EQ(local.stats.budget_exhausted, full.stats.budget_exhausted);
+  ASSERT_EQ(local.inserted.size(), full.inserted.size());
+  for (size_t i = 0; i < full.inserted.size(); ++i) {
+    EXPECT_EQ(local.inserted[i].first, full.inserted[i].first) << "insertion " << i;
+    EXPECT_EQ(local.inserted[i].second, full.inserted[i].second) << "insertion " << i;
+  }
+  EXPECT_EQ(local.removed, full.removed);
+  EXPECT_EQ(local.tets, full.tets);
+}
+
+// With RefinementSettings::region, refinement visits only the tets near the region and does
+// exactly what the scan of every tet does: same points inserted in the same order into the same
+// slots, same refusals and roll-backs, same final tets, on the three fixtures and for regions
+// inside the body, across the label interface, centred on the surface, centred outside the body
+// (the walk stops at the surface and descends to the ball) and at a corner; also with a budget.
+TEST(Refinement, RegionHintGivesTheSameRunAsTheFullScan) {
+  struct Region {
+    const char* name;
+    SizeField field;
+    RegionHint hint;
+  };
+  const Box3 middle(Vec3(0.3, 0.3, 0.3), Vec3(0.7, 0.7, 0.7));
+  const std::vector<Region> regions = {
+      {"middle box", box_size_field(middle, 0.1), region_hint_of(middle)},
+      {"ball on the top", sphere_size_field(Vec3(0.5, 0.5, 1), 0.3, 0.08),
+       region_hint_of(Vec3(0.5, 0.5, 1), 0.3)},
+      {"ball centred outside", sphere_size_field(Vec3(0.4, 0.6, 1.15), 0.35, 0.08),
+       region_hint_of(Vec3(0.4, 0.6, 1.15), 0.35)},
+      {"corner ball", sphere_size_field(Vec3(0, 0, 0), 0.3, 0.06),
+       region_hint_of(Vec3(0, 0, 0), 0.3)}};
+  for (const Case& c : cases()) {
+    for (const Region& r : regions) {
+      for (const int budget : {std::numeric_limits<int>::max(), 5}) {
+        SCOPED_TRACE(std::string(c.name) + ", " + r.name + ", budget " + std::to_string(budget));
+        RefinementSettings settings;
+        settings.l_min = 0.03;
+        settings.max_insertions = budget;
+        const RefinementTrace full = traced_refine(c.mesh, r.field, settings);
+        settings.region = r.hint;
+        const RefinementTrace local = traced_refine(c.mesh, r.field, settings);
+        EXPECT_GT(full.stats.insertions(), 0);
+        expect_same_run(full, local);
+      }
+    }
+  }
+}
+
+// On a larger mesh the hinted call asks the size field about the tets near the ball only (each
+// considered tet costs one call), where the full scan asks about every tet, twice.
+TEST(Refinement, RegionHintVisitsOnlyTetsNearTheRegion) {
+  const TetMesh box = make_box_mesh(Vec3(1, 1, 1), Vec3i(12, 12, 12));  // 10,368 tets
+  const Vec3 center(0.5, 0.5, 1);
+  const SizeField field = sphere_size_field(center, 0.1, 0.03);
+  RefinementSettings settings;
+  settings.l_min = 0.01;
+  const RefinementTrace full = traced_refine(box, field, settings);
+  settings.region = region_hint_of(center, 0.1);
+  const RefinementTrace local = traced_refine(box, field, settings);
+  expect_same_run(full, local);
+  EXPECT_GE(full.field_calls, 2 * 10368);
+  // Both runs ask the same for the tets refinement creates; the region walk then asks only about
+  // the tets near the ball (a few hundred, twice) instead of all 10,368 and more, twice.
+  EXPECT_LT(5 * local.field_calls, full.field_calls);
+  std::printf("  field calls: full scan %ld, region walk %ld, %d insertions\n", full.field_calls,
+              local.field_calls, local.stats.insertions());
 }
 
 // The walk finds the tet holding a point from any start, and stops at the surface for a point
