@@ -12,6 +12,7 @@
 #include "sim/mesh/mesh_info.h"
 #include "sim/mesh/read_mesh_file.h"
 #include "sim/mesh/vtu_writer.h"
+#include "sim/remesh/adaptive_run.h"
 #include "sim/scene/run_scene.h"
 #include "sim/scene/scene_run.h"
 
@@ -63,6 +64,16 @@ SCENE.json (units SI; members marked ? are optional):
                  "ldlt"; "preconditioner"?: "jacobi", "block_jacobi" or "incomplete_cholesky"
                  (assembled_cg only; its default there)
   output?        {"vtu": "final.vtu"}: the final state for ParaView, next to the scene file
+  adaptivity?    remesh online where the body strains or bends (sim/remesh/, docs/remeshing.md):
+                 {"l_min": m | "dt_min": s (one; refinement keeps edges and new tets' altitudes
+                 >= l_min, dt_min = 0.5 l_min / c, solver.dt must be <= dt_min), "fine_size": m
+                 (target circumradius where refined), "quality"?: 2 (circumradius / shortest
+                 edge), "every"?: 10 (steps between adaptations), "strain"?: {"on": 0.05,
+                 "off": 0.03} (Green strain), "curvature"?: {"on_degrees": 20, "off_degrees":
+                 10} (surface bend from rest), "keep_margin"?: m (default fine_size)}; at least
+                 one criterion; needs "symplectic_euler" and "fix": "xyz" constraints. Loads act
+                 on the vertices whose rest point is in their box, new ones included.
+                 Example: sim/scenes/adaptive_box.json
   where.box      selects the nodes inside the box (inclusive, tolerance 1e-6 of the mesh size);
                  a box that selects no node is an error
   fix            holds the named coordinates ("x", "xz", "xyz", ...) at rest
@@ -78,6 +89,8 @@ RESULT.json:
    the end [m/s], "finite": true, "status": "completed" (else why and at which step),
    "solver": {"converged": bool, "iterations": n,
    "relative_residual": x, "inverted_elements": n}}
+  With adaptivity, nodes, tets, rest and displacement describe the FINAL mesh: the original
+  nodes first in their order, then the vertices refinement inserted and kept.
 
 exit codes:
   0  done
@@ -112,6 +125,7 @@ int solve(const std::vector<std::string>& args, std::ostream& err) {
 
   RunResult result;
   Scene scene;
+  TetMesh final_mesh;  // with adaptivity: the final, remeshed mesh
   const std::filesystem::path scene_dir = std::filesystem::path(*scene_file).parent_path();
   try {
     scene = read_scene_file(*scene_file);
@@ -121,8 +135,13 @@ int solve(const std::vector<std::string>& args, std::ostream& err) {
                          scene.material.model == MaterialModel::mass_spring &&
                          scene.material.volume_stiffness == 0 &&
                          scene.solver.integrator == Integrator::symplectic_euler;
-    result = classic ? run_scene(scene)
-                     : run_scene_checked(scene, build_scene_mesh(scene, scene_dir)).result;
+    if (scene.adaptivity) {
+      result =
+          remesh::run_adaptive_scene(scene, build_scene_mesh(scene, scene_dir), &final_mesh).result;
+    } else {
+      result = classic ? run_scene(scene)
+                       : run_scene_checked(scene, build_scene_mesh(scene, scene_dir)).result;
+    }
   } catch (const SceneError& error) {
     err << "incise: " << *scene_file << ": " << error.what() << "\n";
     return kExitUsage;
@@ -130,9 +149,13 @@ int solve(const std::vector<std::string>& args, std::ostream& err) {
   if (!scene.vtu_output.empty()) {
     const auto vtu = scene_dir / scene.vtu_output;
     try {
-      TetMesh final_state = build_scene_mesh(scene, scene_dir);
-      final_state.x = result.final_positions;
-      write_vtu(vtu, final_state);
+      if (scene.adaptivity) {
+        write_vtu(vtu, final_mesh);
+      } else {
+        TetMesh final_state = build_scene_mesh(scene, scene_dir);
+        final_state.x = result.final_positions;
+        write_vtu(vtu, final_state);
+      }
     } catch (const std::exception& error) {
       err << "incise: " << vtu.string() << ": " << error.what() << "\n";
       return kExitUsage;

@@ -258,6 +258,43 @@ ViewSpec read_view(const json& value) {
   return view;
 }
 
+// Every member but the sizes optional; ranges and the combination with the rest of the scene
+// are checked by validate_scene.
+AdaptivitySpec read_adaptivity(const json& value) {
+  const JsonObjectReader object(
+      value, "adaptivity",
+      {"l_min", "dt_min", "fine_size", "quality", "every", "strain", "curvature", "keep_margin"});
+  if (object.has("l_min") == object.has("dt_min")) {
+    throw SceneError("adaptivity", object.has("l_min")
+                                       ? "has both \"l_min\" and \"dt_min\" (give one)"
+                                       : "needs \"l_min\" or \"dt_min\"");
+  }
+  AdaptivitySpec spec;
+  if (object.has("l_min")) spec.l_min = object.number("l_min");
+  if (object.has("dt_min")) spec.dt_min = object.number("dt_min");
+  spec.fine_size = object.number("fine_size");
+  if (object.has("quality")) spec.quality = object.number("quality");
+  if (object.has("every")) spec.every = object.integer("every");
+  if (object.has("strain")) {
+    const JsonObjectReader strain(object.required("strain"), object.path("strain"), {"on", "off"});
+    spec.strain = true;
+    spec.strain_on = strain.number("on");
+    spec.strain_off = strain.number("off");
+  }
+  if (object.has("curvature")) {
+    const JsonObjectReader curvature(object.required("curvature"), object.path("curvature"),
+                                     {"on_degrees", "off_degrees"});
+    spec.curvature = true;
+    spec.bend_on_degrees = curvature.number("on_degrees");
+    spec.bend_off_degrees = curvature.number("off_degrees");
+  }
+  if (!spec.strain && !spec.curvature) {
+    throw SceneError("adaptivity", "needs at least one criterion: \"strain\" or \"curvature\"");
+  }
+  if (object.has("keep_margin")) spec.keep_margin = object.number("keep_margin");
+  return spec;
+}
+
 // The elements of an optional array member, each read by read(element, path).
 template <typename T, typename Read>
 std::vector<T> read_list(const JsonObjectReader& object, std::string_view key, Read read) {
@@ -281,7 +318,7 @@ Scene parse_scene(const json& value) {
   }
   const JsonObjectReader root(value, "",
                               {"mesh", "material", "materials", "constraints", "loads", "gravity",
-                               "solver", "tool", "view", "output"});
+                               "solver", "tool", "view", "output", "adaptivity"});
   Scene scene;
   scene.mesh = read_mesh(root.required("mesh"));
   scene.material = read_material(root.required("material"));
@@ -298,6 +335,7 @@ Scene parse_scene(const json& value) {
   scene.solver = read_solver(root.required("solver"));
   if (root.has("tool")) scene.tool = read_tool(root.required("tool"));
   if (root.has("view")) scene.view = read_view(root.required("view"));
+  if (root.has("adaptivity")) scene.adaptivity = read_adaptivity(root.required("adaptivity"));
   validate_scene(scene);
   return scene;
 }

@@ -124,20 +124,46 @@ struct ViewSpec {
   Real fov_y_deg = 45;         // "fov_y_deg": vertical field of view [deg], in (0, 180)
 };
 
+// Online adaptive remeshing of the body (issue 5, sim/remesh/): where a criterion fires, the mesh
+// is refined in the rest configuration down to fine_size, and coarsened again where it no longer
+// does; "adaptivity" absent = a fixed mesh. Runs with solver.integrator "symplectic_euler" and
+// "fix": "xyz" constraints only (the remesher holds a vertex by its rest point; it has no
+// per-axis or moving constraints). At least one criterion (strain, curvature).
+struct AdaptivitySpec {
+  // The floor on edge lengths and on the altitudes of created tets [m]: exactly one of "l_min"
+  // and "dt_min" [s] is given (> 0); the other is 0. dt_min converts with the fastest material's
+  // P-wave speed c as l_min = dt_min c / 0.5 (sim/remesh/time_step_floor.h).
+  Real l_min = 0;           // "l_min" [m]
+  Real dt_min = 0;          // "dt_min" [s]
+  Real fine_size = 0;       // "fine_size" [m], > 0: the target circumradius in the regions
+  Real quality = 2.0;       // "quality", > 1: the bound on circumradius / shortest edge
+  std::int64_t every = 10;  // "every", >= 1: steps between two adaptations
+  bool strain = false;      // "strain": {"on", "off"}, Green strain norms, 0 < off < on
+  Real strain_on = 0;
+  Real strain_off = 0;
+  bool curvature = false;    // "curvature": {"on_degrees", "off_degrees"}, 0 < off < on <= 180
+  Real bend_on_degrees = 0;  // the change of a surface edge's bend from rest [deg]
+  Real bend_off_degrees = 0;
+  // "keep_margin" [m], >= 0: refined vertices within this rest distance of a region are not
+  // decimated (hysteresis in space). Absent: fine_size.
+  std::optional<Real> keep_margin;
+};
+
 struct Scene {
   MeshSpec mesh;      // "mesh"
   Material material;  // "material": the model, and the constants of label 0
   // "materials": {"<label>": {"E", "nu", "density", "damping"?}}: constants per tissue label of
   // a labelled mesh (the model stays material.model); labels not listed use "material"'s.
   std::map<int, Material> materials_by_label;
-  std::vector<Constraint> constraints;  // "constraints"
-  std::vector<Load> loads;              // "loads"
-  Vec3 gravity = Vec3::Zero();          // "gravity" [m/s^2]
-  SolverSettings solver;                // "solver"; live sessions step with solver.dt and
-                                        // ignore solver.steps (except for a "displace" ramp)
-  std::optional<SphereTool> tool;       // "tool": the probe of a live session, if any
-  std::optional<ViewSpec> view;         // "view": the live view's camera, if given
-  std::string vtu_output;               // "output": {"vtu": path}: also write the final state
+  std::vector<Constraint> constraints;       // "constraints"
+  std::vector<Load> loads;                   // "loads"
+  Vec3 gravity = Vec3::Zero();               // "gravity" [m/s^2]
+  SolverSettings solver;                     // "solver"; live sessions step with solver.dt and
+                                             // ignore solver.steps (except for a "displace" ramp)
+  std::optional<SphereTool> tool;            // "tool": the probe of a live session, if any
+  std::optional<ViewSpec> view;              // "view": the live view's camera, if given
+  std::string vtu_output;                    // "output": {"vtu": path}: also write the final state
+  std::optional<AdaptivitySpec> adaptivity;  // "adaptivity": remesh online (sim/remesh/)
 };
 
 // Upper bound on mesh.box.cells' product, so that a typo cannot ask for more memory than a

@@ -13,6 +13,8 @@
 //                                          their full value); Newton to solver.tolerance
 // "displace" constraints ramp over the first half of the steps of a dynamic run, as in
 // Simulation. Loads are split equally over their selected nodes.
+// A scene with "adaptivity" is run by remesh::run_adaptive_scene (sim/remesh/adaptive_run.h; the
+// CLI dispatches), whose RunResult describes the FINAL remeshed mesh: its node and tet counts.
 #include <memory>
 #include <string>
 #include <vector>

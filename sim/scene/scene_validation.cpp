@@ -1,8 +1,11 @@
 #include "sim/scene/scene_validation.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstddef>
+
+#include "sim/solve/stable_time_step.h"
 
 namespace incise::sim {
 namespace {
@@ -127,6 +130,114 @@ void validate_mesh(const MeshSpec& mesh) {
   }
 }
 
+const char* integrator_name(Integrator integrator) {
+  switch (integrator) {
+    case Integrator::symplectic_euler:
+      return "symplectic_euler";
+    case Integrator::central_difference:
+      return "central_difference";
+    case Integrator::adaptive_explicit:
+      return "adaptive_explicit";
+    case Integrator::implicit_euler:
+      return "implicit_euler";
+    case Integrator::static_equilibrium:
+      break;
+  }
+  return "static";
+}
+
+// The fastest P-wave speed over the scene's materials [m/s]: the one that sets the stable step.
+Real fastest_wave_speed(const Scene& scene) {
+  Real c = p_wave_speed(scene.material.youngs_modulus, scene.material.poisson_ratio,
+                        scene.material.density);
+  for (const auto& [label, m] : scene.materials_by_label)
+    c = std::max(c, p_wave_speed(m.youngs_modulus, m.poisson_ratio, m.density));
+  return c;
+}
+
+// Called after everything else is valid (the wave speed needs valid materials).
+void validate_adaptivity(const Scene& scene) {
+  const AdaptivitySpec& a = *scene.adaptivity;
+  if (a.l_min != 0 && a.dt_min != 0) {
+    throw SceneError("adaptivity", "has both \"l_min\" and \"dt_min\" (give one)");
+  }
+  if (a.dt_min != 0) {
+    require_positive("adaptivity.dt_min", a.dt_min);
+  } else {
+    require_positive("adaptivity.l_min", a.l_min);
+  }
+  require_positive("adaptivity.fine_size", a.fine_size);
+  require_finite("adaptivity.quality", a.quality);
+  if (!(a.quality > 1)) {
+    throw SceneError("adaptivity.quality",
+                     "must be above 1 (got " + format_number(a.quality) + ")");
+  }
+  if (a.every < 1) {
+    throw SceneError("adaptivity.every",
+                     "must be at least 1 (got " + std::to_string(a.every) + ")");
+  }
+  if (!a.strain && !a.curvature) {
+    throw SceneError("adaptivity", "needs at least one criterion: \"strain\" or \"curvature\"");
+  }
+  if (a.strain) {
+    require_positive("adaptivity.strain.off", a.strain_off);
+    require_finite("adaptivity.strain.on", a.strain_on);
+    if (!(a.strain_off < a.strain_on)) {
+      throw SceneError("adaptivity.strain", "off must be below on (got off " +
+                                                format_number(a.strain_off) + ", on " +
+                                                format_number(a.strain_on) + ")");
+    }
+  }
+  if (a.curvature) {
+    require_positive("adaptivity.curvature.off_degrees", a.bend_off_degrees);
+    if (!(a.bend_on_degrees <= 180)) {
+      throw SceneError("adaptivity.curvature.on_degrees",
+                       "must be at most 180 (got " + format_number(a.bend_on_degrees) + ")");
+    }
+    if (!(a.bend_off_degrees < a.bend_on_degrees)) {
+      throw SceneError("adaptivity.curvature", "off_degrees must be below on_degrees (got off " +
+                                                   format_number(a.bend_off_degrees) + ", on " +
+                                                   format_number(a.bend_on_degrees) + ")");
+    }
+  }
+  if (a.keep_margin) {
+    require_finite("adaptivity.keep_margin", *a.keep_margin);
+    if (!(*a.keep_margin >= 0)) {
+      throw SceneError("adaptivity.keep_margin",
+                       "must not be negative (got " + format_number(*a.keep_margin) + ")");
+    }
+  }
+  if (scene.solver.integrator != Integrator::symplectic_euler) {
+    throw SceneError("adaptivity",
+                     std::string("needs solver.integrator \"symplectic_euler\" (got \"") +
+                         integrator_name(scene.solver.integrator) + "\")");
+  }
+  // The remesher holds a vertex by its rest point (every new vertex in a clamp is clamped too);
+  // it has no per-axis or moving constraints.
+  for (std::size_t c = 0; c < scene.constraints.size(); ++c) {
+    const Constraint& constraint = scene.constraints[c];
+    const bool all_axes = constraint.axes[0] && constraint.axes[1] && constraint.axes[2];
+    if (!all_axes || constraint.displacement != Vec3::Zero()) {
+      throw SceneError(
+          element("constraints", c),
+          std::string("with adaptivity a constraint must be \"fix\": \"xyz\" (this "
+                      "one ") +
+              (constraint.displacement != Vec3::Zero() ? "displaces" : "frees an axis") + ")");
+    }
+  }
+  // The floor's promise: no element refinement creates needs a step below dt_min, so the run's
+  // step must not exceed it (l_min = dt_min c / safety, stable_time_step.h).
+  const Real c = fastest_wave_speed(scene);
+  const Real dt_min = a.dt_min != 0 ? a.dt_min : kExplicitSafety * a.l_min / c;
+  if (scene.solver.dt > dt_min) {
+    const std::string key = a.dt_min != 0 ? "adaptivity.dt_min" : "adaptivity.l_min";
+    throw SceneError(key, "refined tets are stable down to dt_min = " + format_number(dt_min) +
+                              " s only, below solver.dt = " + format_number(scene.solver.dt) +
+                              " s (give a larger " + (a.dt_min != 0 ? "dt_min" : "l_min") +
+                              " or a smaller dt)");
+  }
+}
+
 }  // namespace
 
 void validate_scene(const Scene& scene) {
@@ -171,6 +282,7 @@ void validate_scene(const Scene& scene) {
     throw SceneError("solver.steps",
                      "must be at least 1 (got " + std::to_string(scene.solver.steps) + ")");
   }
+  if (scene.adaptivity) validate_adaptivity(scene);
 }
 
 }  // namespace incise::sim

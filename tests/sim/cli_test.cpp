@@ -72,6 +72,44 @@ TEST_F(Cli, TheExampleSceneSettles) {
   EXPECT_LT(result.at("max_speed").get<double>(), 1e-6);
 }
 
+// The example adaptive scene (sim/scenes/adaptive_box.json): the column refines where it strains
+// near its clamp; RESULT.json describes the final mesh, the original nodes first.
+TEST_F(Cli, TheAdaptiveExampleRefinesAndReportsTheFinalMesh) {
+  const CliRun run = incise("solve '" INCISE_SCENES_DIR "/adaptive_box.json' --out result.json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(run.err, "");
+  const json result = json::parse(test::read_file(dir_ / "result.json"));
+  EXPECT_EQ(result.at("finite"), true);
+  EXPECT_EQ(result.at("steps"), 3000);
+  const int box_tets = 5 * 2 * 2 * 4;
+  const int box_nodes = 3 * 3 * 5;
+  EXPECT_GT(result.at("tets").get<int>(), box_tets);
+  const int nodes = result.at("nodes").get<int>();
+  EXPECT_GT(nodes, box_nodes);
+  EXPECT_EQ(result.at("rest").size(), static_cast<std::size_t>(nodes));
+  EXPECT_EQ(result.at("displacement").size(), static_cast<std::size_t>(nodes));
+  EXPECT_EQ(result.at("rest")[44], json::parse("[0.02, 0.02, 0.04]"));
+  EXPECT_LT(result.at("displacement")[44][2].get<double>(), -1e-4);
+  // Every vertex on the clamped base stays put; inserted ones sit at their host's interpolated
+  // position, which is the rest point up to rounding.
+  for (int i = 0; i < nodes; ++i) {
+    if (result["rest"][i][2].get<double>() != 0) continue;
+    for (int a = 0; a < 3; ++a)
+      EXPECT_LT(std::abs(result["displacement"][i][a].get<double>()), 1e-15) << i;
+  }
+
+  json wrong = small_scene();
+  wrong["solver"]["integrator"] = "central_difference";
+  wrong["adaptivity"] = json::parse(R"({"l_min": 0.002, "fine_size": 0.004,
+                                        "strain": {"on": 0.05, "off": 0.03}})");
+  write("wrong.json", wrong.dump());
+  const CliRun refused = incise("solve wrong.json --out r.json");
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_EQ(refused.err,
+            "incise: wrong.json: adaptivity: needs solver.integrator \"symplectic_euler\" (got "
+            "\"central_difference\")\n");
+}
+
 TEST_F(Cli, InvalidSceneGivesExitCode2AndOneLineNamingTheKey) {
   json scene = small_scene();
   scene["material"]["E"] = -3;
@@ -162,6 +200,7 @@ TEST_F(Cli, HelpDescribesTheContractAndTheExample) {
   EXPECT_EQ(run.err, "");
   EXPECT_NE(run.out.find("incise solve SCENE.json --out RESULT.json"), std::string::npos);
   EXPECT_NE(run.out.find("sim/scenes/clamped_box.json"), std::string::npos);
+  EXPECT_NE(run.out.find("sim/scenes/adaptive_box.json"), std::string::npos);
   EXPECT_NE(run.out.find("ramped"), std::string::npos);
 }
 

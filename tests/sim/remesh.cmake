@@ -12,6 +12,8 @@ add_executable(sim_remesh_tests
   remesh/adaptation_regions_test.cpp
   # The adaptive body: conservation, rest, no popping, round trip (models from make_model).
   remesh/adaptive_body_test.cpp
+  # A scene's "adaptivity": the adaptive runner against the fixed-mesh one.
+  remesh/adaptive_run_test.cpp
 )
 target_link_libraries(sim_remesh_tests PRIVATE incise_sim_remesh GTest::gtest_main)
 target_include_directories(sim_remesh_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
@@ -30,3 +32,10 @@ target_link_libraries(bench_refinement PRIVATE incise_sim_remesh)
 # adaptive mass-spring blocks probed by a sliding sphere; writes results/probing.csv.
 add_executable(bench_probing remesh/bench_probing.cpp)
 target_link_libraries(bench_probing PRIVATE incise_sim_remesh)
+
+# Benchmark: per insertion, per removal and whole-pass cost through AdaptiveBody on a CGAL
+# liver-like organ, full scan against the region walk of RefinementSettings::region (issue 5).
+if(TARGET incise_sim_cgal)
+  add_executable(bench_remesh_pass remesh/bench_remesh_pass.cpp)
+  target_link_libraries(bench_remesh_pass PRIVATE incise_sim_remesh incise_sim_cgal)
+endif()

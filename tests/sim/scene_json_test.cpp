@@ -235,7 +235,124 @@ INSTANTIATE_TEST_SUITE_P(
                 "view.near: unknown key (expected one of: eye, target, up, fov_y_deg)"},
         BadCase{"/extra", "1",
                 "extra: unknown key (expected one of: mesh, material, materials, constraints, "
-                "loads, gravity, solver, tool, view, output)"}));
+                "loads, gravity, solver, tool, view, output, adaptivity)"}));
+
+// A scene with "adaptivity": clamped at its base ("fix": "xyz"), symplectic Euler.
+json adaptive_scene() {
+  return json::parse(R"({
+    "mesh": {"box": {"size": [0.02, 0.02, 0.04], "cells": [2, 2, 4]}},
+    "material": {"model": "mss", "E": 3000, "nu": 0.45, "density": 1000},
+    "constraints": [{"where": {"box": [[0, 0, 0], [0.02, 0.02, 0]]}, "fix": "xyz"}],
+    "gravity": [0, 0, -9.81],
+    "solver": {"integrator": "symplectic_euler", "dt": 1e-4, "steps": 100},
+    "adaptivity": {"l_min": 0.002, "fine_size": 0.004, "quality": 1.8, "every": 20,
+                   "strain": {"on": 0.05, "off": 0.03},
+                   "curvature": {"on_degrees": 20, "off_degrees": 10}, "keep_margin": 0.001}
+  })");
+}
+
+TEST(ParseScene, ReadsAdaptivity) {
+  EXPECT_FALSE(parse_scene(good_scene()).adaptivity.has_value());
+  const Scene scene = parse_scene(adaptive_scene());
+  ASSERT_TRUE(scene.adaptivity.has_value());
+  const AdaptivitySpec& a = *scene.adaptivity;
+  EXPECT_EQ(a.l_min, 0.002);
+  EXPECT_EQ(a.dt_min, 0);
+  EXPECT_EQ(a.fine_size, 0.004);
+  EXPECT_EQ(a.quality, 1.8);
+  EXPECT_EQ(a.every, 20);
+  EXPECT_TRUE(a.strain);
+  EXPECT_EQ(a.strain_on, 0.05);
+  EXPECT_EQ(a.strain_off, 0.03);
+  EXPECT_TRUE(a.curvature);
+  EXPECT_EQ(a.bend_on_degrees, 20);
+  EXPECT_EQ(a.bend_off_degrees, 10);
+  EXPECT_EQ(a.keep_margin, 0.001);
+
+  json value = adaptive_scene();
+  json& adaptivity = value["adaptivity"];
+  adaptivity.erase("l_min");
+  adaptivity["dt_min"] = 2e-4;
+  for (const char* key : {"quality", "every", "curvature", "keep_margin"})
+    adaptivity.erase(key);
+  const AdaptivitySpec defaults = *parse_scene(value).adaptivity;
+  EXPECT_EQ(defaults.l_min, 0);
+  EXPECT_EQ(defaults.dt_min, 2e-4);
+  EXPECT_EQ(defaults.quality, 2.0);
+  EXPECT_EQ(defaults.every, 10);
+  EXPECT_FALSE(defaults.curvature);
+  EXPECT_FALSE(defaults.keep_margin.has_value());
+}
+
+class ParseAdaptivityErrors : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(ParseAdaptivityErrors, NameTheKeyAndTheProblem) {
+  const BadCase& bad = GetParam();
+  json value = adaptive_scene();
+  const json::json_pointer pointer(bad.pointer);
+  if (bad.value == nullptr) {
+    value[pointer.parent_pointer()].erase(pointer.back());
+  } else {
+    value[pointer] = json::parse(bad.value);
+  }
+  try {
+    parse_scene(value);
+    FAIL() << "no error";
+  } catch (const SceneError& error) {
+    EXPECT_EQ(std::string(error.what()), bad.message);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, ParseAdaptivityErrors,
+    ::testing::Values(
+        BadCase{"/adaptivity", "3", "adaptivity: must be an object (got 3)"},
+        BadCase{"/adaptivity/l_min", nullptr, "adaptivity: needs \"l_min\" or \"dt_min\""},
+        BadCase{"/adaptivity/dt_min", "1e-4",
+                "adaptivity: has both \"l_min\" and \"dt_min\" (give one)"},
+        BadCase{"/adaptivity/l_min", "0", "adaptivity.l_min: must be positive (got 0)"},
+        BadCase{"/adaptivity/l_min", "-0.002", "adaptivity.l_min: must be positive (got -0.002)"},
+        BadCase{"/adaptivity/fine_size", "0", "adaptivity.fine_size: must be positive (got 0)"},
+        BadCase{"/adaptivity/fine_size", nullptr, "adaptivity.fine_size: is required"},
+        BadCase{"/adaptivity/quality", "1", "adaptivity.quality: must be above 1 (got 1)"},
+        BadCase{"/adaptivity/every", "0", "adaptivity.every: must be at least 1 (got 0)"},
+        BadCase{"/adaptivity/every", "2.5", "adaptivity.every: must be an integer (got 2.5)"},
+        BadCase{"/adaptivity/strain/off", "0.05",
+                "adaptivity.strain: off must be below on (got off 0.05, on 0.05)"},
+        BadCase{"/adaptivity/strain/off", "-0.01",
+                "adaptivity.strain.off: must be positive (got -0.01)"},
+        BadCase{"/adaptivity/strain/on", nullptr, "adaptivity.strain.on: is required"},
+        BadCase{"/adaptivity/strain/level", "1",
+                "adaptivity.strain.level: unknown key (expected one of: on, off)"},
+        BadCase{"/adaptivity/curvature/off_degrees", "30",
+                "adaptivity.curvature: off_degrees must be below on_degrees (got off 30, on 20)"},
+        BadCase{"/adaptivity/curvature/on_degrees", "200",
+                "adaptivity.curvature.on_degrees: must be at most 180 (got 200)"},
+        BadCase{"/adaptivity/keep_margin", "-1",
+                "adaptivity.keep_margin: must not be negative (got -1)"},
+        BadCase{"/adaptivity/contact", "{}",
+                "adaptivity.contact: unknown key (expected one of: l_min, dt_min, fine_size, "
+                "quality, every, strain, curvature, keep_margin)"},
+        BadCase{"/adaptivity", R"({"l_min": 0.002, "fine_size": 0.004})",
+                "adaptivity: needs at least one criterion: \"strain\" or \"curvature\""},
+        BadCase{"/solver/integrator", "\"implicit_euler\"",
+                "adaptivity: needs solver.integrator \"symplectic_euler\" (got "
+                "\"implicit_euler\")"},
+        BadCase{"/constraints/0/fix", "\"z\"",
+                "constraints[0]: with adaptivity a constraint must be \"fix\": \"xyz\" (this one "
+                "frees an axis)"},
+        BadCase{"/constraints/0",
+                R"({"where": {"box": [[0, 0, 0], [0.02, 0.02, 0]]}, "displace": [0, 0, 0.001]})",
+                "constraints[0]: with adaptivity a constraint must be \"fix\": \"xyz\" (this one "
+                "displaces)"},
+        // dt_min = 0.5 * 0.0005 / c with c = 3.373 m/s (E 3 kPa, nu 0.45, 1000 kg/m^3).
+        BadCase{"/adaptivity/l_min", "0.0005",
+                "adaptivity.l_min: refined tets are stable down to dt_min = 7.411089152360968e-05 "
+                "s only, below solver.dt = 1e-04 s (give a larger l_min or a smaller dt)"},
+        BadCase{"/adaptivity", R"({"dt_min": 5e-5, "fine_size": 0.004, "strain": {"on": 0.1,
+                "off": 0.05}})",
+                "adaptivity.dt_min: refined tets are stable down to dt_min = 5e-05 s only, below "
+                "solver.dt = 1e-04 s (give a larger dt_min or a smaller dt)"}));
 
 TEST(ParseSceneText, MalformedJsonSaysWhere) {
   try {
@@ -270,6 +387,7 @@ TEST(ReadSceneFile, ReadsAFileAndReportsAMissingOne) {
 
 TEST(ReadSceneFile, TheExampleScenesAreValid) {
   EXPECT_NO_THROW(read_scene_file(INCISE_SCENES_DIR "/clamped_box.json"));
+  EXPECT_TRUE(read_scene_file(INCISE_SCENES_DIR "/adaptive_box.json").adaptivity.has_value());
   const Scene palpation = read_scene_file(INCISE_SCENES_DIR "/palpation.json");
   EXPECT_TRUE(palpation.tool.has_value());
   EXPECT_TRUE(palpation.view.has_value());
