@@ -41,6 +41,7 @@ out=results/bench-$(date -u +%Y%m%dT%H%M%SZ).txt
   echo "## remeshing: one insertion / one removal (issue 5)"
   "$bin/bench_remesh"
   "$bin/bench_refinement"
+  "$bin/bench_remesh_pass"
   echo
   echo "## seed 000 probing: low / high / adaptive mesh (results/probing.csv)"
   "$bin/bench_probing" results/probing.csv
