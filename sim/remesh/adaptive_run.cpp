@@ -3,11 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <iomanip>
 #include <limits>
 #include <numbers>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -19,20 +17,9 @@
 #include "sim/scene/node_selection.h"
 #include "sim/scene/scene_error.h"
 #include "sim/scene/scene_validation.h"
-#include "sim/solve/stable_time_step.h"
 
 namespace incise::sim::remesh {
 namespace {
-
-// The fastest P-wave speed over the scene's materials [m/s]: the one that sets the stable step,
-// hence the l_min that keeps every material's step at or above dt_min.
-Real fastest_wave_speed(const Scene& scene) {
-  Real c = p_wave_speed(scene.material.youngs_modulus, scene.material.poisson_ratio,
-                        scene.material.density);
-  for (const auto& [label, m] : scene.materials_by_label)
-    c = std::max(c, p_wave_speed(m.youngs_modulus, m.poisson_ratio, m.density));
-  return c;
-}
 
 AdaptationCriteria criteria_of(const AdaptivitySpec& spec, Real merge_distance) {
   constexpr Real kRadiansPerDegree = std::numbers::pi / 180;
@@ -193,21 +180,8 @@ CheckedRun run_adaptive_scene(const Scene& scene, TetMesh mesh, TetMesh* final_m
               .count());
     }
     ++result.steps;
-    if (!result.finite) {
-      checked.stop = RunStop::not_finite;
-      checked.status = "not finite at step " + std::to_string(n + 1) +
-                       ": a position or velocity became NaN or infinite";
-      break;
-    }
-    const Real extent = alive_diagonal(body) / rest_diagonal;
-    checked.peak_extent = std::max(checked.peak_extent, extent);
-    if (!(extent <= kDivergedExtent)) {
-      result.finite = false;
-      checked.stop = RunStop::diverged;
-      std::ostringstream status;
-      status << std::setprecision(3) << "diverged at step " << n + 1 << ": the body is " << extent
-             << " times its rest size (limit " << kDivergedExtent << "); try a smaller solver.dt";
-      checked.status = status.str();
+    if (!continue_checked_run(n, result.finite ? alive_diagonal(body) / rest_diagonal : 0,
+                              checked)) {
       break;
     }
   }

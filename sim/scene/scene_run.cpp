@@ -284,23 +284,7 @@ CheckedRun run_scene_checked(const Scene& scene, TetMesh mesh) {
               .count());
     }
     ++result.steps;
-    if (!result.finite) {
-      checked.stop = RunStop::not_finite;
-      checked.status = "not finite at step " + std::to_string(n + 1) +
-                       ": a position, velocity or solve became NaN or infinite";
-      break;
-    }
-    const Real extent = diagonal(x) / rest_diagonal;
-    checked.peak_extent = std::max(checked.peak_extent, extent);
-    if (!(extent <= kDivergedExtent)) {
-      result.finite = false;
-      checked.stop = RunStop::diverged;
-      std::ostringstream status;
-      status << std::setprecision(3) << "diverged at step " << n + 1 << ": the body is " << extent
-             << " times its rest size (limit " << kDivergedExtent << "); try a smaller solver.dt";
-      checked.status = status.str();
-      break;
-    }
+    if (!continue_checked_run(n, result.finite ? diagonal(x) / rest_diagonal : 0, checked)) break;
   }
   if (!result.finite) --result.steps;  // the steps before the one that failed
 
@@ -321,6 +305,24 @@ CheckedRun run_scene_checked(const Scene& scene, TetMesh mesh) {
 
 RunResult run_scene_on(const Scene& scene, TetMesh mesh) {
   return run_scene_checked(scene, std::move(mesh)).result;
+}
+
+bool continue_checked_run(std::int64_t n, Real extent, CheckedRun& checked) {
+  if (!checked.result.finite) {
+    checked.stop = RunStop::not_finite;
+    checked.status = "not finite at step " + std::to_string(n + 1) +
+                     ": a position, velocity or solve became NaN or infinite";
+    return false;
+  }
+  checked.peak_extent = std::max(checked.peak_extent, extent);
+  if (extent <= kDivergedExtent) return true;
+  checked.result.finite = false;
+  checked.stop = RunStop::diverged;
+  std::ostringstream status;
+  status << std::setprecision(3) << "diverged at step " << n + 1 << ": the body is " << extent
+         << " times its rest size (limit " << kDivergedExtent << "); try a smaller solver.dt";
+  checked.status = status.str();
+  return false;
 }
 
 }  // namespace incise::sim

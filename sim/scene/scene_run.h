@@ -66,6 +66,12 @@ struct CheckedRun {
 // Throws SceneError for selections that pick no node or a mesh the model refuses.
 CheckedRun run_scene_checked(const Scene& scene, TetMesh mesh);
 
+// The check after step n (0-based) of a checked run, shared by the runners: with
+// checked.result.finite false (a position, velocity or solve became NaN or infinite) or an
+// extent (deformed bounding-box diagonal over the rest one) above kDivergedExtent, it sets
+// stop, status and finite and returns false; otherwise it records the extent and returns true.
+bool continue_checked_run(std::int64_t n, Real extent, CheckedRun& checked);
+
 // run_scene_checked(scene, mesh).result: reports as run_scene.
 RunResult run_scene_on(const Scene& scene, TetMesh mesh);
 

@@ -146,15 +146,6 @@ const char* integrator_name(Integrator integrator) {
   return "static";
 }
 
-// The fastest P-wave speed over the scene's materials [m/s]: the one that sets the stable step.
-Real fastest_wave_speed(const Scene& scene) {
-  Real c = p_wave_speed(scene.material.youngs_modulus, scene.material.poisson_ratio,
-                        scene.material.density);
-  for (const auto& [label, m] : scene.materials_by_label)
-    c = std::max(c, p_wave_speed(m.youngs_modulus, m.poisson_ratio, m.density));
-  return c;
-}
-
 // Called after everything else is valid (the wave speed needs valid materials).
 void validate_adaptivity(const Scene& scene) {
   const AdaptivitySpec& a = *scene.adaptivity;
@@ -283,6 +274,14 @@ void validate_scene(const Scene& scene) {
                      "must be at least 1 (got " + std::to_string(scene.solver.steps) + ")");
   }
   if (scene.adaptivity) validate_adaptivity(scene);
+}
+
+Real fastest_wave_speed(const Scene& scene) {
+  Real c = p_wave_speed(scene.material.youngs_modulus, scene.material.poisson_ratio,
+                        scene.material.density);
+  for (const auto& [label, m] : scene.materials_by_label)
+    c = std::max(c, p_wave_speed(m.youngs_modulus, m.poisson_ratio, m.density));
+  return c;
 }
 
 }  // namespace incise::sim
