@@ -296,6 +296,21 @@ SizeField AdaptationRegions::field(Real margin) const {
   };
 }
 
+std::optional<RegionHint> AdaptationRegions::refine_hint() const {
+  if (balls_.empty()) return std::nullopt;
+  // The band: fine + grading d < coarse, i.e. d < (coarse - fine) / grading.
+  const Real band = criteria_.grading > 0 && std::isfinite(criteria_.coarse_size)
+                        ? (criteria_.coarse_size - criteria_.fine_size) / criteria_.grading
+                        : (criteria_.grading > 0 ? kInfinity : 0);
+  if (!std::isfinite(band)) return std::nullopt;  // the field is finite everywhere
+  Eigen::AlignedBox<Real, 3> box;
+  for (const RegionBall& ball : balls_) {
+    box.extend(ball.center - Vec3::Constant(ball.radius + band));
+    box.extend(ball.center + Vec3::Constant(ball.radius + band));
+  }
+  return region_hint_of(box.center(), 0.5 * box.diagonal().norm());
+}
+
 SizeField AdaptationRegions::refine_field() const {
   return field(0);
 }

@@ -10,6 +10,7 @@
 // membership rule). Lookups cost O(#balls); merge_distance keeps the count low.
 
 #include <limits>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -115,6 +116,9 @@ class AdaptationRegions {
   // Where not to decimate: the same with the balls grown by keep_margin, so its finite region
   // contains refine_field's.
   SizeField keep_field() const;
+  // A ball holding every point where refine_field is finite (the balls with their graded band),
+  // for RefinementSettings::region; nothing while there is no ball.
+  std::optional<RegionHint> refine_hint() const;
 
  private:
   struct BoundaryEdge {

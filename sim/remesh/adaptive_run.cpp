@@ -170,6 +170,7 @@ CheckedRun run_adaptive_scene(const Scene& scene, TetMesh mesh, TetMesh* final_m
       if (spec.curvature) slot_neighbors(body.mesh(), neighbors);
       regions.update(body.slot_view().rest, body.x(), body.slot_view().tets, neighbors,
                      body.tet_alive(), {});
+      settings.region = regions.refine_hint();  // search only near the balls
       body.refine(regions.refine_field(), settings);
       body.decimate(regions.keep_field(), kDecimationAttempts);
       resolve_loads(scene, body, tolerance, external, scratch);

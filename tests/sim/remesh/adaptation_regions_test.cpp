@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
+#include <random>
 #include <stdexcept>
 #include <vector>
 
@@ -346,6 +348,21 @@ TEST(AdaptationRegions, SizeFieldsAreFineInsideGradedAroundAndInfiniteFar) {
   EXPECT_NEAR(keep(ball.center + (ball.radius + 0.31) * out), 0.05 + 0.5 * 0.21, 1e-12);
   EXPECT_EQ(keep(ball.center + (ball.radius + 0.41) * out), kInfinity);
   EXPECT_EQ(refine(Vec3(10, 10, 10)), kInfinity);
+  // The hint holds every point where the refine field is finite (the ball and its band, 0.3),
+  // and not much more.
+  const std::optional<RegionHint> hint = regions.refine_hint();
+  ASSERT_TRUE(hint.has_value());
+  std::mt19937 random(5);
+  std::uniform_real_distribution<Real> coordinate(-1, 2);
+  int finite = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const Vec3 p(coordinate(random), coordinate(random), coordinate(random));
+    if (!std::isfinite(refine(p))) continue;
+    ++finite;
+    EXPECT_LE((p - hint->center).norm(), hint->radius) << p.transpose();
+  }
+  EXPECT_GT(finite, 0);
+  EXPECT_LE(hint->radius, std::sqrt(3.0) * (ball.radius + 0.3) + 1e-12);
 
   // A snapshot: moving the tool away later does not change a field already handed out.
   const std::vector<Vec3> away = {Vec3(5, 5, 5)};
