@@ -103,16 +103,8 @@ TEST(AdaptiveExplicit, StepCapStopsTheCall) {
 }
 
 TEST(AdaptiveExplicit, PrescribedCoordinatesEndOnTheirValuesAndPullTheRest) {
-  testing::SparseMatrix k(6, 6);
-  for (int a = 0; a < 3; ++a) {
-    k.insert(a, a) = 10;
-    k.insert(3 + a, 3 + a) = 10;
-    k.insert(a, 3 + a) = -10;
-    k.insert(3 + a, a) = -10;
-  }
-  Points rest(2, 3);
-  rest << 0, 0, 0, 1, 0, 0;
-  testing::LinearModel model(rest, VecX::Constant(2, 1.0), k);
+  testing::LinearModel model = testing::make_spring_pair(10);
+  const Points rest = model.rest();
   Prescribed driven{AxisMask::Zero(2, 3), rest};
   driven.mask.row(0).setOnes();
   driven.position(0, 0) = 0.123456789;

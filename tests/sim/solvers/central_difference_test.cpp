@@ -118,16 +118,8 @@ TEST(CentralDifference, ReportsABlowUpInsteadOfNaNFarAboveTheLimit) {
 
 TEST(CentralDifference, PrescribedCoordinatesEndOnTheirValues) {
   // Two nodes on a spring (x axis); node 0 is driven, node 1 free.
-  testing::SparseMatrix k(6, 6);
-  for (int a = 0; a < 3; ++a) {
-    k.insert(a, a) = 10;
-    k.insert(3 + a, 3 + a) = 10;
-    k.insert(a, 3 + a) = -10;
-    k.insert(3 + a, a) = -10;
-  }
-  Points rest(2, 3);
-  rest << 0, 0, 0, 1, 0, 0;
-  testing::LinearModel model(rest, VecX::Constant(2, 1.0), k);
+  testing::LinearModel model = testing::make_spring_pair(10);
+  const Points rest = model.rest();
   Prescribed driven{AxisMask::Zero(2, 3), rest};
   driven.mask.row(0).setOnes();
   Points x = rest, v = Points::Zero(2, 3);

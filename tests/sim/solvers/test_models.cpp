@@ -76,6 +76,19 @@ LinearModel make_oscillator(Real mass, Real stiffness, Real alpha, Real beta) {
   return LinearModel(Points::Zero(1, 3), VecX::Constant(1, mass), k, alpha, beta);
 }
 
+LinearModel make_spring_pair(Real stiffness) {
+  SparseMatrix k(6, 6);
+  for (int a = 0; a < 3; ++a) {
+    k.insert(a, a) = stiffness;
+    k.insert(3 + a, 3 + a) = stiffness;
+    k.insert(a, 3 + a) = -stiffness;
+    k.insert(3 + a, a) = -stiffness;
+  }
+  Points rest(2, 3);
+  rest << 0, 0, 0, 1, 0, 0;
+  return LinearModel(rest, VecX::Constant(2, 1.0), k);
+}
+
 LinearModel make_linear_tet_model(const TetMesh& mesh, Real youngs_modulus, Real poisson_ratio,
                                   Real density, Real alpha, Real beta) {
   const Real nu = poisson_ratio;

@@ -45,6 +45,10 @@ class LinearModel : public Model {
 // omega = sqrt(k / m).
 LinearModel make_oscillator(Real mass, Real stiffness, Real alpha = 0, Real beta = 0);
 
+// Two nodes of mass 1 at (0, 0, 0) and (1, 0, 0), joined in every axis by a spring of the given
+// stiffness: K = k [I, -I; -I, I].
+LinearModel make_spring_pair(Real stiffness);
+
 // Constant-strain (linear) tet elasticity at the mesh's rest shape, with Lame constants from E
 // and nu: K_ab = V (lambda g_a g_b^T + mu g_b g_a^T + mu (g_a . g_b) I) with g the shape function
 // gradients; lumped masses density V / 4 per node.
