@@ -181,6 +181,9 @@ void MassSpringModel::update_elements(const TetMesh& mesh, const std::vector<cha
       list.erase(std::find(list.begin(), list.end(), s));
     }
   }
+  // Each node once: a node is at the end of many touched springs.
+  std::sort(nodes.begin(), nodes.end());
+  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
   for (const int node : nodes) {
     for (const int s : node_springs_[static_cast<std::size_t>(node)])
       set_spring_constants(s);

@@ -143,32 +143,58 @@ void AdaptiveBody::commit_changes() {
     view_.labels.tail(slots - old).setZero();
     alive_.resize(static_cast<std::size_t>(slots), 0);
   }
+  touched_mark_.resize(static_cast<std::size_t>(num_vertex_slots()), 0);
+  const auto touch = [this](int vertex) {
+    const std::size_t vs = static_cast<std::size_t>(vertex);
+    if (touched_mark_[vs] != 0) return;
+    touched_mark_[vs] = 1;
+    touched_vertices_.push_back(vertex);
+  };
   for (const int t : changed_) {
+    // The slot's previous tet (if it was alive) lost its share of its vertices' masses.
+    if (alive_[static_cast<std::size_t>(t)] != 0) {
+      for (int k = 0; k < 4; ++k)
+        touch(view_.tets(t, k));
+    }
     const bool alive = mesh_.tet_alive(t);
     alive_[static_cast<std::size_t>(t)] = alive ? 1 : 0;
     if (!alive) continue;
-    for (int k = 0; k < 4; ++k)
+    for (int k = 0; k < 4; ++k) {
       view_.tets(t, k) = mesh_.tet(t)[static_cast<std::size_t>(k)];
+      touch(view_.tets(t, k));
+    }
     view_.labels(t) = mesh_.label(t);
   }
   if (!changed_.empty()) model_->update_elements(view_, alive_, changed_);
   for (const int t : changed_)
     changed_mark_[static_cast<std::size_t>(t)] = 0;
   changed_.clear();
+  // New slots start without mass; those in a tet are among the touched vertices.
+  const Eigen::Index before = inv_mass_.size();
+  if (before < num_vertex_slots()) {
+    inv_mass_.conservativeResize(num_vertex_slots());
+    inv_mass_.tail(num_vertex_slots() - before).setZero();
+  }
+  for (const int vertex : touched_vertices_)
+    update_inverse_mass(vertex);
+  for (const int vertex : touched_vertices_)
+    touched_mark_[static_cast<std::size_t>(vertex)] = 0;
+  touched_vertices_.clear();
 }
 
 void AdaptiveBody::update_inverse_masses() {
+  inv_mass_.resize(num_vertex_slots());
+  for (int i = 0; i < num_vertex_slots(); ++i)
+    update_inverse_mass(i);
+}
+
+void AdaptiveBody::update_inverse_mass(int i) {
   const VecX& masses = model_->masses();
-  const int n = num_vertex_slots();
-  inv_mass_.resize(n);
-  for (int i = 0; i < n; ++i) {
-    const std::size_t is = static_cast<std::size_t>(i);
-    const Real m = i < masses.size() ? masses(i) : 0;
-    const bool moves = fixed_[is] == 0 && mesh_.vertex_alive(i) && m > 0;
-    inv_mass_(i) = moves ? 1 / m : 0;
-    // symplectic_euler_step still advances x by v where the inverse mass is 0.
-    if (!moves) view_.v.row(i).setZero();
-  }
+  const Real m = i < masses.size() ? masses(i) : 0;
+  const bool moves = fixed_[static_cast<std::size_t>(i)] == 0 && mesh_.vertex_alive(i) && m > 0;
+  inv_mass_(i) = moves ? 1 / m : 0;
+  // symplectic_euler_step still advances x by v where the inverse mass is 0.
+  if (!moves) view_.v.row(i).setZero();
 }
 
 RefinementStats AdaptiveBody::refine(const SizeField& target_size,
@@ -179,11 +205,9 @@ RefinementStats AdaptiveBody::refine(const SizeField& target_size,
   } catch (...) {
     // Keep the model in step with whatever edits were made before the failure.
     commit_changes();
-    update_inverse_masses();
     throw;
   }
   commit_changes();
-  update_inverse_masses();
   return stats;
 }
 
@@ -192,7 +216,6 @@ DecimationStats AdaptiveBody::decimate(const SizeField& keep_refined, int max_at
   decimator_.collect(mesh_, keep_refined);
   const DecimationStats stats = decimator_.step(mesh_, keep_refined, max_attempts, listener());
   commit_changes();
-  update_inverse_masses();
   return stats;
 }
 

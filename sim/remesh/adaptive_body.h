@@ -100,6 +100,7 @@ class AdaptiveBody {
   void record(const TetChanges& changes);
   void commit_changes();
   void update_inverse_masses();
+  void update_inverse_mass(int vertex);
 
   RemeshMesh mesh_;
   TetMesh view_;
@@ -112,6 +113,11 @@ class AdaptiveBody {
   // The tet slots changed since the last model update, each once.
   std::vector<int> changed_;
   std::vector<char> changed_mark_;
+  // The vertex slots of the changed tets (before and after), each once: only their masses can
+  // have changed, so only their inverse masses are updated (a pass touches a few hundred of the
+  // organ's thousands of vertices).
+  std::vector<int> touched_vertices_;
+  std::vector<char> touched_mark_;
   Points forces_;
   Prescribed none_;
 };

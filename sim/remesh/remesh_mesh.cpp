@@ -12,9 +12,10 @@
 namespace incise::sim::remesh {
 
 FaceKey face_key(int a, int b, int c) {
-  FaceKey k = {a, b, c};
-  std::sort(k.begin(), k.end());
-  return k;
+  if (a > b) std::swap(a, b);
+  if (b > c) std::swap(b, c);
+  if (a > b) std::swap(a, b);
+  return {a, b, c};
 }
 
 namespace {
@@ -219,11 +220,14 @@ void RemeshMesh::free_tet(int t) {
 void RemeshMesh::replace_tets(std::span<const int> old, std::span<const NewTet> created,
                               std::span<const ConstrainedFace> constrained,
                               std::vector<int>* created_ids) {
+  if (in_old_.size() < tets_.size()) in_old_.resize(tets_.size(), 0);
+  for (int t : old)
+    in_old_[t] = 1;
   outer_.clear();
   for (int t : old) {
     for (int k = 0; k < 4; ++k) {
       const int other = neighbors_[t][k];
-      if (other >= 0 && std::find(old.begin(), old.end(), other) != old.end()) continue;
+      if (other >= 0 && in_old_[other] != 0) continue;
       int other_face = -1;
       if (other >= 0) {
         for (int j = 0; j < 4; ++j) {
@@ -233,6 +237,8 @@ void RemeshMesh::replace_tets(std::span<const int> old, std::span<const NewTet> 
       outer_.push_back({tet_face_key(tets_[t], k), other, other_face, parents_[t][k], false});
     }
   }
+  for (int t : old)
+    in_old_[t] = 0;
   for (int t : old)
     free_tet(t);
   new_ids_.clear();
@@ -246,40 +252,58 @@ void RemeshMesh::replace_tets(std::span<const int> old, std::span<const NewTet> 
   }
   const auto constrained_parent = [&](const FaceKey& key) {
     for (const ConstrainedFace& c : constrained) {
-      if (c.key == key) return c.parent;
+      if (same_key(c.key, key)) return c.parent;
     }
     return -1;
   };
+  face_slots_.clear();
+  for (size_t i = 0; i < outer_.size(); ++i)
+    face_slots_.push_back({outer_[i].key, static_cast<int>(i)});
   for (size_t i = 0; i < new_ids_.size(); ++i) {
-    const int t = new_ids_[i];
     for (int k = 0; k < 4; ++k) {
-      if (neighbors_[t][k] != -2) continue;
-      const FaceKey key = tet_face_key(tets_[t], k);
-      bool linked = false;
-      for (OuterFace& f : outer_) {
-        if (f.glued || f.key != key) continue;
-        f.glued = linked = true;
+      face_slots_.push_back(
+          {tet_face_key(tets_[new_ids_[i]], k), -(4 * static_cast<int>(i) + k) - 1});
+    }
+  }
+  // Outer faces sort before new faces of the same key (index >= 0 before < 0 when descending).
+  std::sort(face_slots_.begin(), face_slots_.end(), [](const FaceSlot& a, const FaceSlot& b) {
+    return !same_key(a.key, b.key) ? key_less(a.key, b.key) : a.index > b.index;
+  });
+  const auto new_tet = [&](int index) { return new_ids_[static_cast<size_t>(-index - 1) / 4]; };
+  const auto new_face = [](int index) { return (-index - 1) % 4; };
+  for (size_t begin = 0; begin < face_slots_.size();) {
+    size_t end = begin + 1;
+    while (end < face_slots_.size() && same_key(face_slots_[end].key, face_slots_[begin].key))
+      ++end;
+    const FaceSlot& first = face_slots_[begin];
+    if (end - begin > 2) throw std::logic_error("replace_tets: a face is shared by three tets");
+    if (end - begin == 2) {
+      const FaceSlot& second = face_slots_[begin + 1];
+      if (second.index >= 0) throw std::logic_error("replace_tets: an outside face appears twice");
+      const int t = new_tet(second.index);
+      const int k = new_face(second.index);
+      if (first.index >= 0) {
+        // A new tet glued to the cavity's boundary: it inherits the face's constraint.
+        OuterFace& f = outer_[static_cast<size_t>(first.index)];
+        f.glued = true;
         neighbors_[t][k] = f.tet;
         parents_[t][k] = f.parent;
         if (f.tet >= 0) neighbors_[f.tet][f.face] = t;
-        break;
+      } else {
+        const int u = new_tet(first.index);
+        const int l = new_face(first.index);
+        neighbors_[t][k] = u;
+        neighbors_[u][l] = t;
+        parents_[t][k] = parents_[u][l] = constrained_parent(first.key);
       }
-      for (size_t j = i + 1; j < new_ids_.size() && !linked; ++j) {
-        const int u = new_ids_[j];
-        for (int l = 0; l < 4 && !linked; ++l) {
-          if (neighbors_[u][l] != -2 || tet_face_key(tets_[u], l) != key) continue;
-          linked = true;
-          neighbors_[t][k] = u;
-          neighbors_[u][l] = t;
-          parents_[t][k] = parents_[u][l] = constrained_parent(key);
-        }
-      }
-      if (linked) continue;
-      const int parent = constrained_parent(key);
+    } else if (first.index < 0) {
+      // A new face on nothing: the new boundary, which must be a constrained face.
+      const int parent = constrained_parent(first.key);
       if (parent < 0) throw std::logic_error("replace_tets: a new face is left open");
-      neighbors_[t][k] = -1;
-      parents_[t][k] = parent;
+      neighbors_[new_tet(first.index)][new_face(first.index)] = -1;
+      parents_[new_tet(first.index)][new_face(first.index)] = parent;
     }
+    begin = end;
   }
   for (const OuterFace& f : outer_) {
     // A boundary face may go (a 2-2 flip or a removal re-triangulates the boundary); a face

@@ -15,6 +15,17 @@ using FaceKey = std::array<int, 3>;
 
 FaceKey face_key(int a, int b, int c);
 
+// Equality and order of keys element by element: std::array's operators go through memcmp and
+// lexicographical_compare calls, which dominated the matching of faces in replace_tets.
+inline bool same_key(const FaceKey& a, const FaceKey& b) {
+  return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
+}
+inline bool key_less(const FaceKey& a, const FaceKey& b) {
+  if (a[0] != b[0]) return a[0] < b[0];
+  if (a[1] != b[1]) return a[1] < b[1];
+  return a[2] < b[2];
+}
+
 // A tet to create: vertices (positively oriented) and tissue label.
 struct NewTet {
   TetVertices v;
@@ -161,6 +172,14 @@ class RemeshMesh {
   };
   std::vector<OuterFace> outer_;
   std::vector<int> new_ids_;
+  // Every face of the cavity's boundary and of the new tets, keyed once and sorted, so that
+  // faces are matched in O(F log F) (a removal's cavity has tens of tets).
+  struct FaceSlot {
+    FaceKey key;
+    int index;  // into outer_ (>= 0), or -(4 i + k) - 1 for face k of new_ids_[i]
+  };
+  std::vector<FaceSlot> face_slots_;
+  std::vector<char> in_old_;  // by tet slot, set only during replace_tets
 };
 
 }  // namespace incise::sim::remesh

@@ -90,8 +90,8 @@ bool fill_side(const RemeshMesh& mesh, int v, const Side& side, std::vector<NewT
     for (int k = 0; k < 3; ++k) {  // the faces opposite a, b, c, oriented out of the new tet
       const std::array<int, 3> g = {t[kTetFaces[k][0]], t[kTetFaces[k][1]], t[kTetFaces[k][2]]};
       const FaceKey key = face_key(g[0], g[1], g[2]);
-      const auto same =
-          std::find_if(open.begin(), open.end(), [&](const OpenFace& o) { return o.key == key; });
+      const auto same = std::find_if(open.begin(), open.end(),
+                                     [&](const OpenFace& o) { return same_key(o.key, key); });
       if (same == open.end()) {
         open.push_back({g, key});
       } else if (!same->closed) {

@@ -82,6 +82,14 @@ Row measure(const TetMesh& organ, MaterialModel model, const char* model_name, b
     row.refine_pass_ms.push_back(ms_since(start));
     row.pass_insertions = stats.insertions();
     row.pass_unresolved = stats.unresolved_size + stats.unresolved_quality;
+    if (pass == 0) {
+      std::printf(
+          "%s, %s: in tet %d, on face %d, on edge %d, constraint splits %d, pulled back %d; "
+          "refused: l_min %d, other %d; rolled back %d\n",
+          model_name, row.mode.c_str(), stats.in_tet, stats.on_face, stats.on_edge,
+          stats.constraint_splits, stats.pulled_back, stats.rejected_l_min, stats.rejected_other,
+          stats.rolled_back);
+    }
     start = Clock::now();
     body.decimate(nowhere, std::numeric_limits<int>::max());
     row.decimate_pass_ms.push_back(ms_since(start));
