@@ -61,6 +61,12 @@ class AdaptiveBody {
   // updated once, locally.
   DecimationStats decimate(const SizeField& keep_refined, int max_attempts);
 
+  // The smallest altitude a removal may leave [m] (Decimator::set_altitude_floor); 0 (the
+  // default) for none. With refinement's floor_altitudes, give min(l_min, the start mesh's
+  // smallest altitude) so that neither refinement nor decimation lowers the stable step below
+  // its floor.
+  void set_decimation_floor(Real min_altitude) { decimator_.set_altitude_floor(min_altitude); }
+
   // One symplectic Euler step (symplectic_euler.h) of all slots: internal forces of the model
   // plus `external` (#vertex slots by 3 [N], or 0 rows for none) and gravity [m/s^2]. Fixed and
   // dead slots do not move. Allocates only after the slot count grew.

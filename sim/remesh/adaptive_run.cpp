@@ -17,6 +17,7 @@
 #include "sim/scene/node_selection.h"
 #include "sim/scene/scene_error.h"
 #include "sim/scene/scene_validation.h"
+#include "sim/solve/stable_time_step.h"
 
 namespace incise::sim::remesh {
 namespace {
@@ -135,6 +136,11 @@ CheckedRun run_adaptive_scene(const Scene& scene, TetMesh mesh, TetMesh* final_m
   settings.max_radius_edge_ratio = spec.quality;
   // The floor's promise is on the stable step, which follows the smallest altitude.
   settings.floor_altitudes = true;
+  // Decimation fills are held to the same floor, or to the start mesh's own smallest altitude
+  // where that is lower (full decimation must be able to return to it).
+  const TetMesh start = body.to_tet_mesh();
+  body.set_decimation_floor(
+      std::min(settings.l_min, element_lengths(start.rest, start.tets).min_altitude));
   // Hot tets within the start mesh's longest edge of a region's centre join it, so that a
   // strained zone makes a few balls rather than one per tet (update cost O(#tets x #balls)).
   Real longest_edge = 0;

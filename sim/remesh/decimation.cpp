@@ -2,12 +2,19 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 namespace incise::sim::remesh {
 
-Decimator::Decimator(RemoveFunction remove) : remove_(std::move(remove)) {
-  if (!remove_) throw std::invalid_argument("decimator needs a removal function");
+Decimator::Decimator(RemoveFunction remove) : remove_(std::move(remove)) {}
+
+void Decimator::set_altitude_floor(Real min_altitude) {
+  if (!(min_altitude >= 0 && std::isfinite(min_altitude))) {
+    throw std::invalid_argument("decimation altitude floor must be finite and >= 0, got " +
+                                std::to_string(min_altitude));
+  }
+  altitude_floor_ = min_altitude;
 }
 
 int Decimator::collect(const RemeshMesh& mesh, const SizeField& keep_refined) {
@@ -45,7 +52,8 @@ DecimationStats Decimator::step(RemeshMesh& mesh, const SizeField& keep_refined,
       continue;
     }
     ++attempts;
-    const RemoveResult result = remove_(mesh, v);
+    const RemoveResult result =
+        remove_ ? remove_(mesh, v) : remove_vertex(mesh, v, altitude_floor_);
     if (listener.on_removal) listener.on_removal(v, result);
     if (result.status == RemoveStatus::kRemoved) {
       queued_[static_cast<size_t>(v)] = 0;

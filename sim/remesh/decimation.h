@@ -30,8 +30,16 @@ class Decimator {
  public:
   using RemoveFunction = std::function<RemoveResult(RemeshMesh&, int vertex)>;
 
-  // `remove` is remove_vertex; tests may wrap it to refuse on purpose.
-  explicit Decimator(RemoveFunction remove = remove_vertex);
+  // Without `remove`, vertices are removed by remove_vertex under the altitude floor below;
+  // tests may give their own function (to refuse on purpose), which the floor does not reach.
+  explicit Decimator(RemoveFunction remove = {});
+
+  // The smallest altitude a removal may leave [m] (remove_vertex's min_altitude; 0, the
+  // default: none). Set it to the refinement's floor (or below the input mesh's own smallest
+  // altitude, if that is lower) so that coarsening never lowers the stable time step either.
+  // Throws std::invalid_argument for a negative or non-finite value.
+  void set_altitude_floor(Real min_altitude);
+  Real altitude_floor() const { return altitude_floor_; }
 
   // Queues (at the back) every alive inserted vertex whose rest point `keep_refined` maps to
   // +infinity and that is not queued yet; returns how many were added. O(#vertex slots), so call
@@ -50,6 +58,7 @@ class Decimator {
 
  private:
   RemoveFunction remove_;
+  Real altitude_floor_ = 0;
   std::deque<int> queue_;
   std::vector<char> queued_;  // by vertex slot
 };

@@ -9,6 +9,7 @@
 #include "sim/mesh/tet_adjacency.h"
 #include "sim/remesh/flips.h"
 #include "sim/remesh/predicates.h"
+#include "sim/remesh/tet_shape.h"
 
 namespace incise::sim::remesh {
 namespace {
@@ -110,7 +111,7 @@ bool fill_side(const RemeshMesh& mesh, int v, const Side& side, std::vector<NewT
 
 }  // namespace
 
-RemoveResult remove_vertex(RemeshMesh& mesh, int v) {
+RemoveResult remove_vertex(RemeshMesh& mesh, int v, Real min_altitude) {
   if (mesh.is_original(v)) return {RemoveStatus::kOriginalVertex, {}};
   std::vector<int> star;
   mesh.star(v, &star);
@@ -161,6 +162,13 @@ RemoveResult remove_vertex(RemeshMesh& mesh, int v) {
   std::vector<ConstrainedFace> faces;
   for (const Side& side : sides) {
     if (!fill_side(mesh, v, side, &tets, &faces)) return {RemoveStatus::kCannotRemoveNow, {}};
+  }
+  if (min_altitude > 0) {
+    for (const NewTet& t : tets) {
+      const TetShape shape =
+          tet_shape(mesh.point(t.v[0]), mesh.point(t.v[1]), mesh.point(t.v[2]), mesh.point(t.v[3]));
+      if (shape.min_altitude < min_altitude) return {RemoveStatus::kCannotRemoveNow, {}};
+    }
   }
   // Both sides of a label interface must agree on its new sub-faces.
   std::map<FaceKey, int> face_count;

@@ -29,6 +29,10 @@ struct RemoveResult {
 // make_constrained_delaunay). The filling is checked (every link face closed, all tets
 // positive, volume and constrained area conserved, locally Delaunay) and otherwise refused with
 // kCannotRemoveNow, leaving the mesh as it was.
-RemoveResult remove_vertex(RemeshMesh& mesh, int v);
+//   min_altitude  the floor on the filling's tets [m]: a filling with a tet lower than this is
+//                 refused (kCannotRemoveNow, before any edit), so that decimation keeps the
+//                 stable time step's floor as refinement does (RefinementSettings::
+//                 floor_altitudes). 0: no floor.
+RemoveResult remove_vertex(RemeshMesh& mesh, int v, Real min_altitude = 0);
 
 }  // namespace incise::sim::remesh
