@@ -11,6 +11,7 @@
 #include "sim/mesh/tet_adjacency.h"
 #include "sim/remesh/adaptation_regions.h"
 #include "sim/remesh/point_location.h"
+#include "sim/remesh/predicates.h"
 #include "sim/remesh/tet_shape.h"
 #include "sim/remesh/vertex_removal.h"
 
@@ -254,6 +255,7 @@ class Refiner {
       return Outcome::kNotInsertable;
     }
     if (nearest_vertex_distance(where.tet, p) < settings_.l_min) return Outcome::kTooClose;
+    if (settings_.floor_altitudes && !cavity_meets_floor(where, p)) return Outcome::kTooClose;
     const LocatedInsertion ins = insert_located(mesh_, where, p);
     if (ins.result.status != InsertStatus::kInserted) return Outcome::kNotInsertable;
     if (listener_.on_inserted) listener_.on_inserted(ins.inserted, ins.result.changes);
@@ -352,6 +354,63 @@ class Refiner {
     return nearest;
   }
 
+  // Predicts whether the tets an insertion of p at `where` creates are all at least l_min high:
+  // they are p joined to the faces of its Delaunay cavity (the tets whose circumsphere holds p,
+  // grown from the tets around `where` across unconstrained faces), except faces p lies on
+  // (split, not coned). A prediction only: floor_holds checks what the insertion's flips made.
+  // It spares the insertion and its roll-back for points the floor would refuse anyway, and
+  // keeps roll-backs rare, which matters because a roll-back next to a frozen face can fail
+  // (RefinementStats::floor_violations).
+  bool cavity_meets_floor(const Location& where, const Vec3& p) {
+    cavity_.clear();
+    if (where.kind == LocationKind::kOnEdge) {
+      const int start = mesh_.find_edge_tet(where.a, where.b);
+      if (start < 0) return true;
+      mesh_.edge_ring(where.a, where.b, start, &cavity_);
+    } else {
+      cavity_.push_back(where.tet);
+      const int across =
+          where.kind == LocationKind::kOnFace ? mesh_.neighbor(where.tet, where.face) : -1;
+      if (across >= 0) cavity_.push_back(across);
+    }
+    if (static_cast<int>(in_cavity_.size()) < mesh_.num_tet_slots()) {
+      in_cavity_.resize(static_cast<size_t>(mesh_.num_tet_slots()), 0);
+    }
+    ++cavity_stamp_;
+    for (int t : cavity_)
+      in_cavity_[static_cast<size_t>(t)] = cavity_stamp_;
+    next_stamp();  // visited_: tets whose circumsphere was tested
+    for (size_t i = 0; i < cavity_.size(); ++i) {
+      const int t = cavity_[i];
+      for (int k = 0; k < 4; ++k) {
+        const int n = mesh_.neighbor(t, k);
+        if (n < 0 || mesh_.face_parent(t, k) >= 0) continue;
+        const size_t ns = static_cast<size_t>(n);
+        if (in_cavity_[ns] == cavity_stamp_ || visited_[ns] == stamp_) continue;
+        visited_[ns] = stamp_;
+        const auto x = corners(mesh_, n);
+        if (side_of_sphere(x[0], x[1], x[2], x[3], p) > 0) {
+          in_cavity_[ns] = cavity_stamp_;
+          cavity_.push_back(n);
+        }
+      }
+    }
+    for (const int t : cavity_) {
+      for (int k = 0; k < 4; ++k) {
+        const int n = mesh_.neighbor(t, k);
+        if (n >= 0 && in_cavity_[static_cast<size_t>(n)] == cavity_stamp_) continue;
+        const TetVertices& v = mesh_.tet(t);
+        const Vec3& a = mesh_.point(v[kTetFaces[k][0]]);
+        const Vec3& b = mesh_.point(v[kTetFaces[k][1]]);
+        const Vec3& c = mesh_.point(v[kTetFaces[k][2]]);
+        if (orientation(a, b, c, p) == 0) continue;  // p is on this face: it is split
+        // The face's normal points out of t, away from p: (a, c, b, p) is positive.
+        if (tet_shape(a, c, b, p).min_altitude < settings_.l_min) return false;
+      }
+    }
+    return true;
+  }
+
   // The floor at the new vertex v: every edge from it >= l_min and, with floor_altitudes, every
   // tet created at least l_min high.
   bool floor_holds(int v, const TetChanges& changes) {
@@ -386,6 +445,10 @@ class Refiner {
   std::set<TetVertices> given_up_;
   int rolled_back_slot_ = -1;
   std::vector<int> star_;
+  // Scratch of cavity_meets_floor.
+  std::vector<int> cavity_;
+  std::vector<int> in_cavity_;
+  int cavity_stamp_ = 0;
 };
 
 }  // namespace

@@ -38,4 +38,8 @@ target_link_libraries(bench_probing PRIVATE incise_sim_remesh)
 if(TARGET incise_sim_cgal)
   add_executable(bench_remesh_pass remesh/bench_remesh_pass.cpp)
   target_link_libraries(bench_remesh_pass PRIVATE incise_sim_remesh incise_sim_cgal)
+  # Benchmark: the liver stroked by a load, fine / active region / coarse / adaptive, steps per
+  # second and error in the probed region against the fine mesh (issue 5).
+  add_executable(bench_liver_adaptive remesh/bench_liver_adaptive.cpp)
+  target_link_libraries(bench_liver_adaptive PRIVATE incise_sim_remesh incise_sim_cgal)
 endif()

@@ -32,6 +32,9 @@ Scene column(MaterialModel model) {
   scene.material.poisson_ratio = 0.45;
   scene.material.density = 1000;
   scene.material.damping = 0.5;
+  // The mass-spring system with its volume term: without it nothing resists a tet turning
+  // inside out, and on some refined meshes the column tangled under gravity (13 inverted tets).
+  if (model == MaterialModel::mass_spring) scene.material.volume_stiffness = 1;
   Constraint clamp;
   clamp.where.box = Box3(Vec3(0, 0, 0), Vec3(kSize.x(), kSize.y(), 0));
   scene.constraints.push_back(clamp);
@@ -106,10 +109,11 @@ TEST_P(AdaptiveRunTest, SaggingColumnRefinesAndSettlesNearTheFixedMesh) {
       mesh.num_tets(), adaptive.result.num_tets, mesh.num_nodes(), final_mesh.num_nodes(),
       sag_fixed, sag_adaptive, difference);
   // Not the brief's 10 %: refinement near the clamp softens the coarse (2 x 2 x 4 cells) column,
-  // measured 0.117 for corotational FEM (linear tets are too stiff at nu = 0.45 and converge
-  // from above) and 0.264 for the mass-spring system (its stiffness depends on the mesh,
+  // measured 0.021 for corotational FEM (linear tets are too stiff at nu = 0.45 and converge
+  // from above) and 0.313 for the mass-spring system (its stiffness depends on the mesh,
   // docs/remeshing.md). The bounds keep those figures from drifting.
-  EXPECT_LT(difference, GetParam() == MaterialModel::corotational ? 0.13 : 0.28);
+  EXPECT_LT(difference, GetParam() == MaterialModel::corotational ? 0.05 : 0.35);
+  EXPECT_EQ(adaptive.result.inverted_elements, 0);
   EXPECT_LT(sag_adaptive, sag_fixed);  // softer, never stiffer
 }
 
