@@ -1,6 +1,7 @@
 # Model sources (paths relative to sim/), added to incise_sim by sim/CMakeLists.txt.
 set(INCISE_SIM_MODELS_SOURCES ${INCISE_SIM_MODELS_SOURCES}
   models/corotational_fem.cpp
+  models/hybrid_condensed_model.cpp
   models/linear_fem.cpp
   models/model.cpp
   models/mass_spring_model.cpp
