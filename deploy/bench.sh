@@ -43,7 +43,7 @@ out=results/bench-$(date -u +%Y%m%dT%H%M%SZ).txt
   "$bin/bench_refinement"
   "$bin/bench_remesh_pass"
   echo
-  echo "## seed 000 probing: low / high / adaptive mesh (results/probing.csv)"
+  echo "## seed 000 probing: low / high / adaptive mesh (results/probing*.csv, results/probing_*.svg)"
   "$bin/bench_probing" results/probing.csv
   echo
   echo "## active region: a local poke on a 5.8k-tet box, with and without (issue 5)"
@@ -51,5 +51,9 @@ out=results/bench-$(date -u +%Y%m%dT%H%M%SZ).txt
   echo
   echo "## liver-like organ (~5k tets) probed by a scripted tool, full against active region"
   "$bin/bench_liver" 4000 0.0085 5e-5 1e-4
+  echo
+  echo "## liver-like organ: fine / active region / coarse / adaptive, steps/s and error (issue 5)"
+  "$bin/bench_liver_adaptive" corotational
+  "$bin/bench_liver_adaptive" mss
 } 2>&1 | tee "$out"
 echo "deploy/bench.sh: wrote $out"

@@ -30,8 +30,9 @@ target_link_libraries(bench_refinement PRIVATE incise_sim_remesh)
 
 # Benchmark: seed 000's probing experiment (its Figure 6): low-resolution, high-resolution and
 # adaptive mass-spring blocks probed by a sliding sphere; writes results/probing.csv.
-add_executable(bench_probing remesh/bench_probing.cpp)
+add_executable(bench_probing remesh/bench_probing.cpp bench/svg_plot.cpp)
 target_link_libraries(bench_probing PRIVATE incise_sim_remesh)
+target_include_directories(bench_probing PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
 
 # Benchmark: per insertion, per removal and whole-pass cost through AdaptiveBody on a CGAL
 # liver-like organ, full scan against the region walk of RefinementSettings::region (issue 5).

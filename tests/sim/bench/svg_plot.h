@@ -1,7 +1,7 @@
 #pragma once
-// A small log-log line plot as SVG, for the accuracy benchmark's "error against time" figure: one
-// polyline with markers per series, decade grid lines, axis labels and a legend. Plain text out,
-// no dependencies.
+// Small line plots as SVG (log-log for the accuracy benchmark's "error against time" figure,
+// linear for timelines): one polyline with markers per series, grid lines, axis labels and a
+// legend. Plain text out, no dependencies.
 #include <string>
 #include <vector>
 
@@ -22,5 +22,9 @@ struct PlotLabels {
 // The SVG document (width x height pixels).
 std::string log_log_svg(const std::vector<Series>& series, const PlotLabels& labels,
                         int width = 900, int height = 600);
+
+// The same with linear axes from 0 (or below, for negative data) to a rounded maximum.
+std::string linear_svg(const std::vector<Series>& series, const PlotLabels& labels, int width = 900,
+                       int height = 600);
 
 }  // namespace incise::bench

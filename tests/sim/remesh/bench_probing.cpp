@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/svg_plot.h"
 #include "sim/mesh/box_mesher.h"
 #include "sim/remesh/adaptive_body.h"
 #include "sim/remesh/state_transfer.h"
@@ -58,8 +59,14 @@ constexpr Real kPushEnd = 0.15, kSlideEnd = 0.40, kEnd = 0.45;  // [s]
 // geometric constraint on every mesh (a per-node stiffness would load a fine mesh harder).
 constexpr Real kPenalty = 0.2;
 constexpr int kAdaptEvery = 10;
-// Times at which the error is measured: end of the push, middle of the slide, the end.
-const std::array<Real, 3> kSampleTimes{kPushEnd, 0.5 * (kPushEnd + kSlideEnd), kEnd};
+// The error is measured every kSampleEvery (the timeline plotted), and tabled at the end of the
+// push, the middle of the slide and the end (samples kTabled).
+constexpr Real kSampleEvery = 0.025;
+constexpr std::size_t kSamples = 18;  // kEnd / kSampleEvery
+const std::array<std::size_t, 3> kTabled{5, 10, 17};
+Real sample_time(std::size_t s) {
+  return kSampleEvery * static_cast<Real>(s + 1);
+}
 
 Vec3 tool_centre(Real t) {
   const Real top = kSize.z() + kRadius;
@@ -161,9 +168,10 @@ struct Run {
   double step_us = 0;   // mean wall time per step, adaptation included
   double solve_us = 0;  // the same without adaptation
   double adapt_ms = 0;  // total adaptation time
-  // At each sample time: rest points and displacements of the probed nodes.
-  std::array<std::vector<Vec3>, 3> rest, displacement;
-  Points high_x[3];  // the fine mesh's x at the sample times (high only)
+  // At each sample time: rest points and displacements of the probed nodes, tets.
+  std::array<std::vector<Vec3>, kSamples> rest, displacement;
+  std::array<Points, kSamples> high_x;  // the fine mesh's x at the sample times (high only)
+  std::array<int, kSamples> tets{};
 };
 
 Run simulate(const std::string& name, AdaptiveBody& body, bool adapt, Real fine_size, Real l_min) {
@@ -212,7 +220,8 @@ Run simulate(const std::string& name, AdaptiveBody& body, bool adapt, Real fine_
     }
     t += run.dt;
     ++run.steps;
-    if (sample < kSampleTimes.size() && t >= kSampleTimes[sample]) {
+    if (sample < kSamples && t >= sample_time(sample) - 1e-12) {
+      run.tets[sample] = body.num_tets();
       for (int i = 0; i < body.num_vertex_slots(); ++i) {
         if (!body.mesh().vertex_alive(i) || !probed(body.mesh().point(i))) continue;
         run.rest[sample].push_back(body.mesh().point(i));
@@ -275,7 +284,7 @@ int main(int argc, char** argv) {
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
   std::ofstream out(path);
   out << "mesh,tets_min,tets_max,dt_ms,steps,step_us,solve_us,adapt_ms_total,probed_nodes_end";
-  for (std::size_t s = 0; s < kSampleTimes.size(); ++s) {
+  for (std::size_t s = 0; s < kTabled.size(); ++s) {
     out << ",rms_err_t" << s << ",max_err_t" << s;
   }
   out << "\n";
@@ -283,19 +292,20 @@ int main(int argc, char** argv) {
       "block %.0f x %.0f x %.0f mm, MSS E = %.0f Pa; tool r = %.0f mm, %.0f mm deep, "
       "slides %.0f mm; error times %.3f %.3f %.3f s\n",
       kSize.x() * 1e3, kSize.y() * 1e3, kSize.z() * 1e3, kYoungs, kRadius * 1e3, kDepth * 1e3,
-      (kX1 - kX0) * 1e3, kSampleTimes[0], kSampleTimes[1], kSampleTimes[2]);
+      (kX1 - kX0) * 1e3, sample_time(kTabled[0]), sample_time(kTabled[1]), sample_time(kTabled[2]));
   std::printf("%-9s %11s %7s %6s %8s %8s %9s %6s  %s\n", "mesh", "tets", "dt[ms]", "steps",
               "us/step", "solve_us", "adapt[ms]", "probed",
               "error vs high (rms / max, relative) at t0 t1 t2");
+  const std::size_t last = kSamples - 1;
   for (const Run& r : runs) {
     char tets[32];
     std::snprintf(tets, sizeof tets, r.tets_min == r.tets_max ? "%d" : "%d-%d", r.tets_min,
                   r.tets_max);
     std::printf("%-9s %11s %7.4f %6ld %8.1f %8.1f %9.1f %6zu ", r.name.c_str(), tets, r.dt * 1e3,
-                r.steps, r.step_us, r.solve_us, r.adapt_ms, r.rest[2].size());
+                r.steps, r.step_us, r.solve_us, r.adapt_ms, r.rest[last].size());
     out << r.name << "," << r.tets_min << "," << r.tets_max << "," << r.dt * 1e3 << "," << r.steps
-        << "," << r.step_us << "," << r.solve_us << "," << r.adapt_ms << "," << r.rest[2].size();
-    for (std::size_t s = 0; s < kSampleTimes.size(); ++s) {
+        << "," << r.step_us << "," << r.solve_us << "," << r.adapt_ms << "," << r.rest[last].size();
+    for (const std::size_t s : kTabled) {
       const Error e = error_against(r, s, ref, fine);
       std::printf(" %.3f/%.3f", e.rms, e.max);
       out << "," << e.rms << "," << e.max;
@@ -303,6 +313,36 @@ int main(int argc, char** argv) {
     std::printf("\n");
     out << "\n";
   }
-  std::printf("written: %s\n", path.string().c_str());
+  // The timeline (seed 000's Figure 6 shows error, elements and step over the probing): a CSV
+  // and two plots next to the table's CSV.
+  const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : ".";
+  std::ofstream timeline(dir / "probing_timeline.csv");
+  timeline << "mesh,t_s,tets,rms_err,max_err\n";
+  std::vector<incise::bench::Series> errors, sizes;
+  for (const Run& r : runs) {
+    incise::bench::Series e{r.name, {}, {}}, n{r.name, {}, {}};
+    for (std::size_t s = 0; s < kSamples; ++s) {
+      const Error error = error_against(r, s, ref, fine);
+      timeline << r.name << "," << sample_time(s) << "," << r.tets[s] << "," << error.rms << ","
+               << error.max << "\n";
+      n.x.push_back(sample_time(s));
+      n.y.push_back(r.tets[s]);
+      if (&r == &ref) continue;
+      e.x.push_back(sample_time(s));
+      e.y.push_back(error.rms);
+    }
+    if (&r != &ref) errors.push_back(std::move(e));
+    sizes.push_back(std::move(n));
+  }
+  std::ofstream(dir / "probing_error.svg")
+      << incise::bench::linear_svg(errors, {"Probing: error against the high-resolution mesh",
+                                            "time [s] (push to 0.15 s, slide to 0.40 s)",
+                                            "rms error / peak displacement, probed region"});
+  std::ofstream(dir / "probing_tets.svg")
+      << incise::bench::linear_svg(sizes, {"Probing: number of tetrahedra", "time [s]", "tets"});
+  std::printf("written: %s, %s, %s, %s\n", path.string().c_str(),
+              (dir / "probing_timeline.csv").string().c_str(),
+              (dir / "probing_error.svg").string().c_str(),
+              (dir / "probing_tets.svg").string().c_str());
   return 0;
 }
