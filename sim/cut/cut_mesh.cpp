@@ -57,7 +57,19 @@ struct Piece {
 }  // namespace
 
 CutReport cut_mesh(TetMesh& mesh, const CutSurface& surface, const CutOptions& options) {
+  return cut_mesh_active(mesh, surface, {}, options);
+}
+
+CutReport cut_mesh_active(TetMesh& mesh, const CutSurface& surface, std::span<const char> active,
+                          const CutOptions& options) {
   check_mesh(mesh);
+  if (!active.empty() && active.size() != static_cast<std::size_t>(mesh.num_tets())) {
+    throw std::invalid_argument("cut_mesh_active: " + std::to_string(active.size()) +
+                                " active flags for " + std::to_string(mesh.num_tets()) + " tets");
+  }
+  const auto is_active = [&active](int t) {
+    return active.empty() || active[static_cast<std::size_t>(t)] != 0;
+  };
   const int num_nodes = mesh.num_nodes();
   const int num_tets = mesh.num_tets();
   const EdgeCuts crossings = find_edge_cuts(mesh.x, unique_edges(mesh.tets), surface, options.snap);
@@ -85,7 +97,7 @@ CutReport cut_mesh(TetMesh& mesh, const CutSurface& surface, const CutOptions& o
       on[k] = on_surface(mesh.tets(t, k));
       touched = touched || on[k];
     }
-    if (!touched) continue;
+    if (!touched || !is_active(t)) continue;
     TetCutPattern& pattern = patterns[static_cast<std::size_t>(t)];
     pattern = classify_tet_cut(edge_cut, on);
     if (pattern.kind == TetCutCase::none) continue;
@@ -115,7 +127,7 @@ CutReport cut_mesh(TetMesh& mesh, const CutSurface& surface, const CutOptions& o
     for (int t = 0; t < num_tets; ++t) {
       for (int k = 0; k < 4; ++k) {
         const int u = neighbours(t, k);
-        if (u < t) continue;
+        if (u < t || !is_active(t) || !is_active(u)) continue;
         const int a = mesh.tets(t, kTetFaces[k][0]);
         const int b = mesh.tets(t, kTetFaces[k][1]);
         const int c = mesh.tets(t, kTetFaces[k][2]);

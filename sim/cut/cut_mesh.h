@@ -26,12 +26,14 @@
 //      (CutReport::faces_closed), so that the boundary stays a manifold surface.
 //
 // Cost: one pass over all edges (unique_edges, sorted) and tets, and face_neighbours when a node
-// snaps; meant for a cut event, not for every simulation step.
+// snaps; meant for a cut event or a local region (cut_mesh_active, as ProgressiveCutter uses it).
 //
-// What is left for later (docs/cutting.md): the partially cut cases (temporary subdivision while
-// the blade is inside a tet) and the edge-collapse simplification of the cut region.
+// The partially cut tets (the blade still inside) are split temporarily by split_front_tets
+// (front_split.h), frame by frame through ProgressiveCutter (progressive_cutter.h); slivers are
+// removed afterwards by simplify_cut_region (simplify_cut.h).
 
 #include <array>
+#include <span>
 #include <vector>
 
 #include "sim/core/types.h"
@@ -79,5 +81,13 @@ struct CutReport {
 // Throws std::invalid_argument, with mesh unchanged, if the mesh's arrays disagree in size, a tet
 // holds a node index out of range or options.snap is outside (0, 0.5).
 CutReport cut_mesh(TetMesh& mesh, const CutSurface& surface, const CutOptions& options = {});
+
+// cut_mesh restricted to the tets where active[t] != 0 (#tets flags, or empty for all): only they
+// may be cut through or have a face opened; the others are only bisected where an active
+// neighbour's split edge needs it (conformity). ProgressiveCutter uses it on a local region whose
+// outer layer is inactive, so that every crack node's full star lies inside the region.
+// Throws like cut_mesh, and if active has neither 0 nor #tets entries.
+CutReport cut_mesh_active(TetMesh& mesh, const CutSurface& surface, std::span<const char> active,
+                          const CutOptions& options = {});
 
 }  // namespace incise::sim::cut

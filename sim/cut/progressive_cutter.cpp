@@ -1,0 +1,270 @@
+#include "sim/cut/progressive_cutter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "sim/mesh/tet_adjacency.h"
+
+namespace incise::sim::cut {
+namespace {
+
+Box3 tet_box(const TetMesh& mesh, int t) {
+  Box3 box;
+  for (int k = 0; k < 4; ++k)
+    box.extend(row3(mesh.x, mesh.tets(t, k)));
+  return box;
+}
+
+Box3 grown(const Box3& box, Real by) {
+  return Box3(box.min().array() - by, box.max().array() + by);
+}
+
+}  // namespace
+
+ProgressiveCutter::ProgressiveCutter(TetMesh& mesh, const CutOptions& options, Real pose_spacing)
+    : mesh_(mesh), options_(options) {
+  if (!(options.snap > 0 && options.snap < 0.5)) {
+    throw std::invalid_argument("cut snap fraction " + std::to_string(options.snap) +
+                                " is outside (0, 0.5)");
+  }
+  if (!(pose_spacing >= 0)) {
+    throw std::invalid_argument("pose spacing " + std::to_string(pose_spacing) + " is negative");
+  }
+  committed_nodes_ = mesh.num_nodes();
+  committed_tets_ = mesh.num_tets();
+  pose_spacing_ = pose_spacing;
+  if (pose_spacing_ == 0 && mesh.num_tets() > 0) {
+    const Edges edges = unique_edges(mesh.tets);
+    Real sum = 0;
+    for (Eigen::Index e = 0; e < edges.rows(); ++e)
+      sum += (row3(mesh.x, edges(e, 0)) - row3(mesh.x, edges(e, 1))).norm();
+    pose_spacing_ = 0.25 * sum / static_cast<Real>(edges.rows());
+  }
+}
+
+void ProgressiveCutter::undo_temporary() {
+  for (auto it = saved_rows_.rbegin(); it != saved_rows_.rend(); ++it) {
+    for (int k = 0; k < 4; ++k)
+      mesh_.tets(it->first, k) = it->second[static_cast<std::size_t>(k)];
+    frame_.changed_tets.push_back(it->first);
+  }
+  saved_rows_.clear();
+  for (int t = committed_tets_; t < mesh_.num_tets(); ++t)
+    frame_.changed_tets.push_back(t);
+  mesh_.tets.conservativeResize(committed_tets_, 4);
+  mesh_.labels.conservativeResize(committed_tets_);
+  mesh_.rest.conservativeResize(committed_nodes_, 3);
+  mesh_.x.conservativeResize(committed_nodes_, 3);
+  mesh_.v.conservativeResize(committed_nodes_, 3);
+}
+
+void ProgressiveCutter::collect_region(const Box3& quad_box) {
+  // Active: the tets within D (the largest tet diameter) of the newest quad's box. Region: every
+  // tet sharing a node with an active one (the stars of their nodes).
+  if (marked_.size() < static_cast<std::size_t>(mesh_.num_nodes()))
+    marked_.resize(static_cast<std::size_t>(mesh_.num_nodes()), 0);
+  Real diameter = 0;
+  for (int t = 0; t < mesh_.num_tets(); ++t)
+    diameter = std::max(diameter, tet_box(mesh_, t).sizes().norm());
+  const Box3 near = grown(quad_box, diameter);
+  active_slots_.clear();
+  for (int t = 0; t < mesh_.num_tets(); ++t) {
+    if (!tet_box(mesh_, t).intersects(near)) continue;
+    active_slots_.push_back(t);
+    for (int k = 0; k < 4; ++k)
+      marked_[static_cast<std::size_t>(mesh_.tets(t, k))] = 1;
+  }
+  region_slots_.clear();
+  region_active_.clear();
+  std::size_t next_active = 0;
+  for (int t = 0; t < mesh_.num_tets(); ++t) {
+    bool in = false;
+    for (int k = 0; k < 4; ++k)
+      in = in || marked_[static_cast<std::size_t>(mesh_.tets(t, k))] != 0;
+    if (!in) continue;
+    region_slots_.push_back(t);
+    const bool active = next_active < active_slots_.size() && active_slots_[next_active] == t;
+    if (active) ++next_active;
+    region_active_.push_back(active ? 1 : 0);
+  }
+  for (int t : active_slots_) {
+    for (int k = 0; k < 4; ++k)
+      marked_[static_cast<std::size_t>(mesh_.tets(t, k))] = 0;
+  }
+}
+
+void ProgressiveCutter::extract_region() {
+  if (local_of_.size() < static_cast<std::size_t>(mesh_.num_nodes()))
+    local_of_.resize(static_cast<std::size_t>(mesh_.num_nodes()), -1);
+  region_nodes_.clear();
+  const auto num_tets = static_cast<Eigen::Index>(region_slots_.size());
+  region_.tets.resize(num_tets, 4);
+  region_.labels.resize(num_tets);
+  for (Eigen::Index k = 0; k < num_tets; ++k) {
+    const int slot = region_slots_[static_cast<std::size_t>(k)];
+    for (int c = 0; c < 4; ++c) {
+      int& local = local_of_[static_cast<std::size_t>(mesh_.tets(slot, c))];
+      if (local < 0) {
+        local = static_cast<int>(region_nodes_.size());
+        region_nodes_.push_back(mesh_.tets(slot, c));
+      }
+      region_.tets(k, c) = local;
+    }
+    region_.labels(k) = mesh_.labels(slot);
+  }
+  const auto num_nodes = static_cast<Eigen::Index>(region_nodes_.size());
+  region_.rest.resize(num_nodes, 3);
+  region_.x.resize(num_nodes, 3);
+  region_.v.resize(num_nodes, 3);
+  for (Eigen::Index i = 0; i < num_nodes; ++i) {
+    const int node = region_nodes_[static_cast<std::size_t>(i)];
+    region_.rest.row(i) = mesh_.rest.row(node);
+    region_.x.row(i) = mesh_.x.row(node);
+    region_.v.row(i) = mesh_.v.row(node);
+    local_of_[static_cast<std::size_t>(node)] = -1;  // reset for the next frame
+  }
+  region_num_nodes_ = static_cast<int>(num_nodes);
+  region_num_tets_ = static_cast<int>(num_tets);
+}
+
+int ProgressiveCutter::write_back(bool save) {
+  const int node_base = mesh_.num_nodes();
+  const auto global = [&](int local) {
+    return local < region_num_nodes_ ? region_nodes_[static_cast<std::size_t>(local)]
+                                     : node_base + (local - region_num_nodes_);
+  };
+  for (int k = 0; k < region_num_tets_; ++k) {
+    const int slot = region_slots_[static_cast<std::size_t>(k)];
+    std::array<int, 4> row{};
+    bool differs = false;
+    for (int c = 0; c < 4; ++c) {
+      row[static_cast<std::size_t>(c)] = global(region_.tets(k, c));
+      differs = differs || row[static_cast<std::size_t>(c)] != mesh_.tets(slot, c);
+    }
+    if (!differs) continue;
+    if (save) {
+      saved_rows_.push_back(
+          {slot,
+           {mesh_.tets(slot, 0), mesh_.tets(slot, 1), mesh_.tets(slot, 2), mesh_.tets(slot, 3)}});
+    }
+    for (int c = 0; c < 4; ++c)
+      mesh_.tets(slot, c) = row[static_cast<std::size_t>(c)];
+    frame_.changed_tets.push_back(slot);
+  }
+  const int new_nodes = region_.num_nodes() - region_num_nodes_;
+  for (Points* points : {&mesh_.rest, &mesh_.x, &mesh_.v})
+    points->conservativeResize(node_base + new_nodes, 3);
+  for (int i = 0; i < new_nodes; ++i) {
+    mesh_.rest.row(node_base + i) = region_.rest.row(region_num_nodes_ + i);
+    mesh_.x.row(node_base + i) = region_.x.row(region_num_nodes_ + i);
+    mesh_.v.row(node_base + i) = region_.v.row(region_num_nodes_ + i);
+    region_nodes_.push_back(node_base + i);
+  }
+  const int tet_base = mesh_.num_tets();
+  const int new_tets = region_.num_tets() - region_num_tets_;
+  mesh_.tets.conservativeResize(tet_base + new_tets, 4);
+  mesh_.labels.conservativeResize(tet_base + new_tets);
+  for (int k = 0; k < new_tets; ++k) {
+    for (int c = 0; c < 4; ++c) {
+      const int local = region_.tets(region_num_tets_ + k, c);
+      // Nodes were appended above, so every local node now has its global index.
+      mesh_.tets(tet_base + k, c) = region_nodes_[static_cast<std::size_t>(local)];
+    }
+    mesh_.labels(tet_base + k) = region_.labels(region_num_tets_ + k);
+    region_slots_.push_back(tet_base + k);
+    frame_.changed_tets.push_back(tet_base + k);
+  }
+  region_num_nodes_ = region_.num_nodes();
+  region_num_tets_ = region_.num_tets();
+  return new_tets;
+}
+
+const FrameReport& ProgressiveCutter::update(const Vec3& a, const Vec3& b) {
+  if (!((a - b).norm() > 0)) throw std::invalid_argument("blade edge has zero length");
+  frame_ = FrameReport{};
+  frame_.tets_before = mesh_.num_tets();
+  undo_temporary();
+  // The previous pose stays in the strip if the blade has moved pose_spacing from the last kept
+  // one; else the current pose replaces it (the strip's last quad stretches).
+  if (stroke_a_.size() >= 2 &&
+      std::max((stroke_a_[stroke_a_.size() - 2] - stroke_a_.back()).norm(),
+               (stroke_b_[stroke_b_.size() - 2] - stroke_b_.back()).norm()) < pose_spacing_) {
+    stroke_a_.pop_back();
+    stroke_b_.pop_back();
+  }
+  stroke_a_.push_back(a);
+  stroke_b_.push_back(b);
+  const std::size_t poses = stroke_a_.size();
+  if (poses >= 2) {
+    Box3 quad_box;
+    for (const Vec3& p : {stroke_a_[poses - 2], stroke_b_[poses - 2], a, b})
+      quad_box.extend(p);
+    collect_region(quad_box);
+    extract_region();
+    frame_.region_tets = region_num_tets_;
+    // The stroke's quads that meet the region (older parts of the strip cannot cross its edges).
+    Box3 region_box;
+    for (int i = 0; i < region_num_nodes_; ++i)
+      region_box.extend(row3(region_.x, i));
+    std::vector<int> quads;
+    for (std::size_t k = 0; k + 1 < poses; ++k) {
+      Box3 box;
+      for (const Vec3& p : {stroke_a_[k], stroke_b_[k], stroke_a_[k + 1], stroke_b_[k + 1]})
+        box.extend(p);
+      if (box.intersects(region_box)) quads.push_back(static_cast<int>(k));
+    }
+    CutSurface surface;
+    surface.vertices.resize(4 * static_cast<Eigen::Index>(quads.size()), 3);
+    surface.triangles.resize(2 * static_cast<Eigen::Index>(quads.size()), 3);
+    for (std::size_t q = 0; q < quads.size(); ++q) {
+      const auto k = static_cast<std::size_t>(quads[q]);
+      const auto v = 4 * static_cast<int>(q);
+      surface.vertices.row(v) = stroke_a_[k].transpose();
+      surface.vertices.row(v + 1) = stroke_b_[k].transpose();
+      surface.vertices.row(v + 2) = stroke_a_[k + 1].transpose();
+      surface.vertices.row(v + 3) = stroke_b_[k + 1].transpose();
+      surface.triangles.row(2 * static_cast<Eigen::Index>(q)) << v, v + 1, v + 3;
+      surface.triangles.row(2 * static_cast<Eigen::Index>(q) + 1) << v, v + 3, v + 2;
+    }
+    const CutReport committed = cut_mesh_active(region_, surface, region_active_, options_);
+    frame_.committed_crack_faces = static_cast<int>(committed.crack_faces.rows());
+    frame_.committed_new_tets = write_back(false);
+    committed_nodes_ = mesh_.num_nodes();
+    committed_tets_ = mesh_.num_tets();
+
+    const FrontSplitReport front = split_front_tets(region_, surface, a, b, options_);
+    frame_.front_tets = front.front_tets;
+    write_back(true);
+    frame_.temporary_tets =
+        mesh_.num_tets() - committed_tets_ + static_cast<int>(saved_rows_.size());
+    frame_.temporary_nodes = mesh_.num_nodes() - committed_nodes_;
+    frame_.temporary_crack_faces = front.crack_faces;
+    for (Eigen::Index f = 0; f < front.crack_faces.rows(); ++f) {
+      for (int c = 0; c < 3; ++c) {
+        const int local = front.crack_faces(f, c);
+        frame_.temporary_crack_faces(f, c) = region_nodes_[static_cast<std::size_t>(local)];
+      }
+    }
+  }
+  std::vector<int>& changed = frame_.changed_tets;
+  std::sort(changed.begin(), changed.end());
+  changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+  changed.erase(std::lower_bound(changed.begin(), changed.end(), mesh_.num_tets()), changed.end());
+  return frame_;
+}
+
+void ProgressiveCutter::end_stroke() {
+  frame_ = FrameReport{};
+  frame_.tets_before = mesh_.num_tets();
+  undo_temporary();
+  stroke_a_.clear();
+  stroke_b_.clear();
+  std::vector<int>& changed = frame_.changed_tets;
+  std::sort(changed.begin(), changed.end());
+  changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+  changed.erase(std::lower_bound(changed.begin(), changed.end(), mesh_.num_tets()), changed.end());
+}
+
+}  // namespace incise::sim::cut

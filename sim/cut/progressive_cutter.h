@@ -1,0 +1,106 @@
+#pragma once
+
+// Progressive cutting (seed 001 section VII.B.2), driven every haptic frame by the blade's
+// cutting edge (a, b). Each frame:
+//   1. the previous frame's temporary pieces are undone (rows restored, arrays truncated);
+//   2. complete cuts are committed where the surface swept so far (this stroke's strip of blade
+//      poses) now crosses tets completely, i.e. where the blade has left them: cut_mesh_active
+//      on a local region only;
+//   3. the tets the blade is inside are split temporarily (split_front_tets), so that the crack
+//      is seen up to the blade. They are redone every frame from the committed tets (seed 001's
+//      Fig. 17 variant: the tet count grows only by committed cuts).
+//
+// Local region: the tets whose (current) box meets the box B of the strip's last quad, grown by
+// the largest tet diameter D, are active (the surface grew only in B; the D margin lets a crack
+// face left closed at last frame's front open now that the front has moved on); the region is
+// every tet sharing a node with an active one, so every node of a new crack face, every split
+// edge and every pierced face has its whole star in the region (the ring only conforms). It is
+// found by three scans of the tet array (the diameter, a box test, then a node-mark test per tet:
+// O(#tets) with a small constant); all the cutting work (edges, crossings, subdivision, crack
+// nodes) is on the region only. Only the strip's quads that meet the region's box take part.
+//
+// The strip keeps a blade pose once the blade has moved pose_spacing from the last kept one (the
+// last quad stretches meanwhile), so a slow hand does not pile up thin quads: exact for straight
+// strokes, off a curved one by O(spacing^2 x curvature).
+//
+// Representation for a model: the mesh holds the committed tets in slots [0, committed_tets())
+// and nodes [0, committed_nodes()), then the temporary ones; temporary pieces of a committed tet
+// take its slot (saved and restored on undo) and the following slots, temporary nodes (split
+// points and crack copies) are appended. FrameReport::changed_tets lists every slot whose row
+// may differ from the previous frame's (a superset: a restored row is listed); slots beyond
+// num_tets() have gone (the arrays shrink when the temporary pieces are undone): a model whose
+// element count must not shrink should call update_topology when FrameReport::tets_before >
+// mesh.num_tets().
+
+#include <array>
+#include <utility>
+#include <vector>
+
+#include "sim/core/types.h"
+#include "sim/cut/cut_mesh.h"
+#include "sim/cut/front_split.h"
+#include "sim/mesh/tet_mesh.h"
+
+namespace incise::sim::cut {
+
+struct FrameReport {
+  int tets_before = 0;         // #tets after the previous frame
+  int region_tets = 0;         // tets of the local region this frame
+  int committed_new_tets = 0;  // tets created by this frame's complete cuts
+  int committed_crack_faces = 0;
+  int front_tets = 0;               // tets the blade is inside
+  int temporary_tets = 0;           // temporary pieces now in the mesh
+  int temporary_nodes = 0;          // temporary nodes now in the mesh (at the end)
+  std::vector<int> changed_tets;    // slots < #tets whose row changed this frame, ascending
+  Triangles temporary_crack_faces;  // the temporary crack's boundary faces (both sides)
+};
+
+class ProgressiveCutter {
+ public:
+  // Cuts mesh in place; mesh must outlive the cutter and change only through it (positions and
+  // velocities may be moved by the simulation).
+  //   pose_spacing  [m] the strip's pose spacing; 0 for a quarter of the mean edge length
+  // Throws std::invalid_argument for options.snap outside (0, 0.5) or a negative pose_spacing.
+  explicit ProgressiveCutter(TetMesh& mesh, const CutOptions& options = {}, Real pose_spacing = 0);
+
+  // One haptic frame: the blade's cutting edge is (a, b) [m, current configuration]. The first
+  // pose of a stroke only starts it. Throws std::invalid_argument if a == b.
+  const FrameReport& update(const Vec3& a, const Vec3& b);
+
+  // Ends the stroke: the temporary pieces are undone (a tet the blade is still inside stays
+  // whole) and the next update starts a new stroke.
+  void end_stroke();
+
+  int committed_nodes() const { return committed_nodes_; }
+  int committed_tets() const { return committed_tets_; }
+  const FrameReport& last_frame() const { return frame_; }
+
+ private:
+  void undo_temporary();
+  void collect_region(const Box3& quad_box);
+  void extract_region();
+  // Writes the region mesh region_ back; rows of region slots that differ are recorded (saved
+  // first if save), appended tets and nodes appended. Returns the #new tets.
+  int write_back(bool save);
+
+  TetMesh& mesh_;
+  CutOptions options_;
+  int committed_nodes_ = 0;
+  int committed_tets_ = 0;
+  std::vector<std::pair<int, std::array<int, 4>>> saved_rows_;  // committed rows under temp
+  std::vector<Vec3> stroke_a_, stroke_b_;
+  FrameReport frame_;
+  // Scratch, kept to avoid per-frame allocation of the large arrays.
+  Real pose_spacing_ = 0;
+  std::vector<char> marked_;  // per mesh node, scratch of collect_region
+  std::vector<int> active_slots_;
+  std::vector<int> region_slots_;  // region tet k is mesh slot region_slots_[k]
+  std::vector<char> region_active_;
+  std::vector<int> region_nodes_;  // region node k is mesh node region_nodes_[k]
+  std::vector<int> local_of_;      // mesh node -> region node, or -1
+  TetMesh region_;
+  int region_num_nodes_ = 0;
+  int region_num_tets_ = 0;
+};
+
+}  // namespace incise::sim::cut

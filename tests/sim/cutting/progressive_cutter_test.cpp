@@ -1,0 +1,205 @@
+// Progressive cuts (sim/cut/progressive_cutter.h): a blade moved frame by frame through a box
+// mesh; after every frame the mesh is valid (positive tets in rest and current positions, rest
+// volume kept, conforming with a closed manifold boundary, no orphan node), the temporary crack is
+// on the blade's surface, and at the end the parts have the closed-form volumes of the one-shot
+// cut of the same plane.
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "cutting/cut_checks.h"
+#include "sim/cut/progressive_cutter.h"
+#include "sim/mesh/box_mesher.h"
+
+namespace incise::sim::cut {
+namespace {
+
+using testing::boundary_problem;
+using testing::min_volume;
+using testing::tet_components;
+
+// Every node is used by some tet.
+bool no_orphan_nodes(const TetMesh& mesh) {
+  std::vector<char> used(static_cast<std::size_t>(mesh.num_nodes()), 0);
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    for (int k = 0; k < 4; ++k)
+      used[static_cast<std::size_t>(mesh.tets(t, k))] = 1;
+  }
+  return std::all_of(used.begin(), used.end(), [](char u) { return u != 0; });
+}
+
+void expect_valid(const TetMesh& mesh, Real volume) {
+  ASSERT_EQ(mesh.x.rows(), mesh.num_nodes());
+  ASSERT_EQ(mesh.labels.size(), mesh.num_tets());
+  EXPECT_GT(min_volume(mesh.rest, mesh.tets), 0);
+  EXPECT_GT(min_volume(mesh.x, mesh.tets), 0);
+  EXPECT_NEAR(total_volume(mesh.rest, mesh.tets), volume, 1e-9 * volume);
+  EXPECT_EQ(boundary_problem(mesh.tets), "");
+  EXPECT_TRUE(no_orphan_nodes(mesh));
+}
+
+// A blade in the plane n . p = c, spanning the unit box along one in-plane direction, moved along
+// the other (s from -2 to 2 is outside the box at both ends).
+struct PlaneStroke {
+  Vec3 centre, along, across;
+  PlaneStroke(const Vec3& normal, Real c) {
+    const Vec3 n = normal.normalized();
+    centre = normal * c / normal.squaredNorm();
+    along = n.cross(Vec3::UnitX()).normalized();
+    across = n.cross(along);
+  }
+  Vec3 a(Real s) const { return centre + s * across - 1.5 * along; }
+  Vec3 b(Real s) const { return centre + s * across + 1.5 * along; }
+};
+
+Real below_volume(const Vec3& n, Real c) {
+  return (c - n.y() / 2 - n.z() / 2) / n.x();
+}
+
+// Volumes of the components, the one holding node 0 first.
+std::vector<Real> part_volumes(const TetMesh& mesh) {
+  int count = 0;
+  const std::vector<int> component = tet_components(mesh.tets, &count);
+  std::vector<Real> volume(static_cast<std::size_t>(count), 0);
+  const VecX volumes = tet_volumes(mesh.rest, mesh.tets);
+  int origin = 0;
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    volume[static_cast<std::size_t>(component[static_cast<std::size_t>(t)])] += volumes(t);
+    for (int k = 0; k < 4; ++k) {
+      if (mesh.tets(t, k) == 0) origin = component[static_cast<std::size_t>(t)];
+    }
+  }
+  std::swap(volume[0], volume[static_cast<std::size_t>(origin)]);
+  return volume;
+}
+
+TEST(ProgressiveCutter, ThroughCutIsValidEveryFrameAndEndsAsTheOneShotCut) {
+  const Vec3 n(1, 0.3, 0.2);
+  const Real c = 0.5375;  // crossings away from nodes (see cut_mesh_test): nothing snaps
+  const CutOptions options{0.01};
+  TetMesh mesh = make_box_mesh({1, 1, 1}, {4, 4, 4});
+  const Real volume = total_volume(mesh.rest, mesh.tets);
+  ProgressiveCutter cutter(mesh, options);
+  const PlaneStroke stroke(n, c);
+  const int frames = 64;
+  int frames_inside = 0;
+  for (int f = 0; f <= frames; ++f) {
+    const Real s = -2 + 4.0 * f / frames;
+    const Tets previous = mesh.tets;
+    const FrameReport& report = cutter.update(stroke.a(s), stroke.b(s));
+    SCOPED_TRACE("frame " + std::to_string(f));
+    expect_valid(mesh, volume);
+    EXPECT_EQ(mesh.num_nodes(), cutter.committed_nodes() + report.temporary_nodes);
+    if (report.front_tets > 0) {
+      ++frames_inside;
+      // The blade is inside: the crack shows up to it, on the plane (a centre or pierce point is
+      // kept kFrontMargin inside its tet or face: moved by at most 4 kFrontMargin times the
+      // longest edge, sqrt(3) / 4).
+      EXPECT_GT(report.temporary_crack_faces.rows(), 0);
+      for (Eigen::Index r = 0; r < report.temporary_crack_faces.rows(); ++r) {
+        for (int k = 0; k < 3; ++k) {
+          const Vec3 p = row3(mesh.x, report.temporary_crack_faces(r, k));
+          EXPECT_LE(std::abs(n.normalized().dot(p) - c / n.norm()),
+                    4 * kFrontMargin * std::sqrt(3.0) / 4);
+        }
+      }
+    }
+    // A model can follow: every slot whose row differs from the previous frame's, or is new, is
+    // reported, and only existing slots are.
+    ASSERT_TRUE(std::is_sorted(report.changed_tets.begin(), report.changed_tets.end()));
+    for (int t = 0; t < mesh.num_tets(); ++t) {
+      const bool changed = t >= previous.rows() || mesh.tets.row(t) != previous.row(t);
+      if (changed) {
+        EXPECT_TRUE(std::binary_search(report.changed_tets.begin(), report.changed_tets.end(), t))
+            << "slot " << t;
+      }
+    }
+    for (int t : report.changed_tets)
+      EXPECT_LT(t, mesh.num_tets());
+    EXPECT_EQ(report.tets_before, static_cast<int>(previous.rows()));
+  }
+  EXPECT_GT(frames_inside, 10);
+  cutter.end_stroke();
+  expect_valid(mesh, volume);
+  EXPECT_EQ(mesh.num_nodes(), cutter.committed_nodes());
+  const std::vector<Real> parts = part_volumes(mesh);
+  ASSERT_EQ(parts.size(), 2u);
+  EXPECT_NEAR(parts[0], below_volume(n, c), 1e-12);
+  EXPECT_NEAR(parts[1], 1 - below_volume(n, c), 1e-12);
+
+  TetMesh one_shot = make_box_mesh({1, 1, 1}, {4, 4, 4});
+  cut_mesh(one_shot, testing::plane_blade(stroke.centre, n, 3), options);
+  const std::vector<Real> expected = part_volumes(one_shot);
+  ASSERT_EQ(expected.size(), 2u);
+  EXPECT_NEAR(parts[0], expected[0], 1e-12);
+}
+
+TEST(ProgressiveCutter, BackAndForthInsideLeavesNoTemporaryNodeAndOneBody) {
+  TetMesh mesh = testing::jittered_box({1, 1, 1}, {5, 5, 5}, 0.2, 3);
+  const Real volume = total_volume(mesh.rest, mesh.tets);
+  ProgressiveCutter cutter(mesh);
+  const PlaneStroke stroke({1, 0.2, -0.1}, 0.45);
+  for (int f = 0; f <= 12; ++f) {
+    const FrameReport& report = cutter.update(stroke.a(-1.2 + 0.1 * f), stroke.b(-1.2 + 0.1 * f));
+    SCOPED_TRACE("frame " + std::to_string(f));
+    expect_valid(mesh, volume);
+    if (f == 12) {
+      EXPECT_GT(report.front_tets, 0);
+      EXPECT_GT(report.temporary_nodes, 0);
+    }
+  }
+  // Back out the way it came (the surface swept backwards folds onto the one swept forwards),
+  // then forward again: valid every frame, the temporary nodes always the last ones.
+  for (int f = 11; f >= 0; --f) {
+    const FrameReport& report = cutter.update(stroke.a(-1.2 + 0.1 * f), stroke.b(-1.2 + 0.1 * f));
+    SCOPED_TRACE("back, frame " + std::to_string(f));
+    expect_valid(mesh, volume);
+    EXPECT_EQ(mesh.num_nodes(), cutter.committed_nodes() + report.temporary_nodes);
+  }
+  for (int f = 1; f <= 12; ++f) {
+    const FrameReport& report = cutter.update(stroke.a(-1.2 + 0.1 * f), stroke.b(-1.2 + 0.1 * f));
+    SCOPED_TRACE("forward again, frame " + std::to_string(f));
+    expect_valid(mesh, volume);
+    EXPECT_EQ(mesh.num_nodes(), cutter.committed_nodes() + report.temporary_nodes);
+  }
+  cutter.end_stroke();
+  expect_valid(mesh, volume);
+  EXPECT_EQ(mesh.num_nodes(), cutter.committed_nodes());
+  EXPECT_EQ(mesh.num_tets(), cutter.committed_tets());
+  int count = 0;
+  tet_components(mesh.tets, &count);
+  EXPECT_EQ(count, 1);  // the crack stops inside: still one body
+}
+
+TEST(ProgressiveCutter, CrossingStrokesCutTheBoxIntoFourParts) {
+  TetMesh mesh = testing::jittered_box({1, 1, 1}, {4, 4, 4}, 0.2, 5);
+  const Real volume = total_volume(mesh.rest, mesh.tets);
+  ProgressiveCutter cutter(mesh);
+  for (const auto& [normal, c] :
+       {std::pair{Vec3(1, 0.3, 0.2), 0.537}, std::pair{Vec3(0.2, 1, -0.1), 0.55}}) {
+    const PlaneStroke stroke(normal, c);
+    for (int f = 0; f <= 40; ++f) {
+      cutter.update(stroke.a(-2 + 0.1 * f), stroke.b(-2 + 0.1 * f));
+      SCOPED_TRACE("frame " + std::to_string(f));
+      expect_valid(mesh, volume);
+    }
+    cutter.end_stroke();
+  }
+  int count = 0;
+  tet_components(mesh.tets, &count);
+  EXPECT_EQ(count, 4);
+}
+
+TEST(ProgressiveCutter, RejectsBadInput) {
+  TetMesh mesh = make_box_mesh({1, 1, 1}, {2, 2, 2});
+  EXPECT_THROW(ProgressiveCutter(mesh, CutOptions{0.6}), std::invalid_argument);
+  ProgressiveCutter cutter(mesh);
+  EXPECT_THROW(cutter.update(Vec3::Zero(), Vec3::Zero()), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace incise::sim::cut
