@@ -231,6 +231,14 @@ const FrameReport& ProgressiveCutter::update(const Vec3& a, const Vec3& b) {
     const CutReport committed = cut_mesh_active(region_, surface, region_active_, options_);
     frame_.committed_crack_faces = static_cast<int>(committed.crack_faces.rows());
     frame_.committed_new_tets = write_back(false);
+    // write_back appended the new nodes to region_nodes_: every local node has its global index.
+    frame_.committed_crack_face_nodes.resize(committed.crack_faces.rows(), 3);
+    for (Eigen::Index f = 0; f < committed.crack_faces.rows(); ++f) {
+      for (int c = 0; c < 3; ++c) {
+        frame_.committed_crack_face_nodes(f, c) =
+            region_nodes_[static_cast<std::size_t>(committed.crack_faces(f, c))];
+      }
+    }
     committed_nodes_ = mesh_.num_nodes();
     committed_tets_ = mesh_.num_tets();
 

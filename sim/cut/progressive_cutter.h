@@ -48,6 +48,9 @@ struct FrameReport {
   int region_tets = 0;         // tets of the local region this frame
   int committed_new_tets = 0;  // tets created by this frame's complete cuts
   int committed_crack_faces = 0;
+  // This frame's committed crack faces (both sides), as node indices of the mesh: what a damage
+  // tracker records as cut (tools::DamageTracker::record_cut).
+  Triangles committed_crack_face_nodes;
   int front_tets = 0;               // tets the blade is inside
   int temporary_tets = 0;           // temporary pieces now in the mesh
   int temporary_nodes = 0;          // temporary nodes now in the mesh (at the end)

@@ -5,6 +5,7 @@
 // cut of the same plane.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 #include <vector>
@@ -87,12 +88,23 @@ TEST(ProgressiveCutter, ThroughCutIsValidEveryFrameAndEndsAsTheOneShotCut) {
   const PlaneStroke stroke(n, c);
   const int frames = 64;
   int frames_inside = 0;
+  Real committed_area = 0;  // of the committed crack faces, both sides
   for (int f = 0; f <= frames; ++f) {
     const Real s = -2 + 4.0 * f / frames;
     const Tets previous = mesh.tets;
     const FrameReport& report = cutter.update(stroke.a(s), stroke.b(s));
     SCOPED_TRACE("frame " + std::to_string(f));
     expect_valid(mesh, volume);
+    // The committed crack faces, in mesh nodes, lie on the plane (no deformation: rest = x).
+    ASSERT_EQ(report.committed_crack_face_nodes.rows(), report.committed_crack_faces);
+    for (Eigen::Index r = 0; r < report.committed_crack_face_nodes.rows(); ++r) {
+      std::array<Vec3, 3> p;
+      for (int k = 0; k < 3; ++k) {
+        p[static_cast<std::size_t>(k)] = row3(mesh.rest, report.committed_crack_face_nodes(r, k));
+        EXPECT_NEAR(n.normalized().dot(p[static_cast<std::size_t>(k)]), c / n.norm(), 1e-9);
+      }
+      committed_area += 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).norm();
+    }
     EXPECT_EQ(mesh.num_nodes(), cutter.committed_nodes() + report.temporary_nodes);
     if (report.front_tets > 0) {
       ++frames_inside;
@@ -132,10 +144,20 @@ TEST(ProgressiveCutter, ThroughCutIsValidEveryFrameAndEndsAsTheOneShotCut) {
   EXPECT_NEAR(parts[1], 1 - below_volume(n, c), 1e-12);
 
   TetMesh one_shot = make_box_mesh({1, 1, 1}, {4, 4, 4});
-  cut_mesh(one_shot, testing::plane_blade(stroke.centre, n, 3), options);
+  const CutReport whole = cut_mesh(one_shot, testing::plane_blade(stroke.centre, n, 3), options);
   const std::vector<Real> expected = part_volumes(one_shot);
   ASSERT_EQ(expected.size(), 2u);
   EXPECT_NEAR(parts[0], expected[0], 1e-12);
+  // The frames' committed crack faces add up to the one-shot cut's.
+  Real whole_area = 0;
+  for (Eigen::Index r = 0; r < whole.crack_faces.rows(); ++r) {
+    const Vec3 a = row3(one_shot.rest, whole.crack_faces(r, 0));
+    whole_area += 0.5 * (row3(one_shot.rest, whole.crack_faces(r, 1)) - a)
+                            .cross(row3(one_shot.rest, whole.crack_faces(r, 2)) - a)
+                            .norm();
+  }
+  EXPECT_GT(whole_area, 0);
+  EXPECT_NEAR(committed_area, whole_area, 1e-9 * whole_area);
 }
 
 TEST(ProgressiveCutter, BackAndForthInsideLeavesNoTemporaryNodeAndOneBody) {
