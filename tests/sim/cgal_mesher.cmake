@@ -6,6 +6,7 @@ if(TARGET incise_sim_cgal)
     cgal_mesher/mesh_checks.cpp
     cgal_mesher/mesh_generation_test.cpp
     cgal_mesher/mesh_labelled_volume_test.cpp
+    cgal_mesher/anatomy_test.cpp
   )
   target_link_libraries(sim_cgal_mesher_tests PRIVATE incise_sim_cgal GTest::gtest_main)
   gtest_discover_tests(sim_cgal_mesher_tests DISCOVERY_TIMEOUT 30)
