@@ -1,0 +1,28 @@
+#pragma once
+
+// The strain kernel of the damage metrics (issue 6 item 9): the largest principal Green strain of
+// one linear tet. Green strain is used rather than a stress because it depends only on the
+// motion, not on the model or its material: the same tissue threshold holds whichever model
+// (mass-spring, corotational FEM, Neo-Hookean, condensed) moved the nodes.
+//
+//   F = Ds Dm^-1,  Ds = [x1 - x0, x2 - x0, x3 - x0],  Dm = the same over the rest positions
+//   E = (F^T F - I) / 2,  e_max = the largest eigenvalue of E = (s_max^2 - 1) / 2
+// with s_max the largest singular value of F (the largest stretch). A rigid motion gives
+// e_max = 0; a uniaxial stretch by a factor l gives e_max = (l^2 - 1) / 2. Inverted tets need no
+// special case: F^T F is defined for any F.
+
+#include "sim/core/types.h"
+
+namespace incise::sim::tools {
+
+// Dm^-1 of the tet (a, b, c, d) at rest [1/m] into inverse, and its signed rest volume [m^3] as
+// the result. Leaves inverse untouched and returns the (non-positive) volume when the tet is
+// flat or inverted at rest; the caller rejects it.
+Real rest_edge_inverse(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, Mat3& inverse);
+
+// The largest principal Green strain [-] of the tet whose current positions are (a, b, c, d),
+// with rest_inverse = Dm^-1 from rest_edge_inverse. Allocates nothing. NaN in, NaN out.
+Real max_principal_green_strain(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
+                                const Mat3& rest_inverse);
+
+}  // namespace incise::sim::tools

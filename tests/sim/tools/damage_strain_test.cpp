@@ -1,0 +1,74 @@
+// The strain kernel of the damage metrics (sim/tools/damage_strain.h) against closed forms: a
+// uniaxial stretch, a simple shear, a rigid motion (no strain), a pure compression (no positive
+// principal strain), on a skewed tet so that Dm^-1 is not trivial.
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "sim/tools/damage_strain.h"
+
+namespace incise::sim::tools {
+namespace {
+
+// A skewed, positively oriented rest tet [m].
+const Vec3 kRest[4] = {Vec3(0.01, -0.02, 0.003), Vec3(0.05, -0.01, 0.0), Vec3(0.02, 0.03, 0.01),
+                       Vec3(0.015, 0.0, 0.045)};
+
+Real strain_under(const Mat3& f, const Vec3& translation = Vec3::Zero()) {
+  Mat3 inverse;
+  EXPECT_GT(rest_edge_inverse(kRest[0], kRest[1], kRest[2], kRest[3], inverse), 0);
+  Vec3 x[4];
+  for (int k = 0; k < 4; ++k)
+    x[k] = f * kRest[k] + translation;
+  return max_principal_green_strain(x[0], x[1], x[2], x[3], inverse);
+}
+
+TEST(DamageStrain, UniaxialStretchGivesHalfOfStretchSquaredMinusOne) {
+  for (const Real l : {1.05, 1.1, 1.5, 2.0}) {
+    const Mat3 f = Vec3(1, l, 1).asDiagonal();
+    EXPECT_NEAR(strain_under(f), (l * l - 1) / 2, 1e-12) << "stretch " << l;
+  }
+}
+
+TEST(DamageStrain, SimpleShearGivesTheLargestEigenvalueOfItsGreenStrain) {
+  // F = I + g e_x e_y^T: the x-y block of C = F^T F is [[1, g], [g, 1 + g^2]] with trace 2 + g^2
+  // and determinant 1, so its larger eigenvalue is (2 + g^2 + g sqrt(g^2 + 4)) / 2.
+  for (const Real g : {0.1, 0.3, 1.0}) {
+    Mat3 f = Mat3::Identity();
+    f(0, 1) = g;
+    const Real c_max = (2 + g * g + g * std::sqrt(g * g + 4)) / 2;
+    EXPECT_NEAR(strain_under(f), (c_max - 1) / 2, 1e-12) << "shear " << g;
+  }
+}
+
+TEST(DamageStrain, RigidMotionGivesNoStrain) {
+  const Mat3 r = Eigen::AngleAxisd(1.2, Vec3(1, -2, 0.5).normalized()).toRotationMatrix();
+  EXPECT_NEAR(strain_under(r, Vec3(0.3, -1, 2)), 0, 1e-13);
+}
+
+TEST(DamageStrain, CompressionAloneGivesNoPositivePrincipalStrain) {
+  // Principal strains (0.8^2 - 1) / 2 along z and 0 along x and y: the largest is 0.
+  EXPECT_NEAR(strain_under(Vec3(1, 1, 0.8).asDiagonal()), 0, 1e-13);
+  // An inverted tet (a reflection with stretch 1.2) still has the strain of its stretch.
+  EXPECT_NEAR(strain_under(Vec3(-1.2, 1, 1).asDiagonal()), (1.44 - 1) / 2, 1e-12);
+}
+
+TEST(DamageStrain, FlatRestTetIsReported) {
+  Mat3 inverse = Mat3::Constant(7);
+  EXPECT_EQ(rest_edge_inverse(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0), inverse),
+            0);
+  EXPECT_EQ(inverse, Mat3::Constant(7));
+  EXPECT_LT(rest_edge_inverse(Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(1, 0, 0), Vec3(0, 0, 1), inverse),
+            0);
+}
+
+TEST(DamageStrain, NanPositionsGiveNan) {
+  Mat3 inverse;
+  rest_edge_inverse(kRest[0], kRest[1], kRest[2], kRest[3], inverse);
+  const Vec3 bad(std::nan(""), 0, 0);
+  EXPECT_TRUE(std::isnan(max_principal_green_strain(bad, kRest[1], kRest[2], kRest[3], inverse)));
+}
+
+}  // namespace
+}  // namespace incise::sim::tools
