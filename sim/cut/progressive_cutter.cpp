@@ -1,9 +1,13 @@
 #include "sim/cut/progressive_cutter.h"
 
 #include <algorithm>
+#include <array>
+#include <climits>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "sim/mesh/tet_adjacency.h"
 
@@ -231,6 +235,31 @@ const FrameReport& ProgressiveCutter::update(const Vec3& a, const Vec3& b) {
     const CutReport committed = cut_mesh_active(region_, surface, region_active_, options_);
     frame_.committed_crack_faces = static_cast<int>(committed.crack_faces.rows());
     frame_.committed_new_tets = write_back(false);
+    // The label of the piece each crack face bounds, found among the region's tets (each crack
+    // face is a face of exactly one of them) before the blade's temporary split changes them.
+    {
+      std::vector<std::pair<std::array<int, 3>, int>> faces;
+      for (int t = 0; t < region_.num_tets(); ++t) {
+        for (int k = 0; k < 4; ++k) {
+          std::array<int, 3> key = {region_.tets(t, (k + 1) % 4), region_.tets(t, (k + 2) % 4),
+                                    region_.tets(t, (k + 3) % 4)};
+          std::sort(key.begin(), key.end());
+          faces.push_back({key, region_.labels(t)});
+        }
+      }
+      std::sort(faces.begin(), faces.end());
+      frame_.committed_crack_face_labels.assign(
+          static_cast<std::size_t>(committed.crack_faces.rows()), 0);
+      for (Eigen::Index f = 0; f < committed.crack_faces.rows(); ++f) {
+        std::array<int, 3> key = {committed.crack_faces(f, 0), committed.crack_faces(f, 1),
+                                  committed.crack_faces(f, 2)};
+        std::sort(key.begin(), key.end());
+        const auto it = std::lower_bound(faces.begin(), faces.end(), std::make_pair(key, INT_MIN));
+        if (it != faces.end() && it->first == key) {
+          frame_.committed_crack_face_labels[static_cast<std::size_t>(f)] = it->second;
+        }
+      }
+    }
     // write_back appended the new nodes to region_nodes_: every local node has its global index.
     frame_.committed_crack_face_nodes.resize(committed.crack_faces.rows(), 3);
     for (Eigen::Index f = 0; f < committed.crack_faces.rows(); ++f) {

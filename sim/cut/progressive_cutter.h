@@ -51,9 +51,10 @@ struct FrameReport {
   // This frame's committed crack faces (both sides), as node indices of the mesh: what a damage
   // tracker records as cut (tools::DamageTracker::record_cut).
   Triangles committed_crack_face_nodes;
-  int front_tets = 0;               // tets the blade is inside
-  int temporary_tets = 0;           // temporary pieces now in the mesh
-  int temporary_nodes = 0;          // temporary nodes now in the mesh (at the end)
+  std::vector<int> committed_crack_face_labels;  // the tissue label of the piece each bounds
+  int front_tets = 0;                            // tets the blade is inside
+  int temporary_tets = 0;                        // temporary pieces now in the mesh
+  int temporary_nodes = 0;                       // temporary nodes now in the mesh (at the end)
   std::vector<int> changed_tets;    // slots < #tets whose row changed this frame, ascending
   Triangles temporary_crack_faces;  // the temporary crack's boundary faces (both sides)
 };

@@ -97,6 +97,8 @@ TEST(ProgressiveCutter, ThroughCutIsValidEveryFrameAndEndsAsTheOneShotCut) {
     expect_valid(mesh, volume);
     // The committed crack faces, in mesh nodes, lie on the plane (no deformation: rest = x).
     ASSERT_EQ(report.committed_crack_face_nodes.rows(), report.committed_crack_faces);
+    ASSERT_EQ(report.committed_crack_face_labels.size(),
+              static_cast<std::size_t>(report.committed_crack_faces));
     for (Eigen::Index r = 0; r < report.committed_crack_face_nodes.rows(); ++r) {
       std::array<Vec3, 3> p;
       for (int k = 0; k < 3; ++k) {
