@@ -26,7 +26,17 @@ const ProbeSettings& checked(const ProbeSettings& settings) {
     throw std::invalid_argument("Probe: coupling_damping_ratio must be finite and >= 0, got " +
                                 std::to_string(settings.coupling_damping_ratio));
   }
+  if (!(settings.max_force > 0) || !std::isfinite(settings.max_force)) {
+    throw std::invalid_argument("Probe: max_force must be finite and > 0, got " +
+                                std::to_string(settings.max_force));
+  }
   return settings;
+}
+
+// f scaled down to magnitude `limit` if longer.
+Vec3 saturated(const Vec3& f, Real limit) {
+  const Real norm = f.norm();
+  return norm > limit ? Vec3(f * (limit / norm)) : f;
 }
 
 }  // namespace
@@ -69,7 +79,7 @@ void Probe::step(const Vec3& device_position, const collide::SurfaceBvh& bvh, co
 
   // 3. The push, and the hand's model.
   const Real kv = settings_.coupling_stiffness;
-  hand_force_ = kv * (proxy_ - device_);
+  hand_force_ = saturated(kv * (proxy_ - device_), settings_.max_force);
   hand_model_.reference_position = device_;
   hand_model_.force = hand_force_;
   hand_model_.stiffness.setZero();
@@ -90,14 +100,17 @@ void Probe::step(const Vec3& device_position, const collide::SurfaceBvh& bvh, co
   normal.normalize();
   // The spring pulls the proxy towards the device; the massless proxy passes the pull on to the
   // tissue if it goes into the surface.
-  const Vec3 pull = kv * (device_ - proxy_);
+  const Vec3 pull = saturated(kv * (device_ - proxy_), settings_.max_force);
   if (!(pull.dot(normal) < 0)) return;
   const Mat3 blocked = blocked_projector();
-  transmitted_ = implicit_push(pull, device_velocity, v, masses, node_forces, min_depth);
+  transmitted_ = saturated(implicit_push(pull, device_velocity, v, masses, node_forces, min_depth),
+                           settings_.max_force);
   response_.distribute(transmitted_, node_forces, min_depth);
   hand_force_ = -transmitted_;
   hand_model_.force = hand_force_;
-  hand_model_.stiffness = kv * blocked;
+  // Saturated, the force no longer grows as the device goes deeper: no stiffness to render.
+  const bool saturating = (kv * (device_ - proxy_)).norm() > settings_.max_force;
+  hand_model_.stiffness = saturating ? Mat3::Zero() : Mat3(kv * blocked);
 }
 
 Vec3 Probe::implicit_push(const Vec3& pull, const Vec3& device_velocity, const Points& v,

@@ -59,7 +59,11 @@ struct ProbeSettings {
   Real coupling_stiffness = 500;      // k_v [N/m], > 0
   Real coupling_damping_ratio = 1;    // zeta of the coupling's damper on the pushed tissue, >= 0
   Real allowed_penetration = 0.0005;  // per step [m], in (0, radius)
-  PenaltySettings contact;            // the tip's penalty (its time_step is the step dt)
+  // The coupling saturates here [N], > 0: a desktop haptic device renders a few newtons, and a
+  // device driven deep into the tissue (a violent hand) must not pull it apart with the spring's
+  // unbounded force. Both the push on the tissue and the hand's force are capped.
+  Real max_force = 4;
+  PenaltySettings contact;  // the tip's penalty (its time_step is the step dt)
 };
 
 // Where the probe touches, in the rest configuration.

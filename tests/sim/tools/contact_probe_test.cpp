@@ -105,6 +105,32 @@ TEST(Probe, StopsAtTheSurfaceAndTheHandFeelsTheTissue) {
       << pressed.mean_support.transpose() << " vs " << pressed.mean_hand.transpose();
 }
 
+// A device driven far into the tissue (a violent hand): the push and the hand force stop at
+// max_force, and the tissue stays finite.
+TEST(Probe, CouplingSaturatesAtItsMaximumForce) {
+  ContactBlock block{Vec3(0.02, 0.02, kTop), Vec3i(6, 6, 3), contact_testing::kSoft,
+                     ContactBlock::Clamp::base};
+  ProbeSettings settings = probe_settings(block);
+  settings.max_force = 0.05;
+  Probe probe(settings, Vec3(0.0103, 0.0098, kTop + 0.006));
+  const Vec3 deep(0.0103, 0.0098, kTop - 0.02);  // 2 cm below the top: 2 N unsaturated
+  int saturated_steps = 0;
+  for (int s = 0; s < 300; ++s) {
+    block.prepare();
+    probe.step(deep, block.bvh, block.mesh.x, block.mesh.v, block.model->masses(), block.forces);
+    EXPECT_LE(probe.hand_force().norm(), settings.max_force * (1 + 1e-12)) << "step " << s;
+    EXPECT_LE(probe.transmitted_force().norm(), settings.max_force * (1 + 1e-12)) << "step " << s;
+    if (std::abs(probe.hand_force().norm() - settings.max_force) < 1e-9) {
+      ++saturated_steps;
+      EXPECT_TRUE(probe.hand_force_model().stiffness.isZero(0)) << "step " << s;
+    }
+    block.integrate();
+    ASSERT_TRUE(block.mesh.x.allFinite()) << "step " << s;
+  }
+  // The implicit push passes on less while the tissue gives way; the cap was reached.
+  EXPECT_GT(saturated_steps, 0);
+}
+
 TEST(Probe, HandModelPredictsTheNextStep) {
   PressedProbe pressed;
   const LocalForceModel model = pressed.probe.hand_force_model();

@@ -1,0 +1,425 @@
+#include "sim/surgery/surgical_scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <stdexcept>
+#include <utility>
+
+namespace incise::sim::surgery {
+
+std::string_view to_string(ToolKind kind) {
+  switch (kind) {
+    case ToolKind::probe:
+      return "probe";
+    case ToolKind::grasper:
+      return "grasper";
+    case ToolKind::scalpel:
+      return "scalpel";
+    case ToolKind::scope:
+      return "scope";
+  }
+  return "?";
+}
+
+std::string_view to_string(EventKind kind) {
+  switch (kind) {
+    case EventKind::grab:
+      return "grab";
+    case EventKind::release:
+      return "release";
+    case EventKind::cut:
+      return "cut";
+    case EventKind::collision:
+      return "collision";
+    case EventKind::never_event:
+      return "never_event";
+  }
+  return "?";
+}
+
+struct SurgicalScene::Tool {
+  ToolSpec spec;
+  bool has_input = false;
+  ToolInput input;
+  Vec3 tip = Vec3::Zero();
+  Mat3 rotation = Mat3::Identity();
+  Vec3 direction = Vec3::UnitZ();
+  std::optional<tools::Probe> probe;  // probe and scope, made at the first input
+  std::optional<tools::Grasper> grasper;
+  std::unique_ptr<cut::ProgressiveCutter> cutter;
+  bool stroke = false;          // the scalpel's blade is in the tissue
+  tools::LocalForceModel bone;  // this step's bone contacts, on the tool at its tip
+  bool touching_bone = false;
+  Vec3 hand_force = Vec3::Zero();  // grasper: the tissue's pull on the hand
+};
+
+namespace {
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument("surgical scene: " + what);
+}
+
+std::string field(std::size_t k, const char* name) {
+  return "tools[" + std::to_string(k) + "]." + name;
+}
+
+void validate(const SurgicalSceneSpec& spec) {
+  require(spec.dt > 0 && std::isfinite(spec.dt), "dt must be > 0");
+  require(spec.gravity.allFinite(), "gravity must be finite");
+  require(spec.bone_stiffness > 0 && std::isfinite(spec.bone_stiffness),
+          "bone_stiffness must be > 0");
+  require(spec.wave_speed > 0 && std::isfinite(spec.wave_speed), "wave_speed must be > 0");
+  require(spec.damping_time >= 0 && std::isfinite(spec.damping_time), "damping_time must be >= 0");
+  require(spec.cut_every >= 1, "cut_every must be >= 1");
+  require(spec.damage_every >= 1, "damage_every must be >= 1");
+  for (std::size_t k = 0; k < spec.tools.size(); ++k) {
+    const ToolSpec& t = spec.tools[k];
+    require(t.device >= 0, field(k, "device") + " must be >= 0");
+    require(t.shaft_length > 0 && t.shaft_radius > 0,
+            field(k, "shaft") + " length and radius must be > 0");
+    require(t.max_jaw_angle > 0 && t.max_jaw_angle < std::numbers::pi,
+            field(k, "max_jaw_angle") + " must be in (0, pi)");
+    require(t.blade_length > 0, field(k, "blade_length") + " must be > 0");
+    require(t.view_angle_degrees >= 0 && t.view_angle_degrees < 90,
+            field(k, "view_angle_degrees") + " must be in [0, 90)");
+    require(t.field_of_view_degrees > 0 && t.field_of_view_degrees < 180,
+            field(k, "field_of_view_degrees") + " must be in (0, 180)");
+  }
+}
+
+// The deepest contact of a list, or nullptr.
+const collide::Contact* deepest(const std::vector<collide::Contact>& contacts) {
+  const collide::Contact* best = nullptr;
+  for (const collide::Contact& c : contacts) {
+    if (best == nullptr || c.depth > best->depth) best = &c;
+  }
+  return best;
+}
+
+}  // namespace
+
+SurgicalScene::SurgicalScene(SurgicalSceneSpec spec) : spec_(std::move(spec)) {
+  validate(spec_);
+  tissue_ = std::make_unique<TissueBody>(spec_.tissue, spec_.model, spec_.fixed, spec_.dt,
+                                         spec_.wave_speed, spec_.damping_time);
+  for (std::size_t b = 0; b < spec_.bones.size(); ++b) {
+    try {
+      bones_.emplace_back(spec_.bones[b].vertices, spec_.bones[b].triangles);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("surgical scene: bones[" + std::to_string(b) + "] (" +
+                                  spec_.bones[b].name + "): " + e.what());
+    }
+  }
+  bone_depths_.assign(bones_.size(), 0);
+  bone_touching_.assign(bones_.size(), 0);
+  for (const ToolSpec& t : spec_.tools) {
+    Tool tool;
+    tool.spec = t;
+    tool.spec.probe.contact.time_step = spec_.dt;
+    if (t.kind == ToolKind::scope) tool.spec.probe.radius = t.shaft_radius;
+    if (t.kind == ToolKind::grasper) tool.grasper.emplace(t.grasp);
+    tools_.push_back(std::move(tool));
+  }
+  tools::DamageSettings damage = spec_.damage;
+  damage.protected_structures = static_cast<int>(bones_.size());
+  damage_ = std::make_unique<tools::DamageTracker>(tissue_->mesh(), damage);
+  damage_alive_.assign(static_cast<std::size_t>(tissue_->mesh().num_tets()), 1);
+  const TetMesh& mesh = tissue_->mesh();
+  prescribed_.mask = AxisMask::Zero(mesh.num_nodes(), 3);
+  prescribed_.position = Points::Zero(mesh.num_nodes(), 3);
+  surface_nodes_ = tissue_->surface().nodes;
+}
+
+SurgicalScene::~SurgicalScene() = default;
+
+int SurgicalScene::num_tools() const {
+  return static_cast<int>(tools_.size());
+}
+
+void SurgicalScene::event(EventKind kind, int tool, std::string detail) {
+  events_.push_back({kind, tool, time_ + spec_.dt, std::move(detail)});
+}
+
+std::vector<SceneEvent> SurgicalScene::take_events() {
+  std::vector<SceneEvent> out;
+  out.swap(events_);
+  return out;
+}
+
+void SurgicalScene::step(std::span<const ToolInput> inputs) {
+  for (const ToolInput& in : inputs) {
+    if (!in.tip.allFinite() || !in.orientation.coeffs().allFinite() || !std::isfinite(in.jaw)) {
+      throw std::invalid_argument("surgical scene: a tool input is not finite");
+    }
+  }
+  for (Tool& tool : tools_) {
+    const auto d = static_cast<std::size_t>(tool.spec.device);
+    if (d >= inputs.size()) continue;
+    tool.has_input = true;
+    tool.input = inputs[d];
+    tool.rotation = tool.input.orientation.normalized().toRotationMatrix();
+    tool.direction = tool.rotation.col(2);
+    tool.tip = tool.input.tip;
+  }
+  // Cuts first, so that this step's forces are those of the new topology.
+  if (steps_ % spec_.cut_every == 0) {
+    for (std::size_t k = 0; k < tools_.size(); ++k) {
+      if (tools_[k].spec.kind == ToolKind::scalpel && tools_[k].has_input) {
+        cut(tools_[k], static_cast<int>(k));
+      }
+    }
+  }
+  tissue_->begin_step();
+  TetMesh& mesh = tissue_->mesh();
+  for (const int row : prescribed_rows_)
+    prescribed_.mask.row(row).setZero();
+  prescribed_rows_.clear();
+  std::fill(bone_depths_.begin(), bone_depths_.end(), 0);
+  for (std::size_t k = 0; k < tools_.size(); ++k) {
+    Tool& tool = tools_[k];
+    if (!tool.has_input) continue;
+    switch (tool.spec.kind) {
+      case ToolKind::probe:
+      case ToolKind::scope:
+        if (!tool.probe) tool.probe.emplace(tool.spec.probe, tool.tip);
+        tool.probe->step(tool.tip, tissue_->bvh(), mesh.x, mesh.v, tissue_->masses(),
+                         tissue_->forces());
+        break;
+      case ToolKind::grasper:
+        grasp(tool, static_cast<int>(k));
+        break;
+      case ToolKind::scalpel:
+        break;
+    }
+    bones(tool, static_cast<int>(k));
+  }
+  tissue_->end_step(spec_.dt, spec_.gravity, prescribed_);
+  // Bone contacts: a rising edge per bone is a collision with a protected structure.
+  for (std::size_t b = 0; b < bones_.size(); ++b) {
+    const bool touching = bone_depths_[b] > 0;
+    if (touching && bone_touching_[b] == 0) {
+      event(EventKind::collision, -1, spec_.bones[b].name);
+    }
+    bone_touching_[b] = touching ? 1 : 0;
+  }
+  damage_->record_contacts(bone_depths_, spec_.dt);
+  strain_time_ += spec_.dt;
+  ++steps_;
+  time_ += spec_.dt;
+  if (steps_ % spec_.damage_every == 0 && state_finite()) {
+    damage_->record_strain(mesh.x, strain_time_);
+    strain_time_ = 0;
+  }
+}
+
+void SurgicalScene::grasp(Tool& tool, int index) {
+  tools::Grasper& grasper = *tool.grasper;
+  TetMesh& mesh = tissue_->mesh();
+  tools::JawPose pose;
+  pose.pivot = tool.tip;
+  pose.direction = tool.direction;
+  pose.opening_normal = tool.rotation.col(0);
+  pose.opening_angle = std::clamp(tool.input.jaw, 0.0, 1.0) * tool.spec.max_jaw_angle;
+  if (const auto released = grasper.set_jaws(pose)) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%s, %d vertices",
+                  std::string(to_string(released->reason)).c_str(), released->released_vertices);
+    event(EventKind::release, index, text);
+  }
+  if (grasper.phase() == tools::GraspPhase::closing) {
+    const int grabbed = grasper.grab(mesh.rest, mesh.x, tissue_->inverse_masses(), surface_nodes_);
+    if (grabbed > 0) event(EventKind::grab, index, std::to_string(grabbed) + " vertices");
+  }
+  if (const auto released = grasper.measure(tissue_->internal())) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%s at %.3f N",
+                  std::string(to_string(released->reason)).c_str(), released->pull.norm());
+    event(EventKind::release, index, text);
+  }
+  tool.hand_force = -grasper.pull();
+  if (grasper.phase() == tools::GraspPhase::holding) {
+    grasper.prescribe(prescribed_);
+    for (const int v : grasper.grabbed())
+      prescribed_rows_.push_back(v);
+  } else {
+    tool.hand_force.setZero();
+  }
+}
+
+void SurgicalScene::bones(Tool& tool, int /*index*/) {
+  tool.bone = {};
+  tool.bone.reference_position = tool.tip;
+  tool.touching_bone = false;
+  if (bones_.empty()) return;
+  const Real tip_radius =
+      tool.spec.kind == ToolKind::probe ? tool.spec.probe.radius : tool.spec.shaft_radius;
+  const collide::Sphere tip{tool.tip, tip_radius};
+  const collide::Capsule shaft{tool.tip - tool.spec.shaft_length * tool.direction, tool.tip,
+                               tool.spec.shaft_radius};
+  std::vector<collide::Contact> contacts;
+  for (std::size_t b = 0; b < bones_.size(); ++b) {
+    for (int shape = 0; shape < 2; ++shape) {
+      contacts.clear();
+      if (shape == 0) {
+        bones_[b].contacts(tip, contacts);
+      } else {
+        bones_[b].contacts(shaft, contacts);
+      }
+      const collide::Contact* c = deepest(contacts);
+      if (c == nullptr || !(c->depth > 0)) continue;
+      // A penalty on the tool along the bone's normal; K = k n n^T (PSD).
+      tool.bone.force += spec_.bone_stiffness * c->depth * c->normal;
+      tool.bone.stiffness += spec_.bone_stiffness * c->normal * c->normal.transpose();
+      tool.touching_bone = true;
+      bone_depths_[b] = std::max(bone_depths_[b], c->depth);
+    }
+  }
+}
+
+void SurgicalScene::cut(Tool& tool, int index) {
+  TetMesh& mesh = tissue_->mesh();
+  const Vec3 a = tool.tip;
+  const Vec3 b = tool.tip - tool.spec.blade_length * tool.direction;
+  std::vector<int> near;
+  tissue_->bvh().overlapping_triangles(mesh.x, collide::Capsule{a, b, 1e-4}, near);
+  if (!tool.stroke && near.empty()) return;
+  // The blade's crossings are found in the deformed configuration: where tets are inverted (a
+  // violent push has tangled the tissue) they mean nothing, so the cut waits until the tissue
+  // has recovered, and says so (cuts_refused).
+  if (tissue_->model().health().inverted_elements > 0) {
+    ++cuts_refused_;
+    return;
+  }
+  if (!tool.cutter) tool.cutter = std::make_unique<cut::ProgressiveCutter>(mesh);
+  const cut::FrameReport& report = tool.cutter->update(a, b);
+  const int tets_before = report.tets_before;
+  const std::vector<int> changed = report.changed_tets;
+  const Triangles committed = report.committed_crack_face_nodes;
+  const std::vector<int> labels = report.committed_crack_face_labels;
+  tool.stroke = !near.empty() || report.front_tets > 0;
+  if (!tool.stroke) {
+    // The blade has left the tissue: its temporary pieces go.
+    const int before = mesh.num_tets();
+    tool.cutter->end_stroke();
+    if (mesh.num_tets() != before || !changed.empty()) after_topology_change(tets_before, changed);
+  } else if (!changed.empty() || mesh.num_tets() != tets_before) {
+    after_topology_change(tets_before, changed);
+  }
+  if (committed.rows() == 0) return;
+  // Recorded with the labels the cutter found: some of these faces are already split by the
+  // blade's temporary pieces, so no tet holds them now.
+  const tools::CutDamage cut = damage_->record_cut(mesh.rest, committed, labels);
+  char text[96];
+  std::snprintf(text, sizeof text, "%.1f mm^2, %.1f mm^2 off target", 1e6 * cut.area,
+                1e6 * cut.area_outside_target);
+  event(EventKind::cut, index, text);
+  if (cut.never_event) event(EventKind::never_event, index, "a protected tissue was cut");
+}
+
+void SurgicalScene::after_topology_change(int tets_before, std::span<const int> changed) {
+  tissue_->topology_changed(tets_before, changed);
+  const TetMesh& mesh = tissue_->mesh();
+  // The damage tracker's slots never shrink: slots beyond the mesh's tets are dead.
+  const int slots = std::max(damage_->num_slots(), mesh.num_tets());
+  TetMesh view;
+  view.rest = mesh.rest;
+  view.tets.resize(slots, 4);
+  view.labels.resize(slots);
+  damage_alive_.assign(static_cast<std::size_t>(slots), 0);
+  std::vector<int> all(changed.begin(), changed.end());
+  for (int s = 0; s < slots; ++s) {
+    if (s < mesh.num_tets()) {
+      view.tets.row(s) = mesh.tets.row(s);
+      view.labels(s) = mesh.labels(s);
+      damage_alive_[static_cast<std::size_t>(s)] = 1;
+    } else {
+      view.tets.row(s) = mesh.tets.row(0);  // dead: any valid row
+      view.labels(s) = mesh.labels(0);
+      if (s < tets_before || s < damage_->num_slots()) all.push_back(s);
+    }
+  }
+  std::sort(all.begin(), all.end());
+  all.erase(std::unique(all.begin(), all.end()), all.end());
+  // New pieces start undamaged (-1): a parent search per cut frame would cost O(#changed x
+  // #tets); the damage of a cut piece is the cut's own record.
+  const std::vector<int> parents(all.size(), -1);
+  damage_->update_elements(view, damage_alive_, all, parents);
+  // Per-node arrays follow the node count.
+  const int n = mesh.num_nodes();
+  prescribed_.mask = AxisMask::Zero(n, 3);
+  prescribed_.position = Points::Zero(n, 3);
+  prescribed_rows_.clear();
+  surface_nodes_ = tissue_->surface().nodes;
+  for (Tool& tool : tools_) {
+    if (!tool.grasper) continue;
+    for (const int v : std::vector<int>(tool.grasper->grabbed())) {
+      if (v >= n) tool.grasper->on_vertex_removed(v);
+    }
+  }
+}
+
+tools::LocalForceModel SurgicalScene::force_model(int device) const {
+  tools::LocalForceModel sum;
+  bool first = true;
+  for (const Tool& tool : tools_) {
+    if (tool.spec.device != device || !tool.has_input) continue;
+    tools::LocalForceModel m;
+    m.reference_position = tool.tip;
+    if (tool.probe) {
+      m = tool.probe->hand_force_model();
+    } else if (tool.grasper) {
+      m.force = tool.hand_force;
+    }
+    // Bones push on the tool at its tip: the same model about the device position.
+    m.force += tool.bone.force_at(m.reference_position);
+    m.stiffness += tool.bone.stiffness;
+    if (first) {
+      sum = m;
+      first = false;
+    } else {
+      sum.force += m.force_at(sum.reference_position);
+      sum.stiffness += m.stiffness;
+    }
+  }
+  return sum;
+}
+
+ToolView SurgicalScene::tool_view(int index) const {
+  const Tool& tool = tools_.at(static_cast<std::size_t>(index));
+  ToolView view;
+  view.kind = tool.spec.kind;
+  view.tip = tool.probe ? tool.probe->proxy() : tool.tip;
+  view.direction = tool.direction;
+  view.shaft_length = tool.spec.shaft_length;
+  view.shaft_radius = tool.spec.shaft_radius;
+  view.touching = tool.touching_bone || (tool.probe && !tool.probe->contacts().empty()) ||
+                  tool.stroke ||
+                  (tool.grasper && tool.grasper->phase() == tools::GraspPhase::holding);
+  if (tool.grasper) view.jaws = tool.grasper->jaws();
+  if (tool.probe) view.force_on_tissue = tool.probe->transmitted_force();
+  return view;
+}
+
+std::optional<ScopeCamera> SurgicalScene::scope_camera() const {
+  for (const Tool& tool : tools_) {
+    if (tool.spec.kind != ToolKind::scope || !tool.has_input) continue;
+    // Tilt d by the view angle towards -R e_y, about R e_x.
+    const Real angle = tool.spec.view_angle_degrees * std::numbers::pi / 180;
+    const Eigen::AngleAxis<Real> tilt(angle, tool.rotation.col(0));
+    ScopeCamera camera;
+    camera.eye = tool.tip;
+    camera.forward = (tilt * tool.direction).normalized();
+    camera.up = (tilt * tool.rotation.col(1)).normalized();
+    camera.field_of_view_degrees = tool.spec.field_of_view_degrees;
+    return camera;
+  }
+  return std::nullopt;
+}
+
+bool SurgicalScene::state_finite() const {
+  return tissue_->mesh().x.allFinite() && tissue_->mesh().v.allFinite();
+}
+
+}  // namespace incise::sim::surgery

@@ -1,0 +1,185 @@
+#pragma once
+
+// A surgical scene at run time (issue 6): one deformable tissue body, rigid bones, and tools
+// driven by device inputs, stepped at a fixed dt. It composes the parts:
+//   probe and scope tip   tools::Probe (virtual coupling, penalty contact on the surface tree);
+//   grasper               tools::Grasper (grab on closing, hold, tear above its force, release);
+//   scalpel               cut::ProgressiveCutter (complete cuts as the blade leaves tets, the
+//                         tets it is inside split temporarily), every cut_every steps;
+//   bones                 collide::RigidBody (FCL): penalty on each tool's tip and shaft, counted
+//                         as collisions with protected structures;
+//   damage                tools::DamageTracker (strain over thresholds, cuts against the marked
+//                         target, bone contacts, never events).
+// Each device gets a local force model (F0 + K) for its station agent (force_model).
+//
+// Tool frame: a device input gives the tool tip and an orientation R. The tool points along
+// d = R e_z (from the handle to the tip); its shaft is the segment tip - s d, s in [0, length].
+//   probe    the tip is the sphere's centre;
+//   grasper  the tip is the jaws' hinge; the jaws open in the plane of d and R e_x, by
+//            jaw * max_jaw_angle;
+//   scalpel  the blade's edge runs from the tip back along the shaft for blade_length;
+//   scope    the eye is at the tip; it looks along d tilted by view_angle towards -R e_y (a
+//            30-degree arthroscope), with R e_y tilted alike as its up.
+// Single-threaded and deterministic.
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "sim/collide/rigid_body.h"
+#include "sim/core/types.h"
+#include "sim/cut/progressive_cutter.h"
+#include "sim/surgery/tissue_body.h"
+#include "sim/tools/damage_tracker.h"
+#include "sim/tools/force_model.h"
+#include "sim/tools/grasper.h"
+#include "sim/tools/probe.h"
+
+namespace incise::sim::surgery {
+
+// One device sample in the scene frame.
+struct ToolInput {
+  Vec3 tip = Vec3::Zero();                                                    // [m]
+  Eigen::Quaternion<Real> orientation = Eigen::Quaternion<Real>::Identity();  // R
+  Real jaw = 1;              // opening, 0 closed .. 1 fully open
+  std::uint8_t buttons = 0;  // bit i set = button i pressed
+};
+
+enum class ToolKind { probe, grasper, scalpel, scope };
+std::string_view to_string(ToolKind kind);
+
+struct ToolSpec {
+  ToolKind kind = ToolKind::probe;
+  int device = 0;                   // which input drives it, >= 0
+  Real shaft_length = 0.25;         // [m], > 0
+  Real shaft_radius = 0.0025;       // [m], > 0
+  tools::ProbeSettings probe;       // the probe's tip, and the scope's (radius: its shaft radius)
+  tools::GraspSettings grasp;       // grasper
+  Real max_jaw_angle = 0.6;         // grasper: opening at jaw = 1 [rad], in (0, pi)
+  Real blade_length = 0.01;         // scalpel [m], > 0
+  Real view_angle_degrees = 30;     // scope, in [0, 90)
+  Real field_of_view_degrees = 70;  // scope, in (0, 180)
+};
+
+// A rigid structure (a bone) as a closed surface in the scene frame.
+struct BoneSpec {
+  std::string name;
+  Points vertices;  // #V by 3 [m]
+  Triangles triangles;
+};
+
+struct SurgicalSceneSpec {
+  TetMesh tissue;           // rest, tets, labels (x, v: the start state, or empty for rest)
+  std::vector<char> fixed;  // per tissue node: held (attachments)
+  ModelFactory model;       // the tissue's model on a mesh
+  std::vector<BoneSpec> bones;
+  std::vector<ToolSpec> tools;
+  // Damage settings; protected_structures is set to the number of bones (every bone is one).
+  tools::DamageSettings damage;
+  Real dt = 1e-4;  // [s], > 0
+  // The tissue's fastest P-wave speed [m/s] (p_wave_speed of its stiffest material), > 0: the
+  // stability guard for slivers (TissueBody).
+  Real wave_speed = 3;
+  // The models' Kelvin-Voigt damping time beta [s] (scene_run.h: damping * l_min / c for the
+  // FEM models), >= 0: the stability guard for slivers includes it.
+  Real damping_time = 0;
+  Vec3 gravity = Vec3::Zero();  // [m/s^2]
+  Real bone_stiffness = 2000;   // penalty of a tool against a bone [N/m], > 0
+  int cut_every = 10;           // steps between scalpel updates, >= 1
+  int damage_every = 10;        // steps between strain records, >= 1
+};
+
+enum class EventKind { grab, release, cut, collision, never_event };
+std::string_view to_string(EventKind kind);
+
+struct SceneEvent {
+  EventKind kind = EventKind::grab;
+  int tool = -1;       // index into the spec's tools
+  Real time = 0;       // [s], at the end of the step it happened in
+  std::string detail;  // e.g. "5 vertices", "torn at 1.02 N", "femur"
+};
+
+struct ScopeCamera {
+  Vec3 eye = Vec3::Zero();
+  Vec3 forward = Vec3::UnitZ();  // unit
+  Vec3 up = Vec3::UnitY();       // unit, orthogonal to forward
+  Real field_of_view_degrees = 70;
+};
+
+// The state of one tool for the renderer and the metrics.
+struct ToolView {
+  ToolKind kind = ToolKind::probe;
+  Vec3 tip = Vec3::Zero();         // where the tool is drawn (a probe's proxy)
+  Vec3 direction = Vec3::UnitZ();  // d, unit
+  Real shaft_length = 0;
+  Real shaft_radius = 0;
+  bool touching = false;                 // tissue or bone
+  Vec3 force_on_tissue = Vec3::Zero();   // a probe's or scope's push on the tissue [N]
+  std::optional<collide::JawPair> jaws;  // grasper
+};
+
+class SurgicalScene {
+ public:
+  // Throws std::invalid_argument for a bad spec (naming the field), or as TissueBody, the tools,
+  // the bones and the damage tracker do.
+  explicit SurgicalScene(SurgicalSceneSpec spec);
+  ~SurgicalScene();
+  SurgicalScene(const SurgicalScene&) = delete;
+  SurgicalScene& operator=(const SurgicalScene&) = delete;
+
+  // One step of dt. inputs[d] drives device d's tools; a tool whose device has no input (d >=
+  // inputs.size()) stays where it was. Throws std::invalid_argument for a non-finite input.
+  void step(std::span<const ToolInput> inputs);
+
+  Real time() const { return time_; }
+  std::int64_t steps() const { return steps_; }
+  const TissueBody& tissue() const { return *tissue_; }
+  int num_tools() const;
+  ToolView tool_view(int tool) const;
+  // What device's station agent renders: the sum over the device's tools of their local force
+  // models at the device position (F0 on the hand, K symmetric PSD).
+  tools::LocalForceModel force_model(int device) const;
+  // The first scope's camera, if the scene has a scope with an input.
+  std::optional<ScopeCamera> scope_camera() const;
+  // The events since the last call.
+  std::vector<SceneEvent> take_events();
+  tools::DamageMetrics damage() const { return damage_->metrics(); }
+  const tools::DamageTracker& damage_tracker() const { return *damage_; }
+  // Whether every tissue position and velocity is finite.
+  bool state_finite() const;
+  // Scalpel updates refused because tets were inverted (the cut waits for the tissue to recover).
+  int cuts_refused() const { return cuts_refused_; }
+
+ private:
+  struct Tool;
+
+  void cut(Tool& tool, int index);
+  void grasp(Tool& tool, int index);
+  void bones(Tool& tool, int index);
+  void after_topology_change(int tets_before, std::span<const int> changed);
+  void event(EventKind kind, int tool, std::string detail);
+
+  SurgicalSceneSpec spec_;
+  std::unique_ptr<TissueBody> tissue_;
+  std::vector<collide::RigidBody> bones_;
+  std::vector<Tool> tools_;
+  std::unique_ptr<tools::DamageTracker> damage_;
+  Prescribed prescribed_;
+  std::vector<int> prescribed_rows_;  // rows of prescribed_.mask set by the last step
+  std::vector<int> surface_nodes_;
+  std::vector<Real> bone_depths_;
+  std::vector<char> bone_touching_;
+  std::vector<SceneEvent> events_;
+  std::vector<char> damage_alive_;
+  Real time_ = 0;
+  Real strain_time_ = 0;  // since the last strain record
+  std::int64_t steps_ = 0;
+  int cuts_refused_ = 0;
+};
+
+}  // namespace incise::sim::surgery

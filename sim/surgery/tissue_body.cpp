@@ -1,0 +1,136 @@
+#include "sim/surgery/tissue_body.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "sim/collide/mesh_surface_faces.h"
+#include "sim/solve/stable_time_step.h"
+
+namespace incise::sim::surgery {
+
+namespace {
+
+std::array<Real, 3> key_of(const Points& rest, int node) {
+  return {rest(node, 0), rest(node, 1), rest(node, 2)};
+}
+
+}  // namespace
+
+TissueBody::TissueBody(TetMesh mesh, const ModelFactory& make_model, std::vector<char> fixed,
+                       Real dt, Real wave_speed, Real damping_time)
+    : mesh_(std::move(mesh)),
+      fixed_(std::move(fixed)),
+      dt_(dt),
+      wave_speed_(wave_speed),
+      damping_time_(damping_time) {
+  if (mesh_.num_tets() == 0) throw std::invalid_argument("tissue: the mesh has no tetrahedra");
+  if (!(dt_ > 0 && std::isfinite(dt_))) throw std::invalid_argument("tissue: dt must be > 0");
+  if (!(wave_speed_ > 0 && std::isfinite(wave_speed_))) {
+    throw std::invalid_argument("tissue: wave_speed must be > 0");
+  }
+  if (!(damping_time_ >= 0 && std::isfinite(damping_time_))) {
+    throw std::invalid_argument("tissue: damping_time must be >= 0");
+  }
+  if (static_cast<int>(fixed_.size()) != mesh_.num_nodes()) {
+    throw std::invalid_argument("tissue: fixed has " + std::to_string(fixed_.size()) +
+                                " entries for " + std::to_string(mesh_.num_nodes()) + " nodes");
+  }
+  if (!make_model) throw std::invalid_argument("tissue: no model factory");
+  if (mesh_.x.rows() != mesh_.rest.rows()) mesh_.x = mesh_.rest;
+  if (mesh_.v.rows() != mesh_.rest.rows()) mesh_.v = Points::Zero(mesh_.rest.rows(), 3);
+  model_ = make_model(mesh_);
+  for (int i = 0; i < mesh_.num_nodes(); ++i) {
+    if (fixed_[static_cast<std::size_t>(i)] != 0) fixed_rest_.push_back(key_of(mesh_.rest, i));
+  }
+  std::sort(fixed_rest_.begin(), fixed_rest_.end());
+  update_inverse_masses();
+  rebuild_surface();
+  internal_ = forces_ = Points::Zero(mesh_.num_nodes(), 3);
+}
+
+void TissueBody::rebuild_surface() {
+  surface_ = boundary_surface(mesh_);
+  faces_ = collide::mesh_surface_faces(surface_);
+  bvh_.build(mesh_.x, faces_);
+}
+
+void TissueBody::update_inverse_masses() {
+  // The stability guard (see the constructor): per node, the largest scale over its tets.
+  mass_scale_.assign(static_cast<std::size_t>(mesh_.num_nodes()), 1);
+  const Real need = dt_ * dt_ + 2 * damping_time_ * dt_;  // dt_e^2 an element must reach
+  for (int t = 0; t < mesh_.num_tets(); ++t) {
+    const Vec3 a = row3(mesh_.rest, mesh_.tets(t, 0)), b = row3(mesh_.rest, mesh_.tets(t, 1)),
+               c = row3(mesh_.rest, mesh_.tets(t, 2)), d = row3(mesh_.rest, mesh_.tets(t, 3));
+    // Smallest altitude: 3 V / the largest face area.
+    const Real volume = std::abs(signed_volume(a, b, c, d));
+    const Real face = 0.5 * std::max({(b - a).cross(c - a).norm(), (b - a).cross(d - a).norm(),
+                                      (c - a).cross(d - a).norm(), (c - b).cross(d - b).norm()});
+    const Real step = kExplicitSafety * (face > 0 ? 3 * volume / face : 0) / wave_speed_;
+    if (step * step >= need) continue;
+    const Real scale = step > 0 ? std::min(need / (step * step), Real(1e12)) : Real(1e12);
+    for (int k = 0; k < 4; ++k) {
+      Real& s = mass_scale_[static_cast<std::size_t>(mesh_.tets(t, k))];
+      s = std::max(s, scale);
+    }
+  }
+  const VecX& m = model_->masses();
+  inv_mass_.resize(mesh_.num_nodes());
+  mass_scaled_nodes_ = 0;
+  max_mass_scale_ = 1;
+  for (int i = 0; i < mesh_.num_nodes(); ++i) {
+    const std::size_t is = static_cast<std::size_t>(i);
+    const bool moves = fixed_[is] == 0 && i < m.size() && m(i) > 0;
+    inv_mass_(i) = moves ? 1 / (m(i) * mass_scale_[is]) : 0;
+    if (!moves) mesh_.v.row(i).setZero();
+    if (moves && mass_scale_[is] > 1) {
+      ++mass_scaled_nodes_;
+      max_mass_scale_ = std::max(max_mass_scale_, mass_scale_[is]);
+    }
+  }
+}
+
+void TissueBody::begin_step() {
+  if (bvh_.needs_rebuild()) {
+    bvh_.rebuild(mesh_.x);
+  } else {
+    bvh_.refit(mesh_.x);
+  }
+  internal_.setZero();
+  model_->add_forces(mesh_.x, mesh_.v, internal_);
+  forces_ = internal_;
+}
+
+void TissueBody::end_step(Real dt, const Vec3& gravity, const Prescribed& prescribed) {
+  symplectic_euler_step(dt, gravity, inv_mass_, prescribed, forces_, mesh_.x, mesh_.v);
+}
+
+void TissueBody::topology_changed(int tets_before, std::span<const int> changed) {
+  const int n = mesh_.num_nodes();
+  const std::size_t old_nodes = fixed_.size();
+  fixed_.resize(static_cast<std::size_t>(n), 0);
+  for (std::size_t i = old_nodes; i < fixed_.size(); ++i) {
+    fixed_[i] = std::binary_search(fixed_rest_.begin(), fixed_rest_.end(),
+                                   key_of(mesh_.rest, static_cast<int>(i)))
+                    ? 1
+                    : 0;
+  }
+  // Model::update_elements follows slot views that only grow (remeshing's): when the cut undid
+  // temporary pieces and the arrays shrank, the model is rebuilt instead.
+  if (mesh_.num_tets() >= tets_before && static_cast<std::size_t>(n) >= old_nodes) {
+    alive_.assign(static_cast<std::size_t>(mesh_.num_tets()), 1);
+    model_->update_elements(mesh_, alive_, changed);
+    ++local_updates_;
+  } else {
+    model_->update_topology(mesh_);
+    ++full_updates_;
+  }
+  update_inverse_masses();
+  rebuild_surface();
+  internal_.setZero(n, 3);
+  forces_.setZero(n, 3);
+}
+
+}  // namespace incise::sim::surgery

@@ -1,0 +1,114 @@
+#pragma once
+
+// The deformable tissue of a surgical scene (issue 6): a tet mesh whose state lives in mesh.x and
+// mesh.v, its model, the held (attachment) nodes, and the boundary surface with the tree that
+// tools collide with. Stepped by symplectic Euler; follows topology changes (cuts) with the
+// model's local update where the element count did not shrink.
+//
+// One step, as SurgicalScene drives it:
+//   begin_step()        refit the surface tree to x; internal = model forces(x, v); forces =
+//                       internal (the tools' implicit push needs the other forces on a node);
+//   (tools add theirs to forces() and read internal())
+//   end_step(dt, g, p)  symplectic_euler_step with forces and the prescribed p.
+
+#include <functional>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "sim/collide/surface_bvh.h"
+#include "sim/core/types.h"
+#include "sim/mesh/boundary_surface.h"
+#include "sim/mesh/tet_mesh.h"
+#include "sim/models/model.h"
+#include "sim/solve/symplectic_euler.h"
+
+namespace incise::sim::surgery {
+
+using ModelFactory = std::function<std::unique_ptr<Model>(const TetMesh&)>;
+
+class TissueBody {
+ public:
+  // mesh: rest, x, v, tets and labels (x and v may be empty: the rest state). fixed: per node,
+  // non-zero for a node held where it is (an attachment). The model is made once by make_model.
+  // Throws std::invalid_argument for fixed of the wrong size, a mesh without tets, or as the
+  // model and the surface tree do (an inverted tet, a face shared by three tets).
+  //
+  // dt, wave_speed (the fastest P-wave speed of the tissue [m/s]) and damping_time (the models'
+  // Kelvin-Voigt time beta [s], stiffness-proportional damping; 0 for none) set the stability
+  // guard. Symplectic Euler on a mode of frequency w with damping rate beta w^2 is stable for
+  // w^2 (dt^2 + 2 beta dt) < 4. An element's own stable step is dt_e = kExplicitSafety * its
+  // smallest altitude / wave_speed (stable_time_step's rule, for beta = 0); one that needs more
+  // than that (a sliver a cut left) gets its nodes' masses scaled by (dt^2 + 2 beta dt) / dt_e^2,
+  // which lowers its w^2 by as much. mass_scaled_nodes() says how many: a metric, since those
+  // pieces move more sluggishly than they should, the price of not blowing up.
+  TissueBody(TetMesh mesh, const ModelFactory& make_model, std::vector<char> fixed, Real dt,
+             Real wave_speed, Real damping_time);
+
+  TissueBody(const TissueBody&) = delete;  // tools keep references to the mesh
+  TissueBody& operator=(const TissueBody&) = delete;
+
+  // The mesh with the current state (x, v). Tools that change its topology (the scalpel) edit
+  // it and then call topology_changed.
+  TetMesh& mesh() { return mesh_; }
+  const TetMesh& mesh() const { return mesh_; }
+  const Model& model() const { return *model_; }
+  const VecX& masses() const { return model_->masses(); }
+  const VecX& inverse_masses() const { return inv_mass_; }  // 0 for held nodes
+  bool is_fixed(int node) const { return fixed_[static_cast<std::size_t>(node)] != 0; }
+  const collide::SurfaceBvh& bvh() const { return bvh_; }
+  const BoundarySurface& surface() const { return surface_; }
+  // The surface triangles as node indices (the tree's triangles).
+  const Triangles& surface_faces() const { return faces_; }
+
+  // Model forces at the state of begin_step [N], #nodes by 3.
+  const Points& internal() const { return internal_; }
+  // This step's total forces [N], #nodes by 3: internal() plus what tools add.
+  Points& forces() { return forces_; }
+  // What the tools added this step (forces() - internal()) [N]. Allocates.
+  Points external() const { return forces_ - internal_; }
+
+  void begin_step();
+  // Throws std::invalid_argument for dt <= 0 (as symplectic_euler_step).
+  void end_step(Real dt, const Vec3& gravity, const Prescribed& prescribed);
+
+  // After the mesh's topology changed: tets_before is the tet count before the change, changed
+  // the slots (< #tets now) whose tet is new or replaced. The model is updated locally when
+  // neither the tet nor the node count shrank, else rebuilt (Model::update_topology); new nodes
+  // are held if their
+  // rest point is a held node's (a cut's copies of an attachment stay attached); the surface and
+  // its tree are rebuilt.
+  void topology_changed(int tets_before, std::span<const int> changed);
+
+  // Counts of topology_changed calls: whether the model could follow locally.
+  int local_updates() const { return local_updates_; }
+  int full_updates() const { return full_updates_; }
+  // The stability guard: nodes whose mass is scaled, and the largest factor.
+  int mass_scaled_nodes() const { return mass_scaled_nodes_; }
+  Real max_mass_scale() const { return max_mass_scale_; }
+
+ private:
+  void rebuild_surface();
+  void update_inverse_masses();
+
+  TetMesh mesh_;
+  std::unique_ptr<Model> model_;
+  std::vector<char> fixed_;
+  std::vector<std::array<Real, 3>> fixed_rest_;  // sorted rest points of held nodes
+  VecX inv_mass_;
+  BoundarySurface surface_;
+  Triangles faces_;
+  collide::SurfaceBvh bvh_;
+  Points internal_, forces_;
+  std::vector<char> alive_;
+  int local_updates_ = 0;
+  int full_updates_ = 0;
+  Real dt_;
+  Real wave_speed_;
+  Real damping_time_;
+  std::vector<Real> mass_scale_;  // per node, >= 1
+  int mass_scaled_nodes_ = 0;
+  Real max_mass_scale_ = 1;
+};
+
+}  // namespace incise::sim::surgery

@@ -1,0 +1,302 @@
+// The surgical scene runtime on a tissue block clamped at its base: a probe pressed in balances
+// its push against the support reactions, a grasper grabs, lifts and tears at its threshold, a
+// scalpel swept through the block parts it with the volume kept, tools against a bone count
+// collisions and push back, the scope looks 30 degrees off its axis, and a random sequence of all
+// of them stays finite.
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <numeric>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
+
+#include "sim/mesh/box_mesher.h"
+#include "sim/scene/scene_run.h"
+#include "sim/solve/stable_time_step.h"
+#include "sim/surgery/surgical_scene.h"
+
+namespace incise::sim::surgery {
+namespace {
+
+const Vec3 kSize(0.06, 0.06, 0.03);
+
+ModelFactory corotational(Real damping = 0.5) {
+  Scene scene;
+  scene.material.model = MaterialModel::corotational;
+  scene.material.youngs_modulus = 5000;
+  scene.material.poisson_ratio = 0.3;
+  scene.material.density = 1000;
+  scene.material.damping = damping;
+  return [scene](const TetMesh& mesh) { return make_model(scene, mesh); };
+}
+
+SurgicalSceneSpec block(std::vector<ToolSpec> tools) {
+  SurgicalSceneSpec spec;
+  spec.tissue = make_box_mesh(kSize, Vec3i(6, 6, 3));
+  spec.fixed.assign(static_cast<std::size_t>(spec.tissue.num_nodes()), 0);
+  for (int i = 0; i < spec.tissue.num_nodes(); ++i) {
+    if (spec.tissue.rest(i, 2) == 0) spec.fixed[static_cast<std::size_t>(i)] = 1;
+  }
+  spec.model = corotational();
+  spec.tools = std::move(tools);
+  spec.dt = 1e-4;
+  // As make_model's corotational material: P-wave speed, and beta = damping * l_min / c.
+  spec.wave_speed = p_wave_speed(5000, 0.3, 1000);
+  spec.damping_time =
+      0.5 * element_lengths(spec.tissue.rest, spec.tissue.tets).min_altitude / spec.wave_speed;
+  return spec;
+}
+
+ToolSpec tool(ToolKind kind, int device = 0) {
+  ToolSpec t;
+  t.kind = kind;
+  t.device = device;
+  return t;
+}
+
+// An orientation whose tool axis d = R e_z points straight down (-z).
+Eigen::Quaternion<Real> pointing_down() {
+  return Eigen::Quaternion<Real>(Eigen::AngleAxis<Real>(std::numbers::pi, Vec3::UnitX()));
+}
+
+ToolInput at(const Vec3& tip, Real jaw = 1) {
+  ToolInput in;
+  in.tip = tip;
+  in.orientation = pointing_down();
+  in.jaw = jaw;
+  return in;
+}
+
+Vec3 column_sum(const Points& p) {
+  return p.colwise().sum().transpose();
+}
+
+// Connected parts of the mesh, by shared nodes.
+int parts(const TetMesh& mesh) {
+  std::vector<int> parent(static_cast<std::size_t>(mesh.num_nodes()));
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto find = [&](int a) {
+    while (parent[static_cast<std::size_t>(a)] != a)
+      a = parent[static_cast<std::size_t>(a)];
+    return a;
+  };
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    for (int k = 1; k < 4; ++k)
+      parent[static_cast<std::size_t>(find(mesh.tets(t, k)))] = find(mesh.tets(t, 0));
+  }
+  std::vector<char> used(parent.size(), 0);
+  for (int t = 0; t < mesh.num_tets(); ++t)
+    used[static_cast<std::size_t>(find(mesh.tets(t, 0)))] = 1;
+  return static_cast<int>(std::count(used.begin(), used.end(), 1));
+}
+
+TEST(SurgicalScene, ProbePressedInBalancesTheSupportReactions) {
+  SurgicalScene scene(block({tool(ToolKind::probe)}));
+  const Real radius = tools::ProbeSettings{}.radius;
+  const Vec3 above(0.031, 0.029, kSize.z() + radius);
+  // Press 4 mm in over 0.1 s, then hold for 0.5 s while the block settles.
+  for (int n = 0; n < 6000; ++n) {
+    const Real s = std::min(1.0, n / 1000.0);
+    const ToolInput in = at(above - Vec3(0, 0, 0.004 * s));
+    scene.step(std::span(&in, 1));
+  }
+  ASSERT_TRUE(scene.state_finite());
+  const TissueBody& tissue = scene.tissue();
+  const Vec3 push = column_sum(tissue.external());
+  // What the tissue got is what the probe pushed with.
+  EXPECT_LT((push - scene.tool_view(0).force_on_tissue).norm(), 1e-12 * push.norm());
+  EXPECT_LT(push.z(), -0.01);  // pushed down
+  // At rest, the support (the held nodes' internal forces) carries the push.
+  Vec3 support = Vec3::Zero();
+  for (int i = 0; i < tissue.mesh().num_nodes(); ++i) {
+    if (tissue.is_fixed(i)) support += tissue.internal().row(i).transpose();
+  }
+  EXPECT_NEAR(support.z(), push.z(), 0.02 * std::abs(push.z()));
+  // The hand feels minus the push (the probe's coupling), against a stiff blocked direction.
+  const tools::LocalForceModel model = scene.force_model(0);
+  EXPECT_LT((model.force + push).norm(), 1e-9 * push.norm());
+  EXPECT_GT(model.stiffness(2, 2), 0);
+  EXPECT_LT((model.stiffness - model.stiffness.transpose()).norm(), 1e-9 * model.stiffness.norm());
+  EXPECT_GE(Eigen::SelfAdjointEigenSolver<Mat3>(model.stiffness).eigenvalues().minCoeff(), -1e-9);
+}
+
+TEST(SurgicalScene, GrasperGrabsLiftsAndTearsAtItsThreshold) {
+  ToolSpec grasper = tool(ToolKind::grasper);
+  grasper.grasp.tear_force = 0.05;
+  grasper.grasp.reach = 0.006;
+  SurgicalScene scene(block({grasper}));
+  // Jaws open, the hinge just above the top; close, then lift slowly (2 cm/s).
+  const Vec3 top(0.03, 0.03, kSize.z() + 0.002);
+  std::vector<SceneEvent> events;
+  Real last_force = 0;
+  for (int n = 0; n < 20000; ++n) {
+    const Real jaw = n < 500 ? 1.0 : 0.0;
+    const Real lift = n < 1000 ? 0.0 : 2e-6 * (n - 1000);
+    const ToolInput in = at(top + Vec3(0, 0, lift), jaw);
+    scene.step(std::span(&in, 1));
+    for (SceneEvent& e : scene.take_events())
+      events.push_back(std::move(e));
+    if (!events.empty() && events.back().kind == EventKind::release) break;
+    last_force = scene.force_model(0).force.norm();
+  }
+  ASSERT_TRUE(scene.state_finite());
+  ASSERT_GE(events.size(), 2u);
+  EXPECT_EQ(events[0].kind, EventKind::grab) << events[0].detail;
+  EXPECT_EQ(events[1].kind, EventKind::release) << events[1].detail;
+  EXPECT_NE(events[1].detail.find("torn"), std::string::npos) << events[1].detail;
+  // The hand felt the pull rise to the threshold before the tissue tore out of the jaws.
+  EXPECT_GT(last_force, 0.9 * grasper.grasp.tear_force);
+  EXPECT_LE(last_force, 1.05 * grasper.grasp.tear_force);
+}
+
+TEST(SurgicalScene, ScalpelThroughTheBlockPartsItAndKeepsTheVolume) {
+  ToolSpec scalpel = tool(ToolKind::scalpel);
+  scalpel.blade_length = 0.05;  // longer than the block is thick
+  SurgicalSceneSpec spec = block({scalpel});
+  const Real volume = total_volume(spec.tissue.rest, spec.tissue.tets);
+  SurgicalScene scene(std::move(spec));
+  // The tip below the block, the blade upright through it, swept along y at x = 31 mm.
+  int cuts = 0;
+  for (int n = 0; n <= 800; ++n) {
+    const Real y = -0.01 + 0.08 * n / 800.0;
+    const ToolInput in = at(Vec3(0.031, y, -0.005));
+    scene.step(std::span(&in, 1));
+    for (const SceneEvent& e : scene.take_events())
+      cuts += e.kind == EventKind::cut ? 1 : 0;
+  }
+  // The blade is out again: its stroke has ended.
+  for (int n = 0; n < 20; ++n) {
+    const ToolInput in = at(Vec3(0.031, 0.1, -0.005));
+    scene.step(std::span(&in, 1));
+  }
+  ASSERT_TRUE(scene.state_finite());
+  const TetMesh& mesh = scene.tissue().mesh();
+  EXPECT_GT(cuts, 0);
+  EXPECT_EQ(parts(mesh), 2);
+  EXPECT_NEAR(total_volume(mesh.rest, mesh.tets), volume, 1e-9 * volume);
+  // Both sides' crack faces: the cut surface is the block's cross-section, 6 cm x 3 cm.
+  EXPECT_NEAR(scene.damage().cut_area, kSize.y() * kSize.z(), 1e-9);
+}
+
+TEST(SurgicalScene, ToolsAgainstABoneCountCollisionsAndArePushedBack) {
+  SurgicalSceneSpec spec = block({tool(ToolKind::probe)});
+  // A 2 cm cube of bone beside the block.
+  const TetMesh cube = make_box_mesh(Vec3(0.02, 0.02, 0.02), Vec3i(1, 1, 1));
+  const BoundarySurface surface = boundary_surface(cube);
+  BoneSpec bone;
+  bone.name = "femur";
+  bone.vertices.resize(static_cast<Eigen::Index>(surface.nodes.size()), 3);
+  for (std::size_t k = 0; k < surface.nodes.size(); ++k) {
+    bone.vertices.row(static_cast<Eigen::Index>(k)) =
+        cube.rest.row(surface.nodes[k]) + Eigen::RowVector3d(0.1, 0.0, 0.0);
+  }
+  bone.triangles = surface.faces;
+  spec.bones.push_back(bone);
+  SurgicalScene scene(std::move(spec));
+  std::vector<SceneEvent> events;
+  // Twice into the bone's -x face (x = 0.1) by 1 mm, and out again.
+  for (int pass = 0; pass < 2; ++pass) {
+    for (const Real x : {0.09, 0.1 - 0.004 + 0.001, 0.09}) {
+      const ToolInput in = at(Vec3(x, 0.01, 0.01));
+      scene.step(std::span(&in, 1));
+      if (x > 0.095) {
+        const tools::LocalForceModel model = scene.force_model(0);
+        EXPECT_LT(model.force.x(), 0);  // pushed back out of the bone, along -x
+        EXPECT_NEAR(model.force.x(), -2000 * 0.001, 1e-6);
+      }
+      for (SceneEvent& e : scene.take_events())
+        events.push_back(std::move(e));
+    }
+  }
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(events[0].kind, EventKind::collision);
+  EXPECT_EQ(events[0].detail, "femur");
+  ASSERT_EQ(scene.damage_tracker().structure_contacts().size(), 1u);
+  EXPECT_EQ(scene.damage_tracker().structure_contacts()[0].collisions, 2);
+  EXPECT_NEAR(scene.damage_tracker().structure_contacts()[0].peak_penetration, 0.001, 1e-9);
+}
+
+TEST(SurgicalScene, ScopeLooksThirtyDegreesOffItsAxis) {
+  SurgicalScene scene(block({tool(ToolKind::scope)}));
+  EXPECT_FALSE(scene.scope_camera().has_value());  // no input yet
+  ToolInput in = at(Vec3(0.03, 0.03, 0.1));
+  in.orientation = Eigen::Quaternion<Real>(Eigen::AngleAxis<Real>(0.7, Vec3(1, 2, 3).normalized()));
+  scene.step(std::span(&in, 1));
+  const std::optional<ScopeCamera> camera = scene.scope_camera();
+  ASSERT_TRUE(camera.has_value());
+  const Vec3 axis = in.orientation.toRotationMatrix().col(2);
+  EXPECT_NEAR(camera->forward.dot(axis), std::cos(30 * std::numbers::pi / 180), 1e-12);
+  EXPECT_NEAR(camera->forward.dot(camera->up), 0, 1e-12);
+  EXPECT_NEAR(camera->forward.norm(), 1, 1e-12);
+  EXPECT_EQ(camera->eye, in.tip);
+}
+
+TEST(SurgicalScene, BadSpecsAndInputsAreRefusedWithTheField) {
+  SurgicalSceneSpec spec = block({tool(ToolKind::probe)});
+  spec.dt = 0;
+  try {
+    SurgicalScene scene(spec);
+    FAIL() << "dt = 0 accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("dt"), std::string::npos) << e.what();
+  }
+  spec = block({tool(ToolKind::probe, -1)});
+  try {
+    SurgicalScene scene(spec);
+    FAIL() << "device -1 accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("tools[0].device"), std::string::npos) << e.what();
+  }
+  SurgicalScene scene(block({tool(ToolKind::probe)}));
+  ToolInput bad = at(Vec3(0, 0, std::nan("")));
+  EXPECT_THROW(scene.step(std::span(&bad, 1)), std::invalid_argument);
+  EXPECT_TRUE(scene.state_finite());
+}
+
+// A short random sequence of probe, grasp, pull, cut and violent jerks: no throw, no NaN, and
+// no inversion left once the tools are lifted away.
+TEST(SurgicalScene, RandomToolSequenceStaysFinite) {
+  ToolSpec scalpel = tool(ToolKind::scalpel, 2);
+  scalpel.blade_length = 0.02;
+  SurgicalScene scene(block({tool(ToolKind::probe, 0), tool(ToolKind::grasper, 1), scalpel}));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<Real> u(0, 1);
+  std::vector<ToolInput> inputs(3);
+  for (ToolInput& in : inputs)
+    in = at(Vec3(0.03, 0.03, 0.05));
+  for (int n = 0; n < 3000; ++n) {
+    for (std::size_t d = 0; d < inputs.size(); ++d) {
+      ToolInput& in = inputs[d];
+      // A random walk over and into the block, with a jerk of 1 cm now and then.
+      const Real jerk = u(rng) < 0.002 ? 0.01 : 0.0003;
+      in.tip += jerk * Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.55);
+      in.tip = in.tip.cwiseMax(Vec3(-0.01, -0.01, -0.005)).cwiseMin(Vec3(0.07, 0.07, 0.05));
+      if (u(rng) < 0.01) in.jaw = in.jaw > 0.5 ? 0 : 1;
+    }
+    scene.step(inputs);
+    ASSERT_TRUE(scene.state_finite()) << "step " << n;
+  }
+  for (int device = 0; device < 3; ++device) {
+    const tools::LocalForceModel m = scene.force_model(device);
+    EXPECT_TRUE(m.force.allFinite() && m.stiffness.allFinite());
+  }
+  // Every tool lifted away and opened: the tissue recovers, no element left inverted.
+  for (ToolInput& in : inputs) {
+    in.tip = Vec3(0.03, 0.03, 0.15);
+    in.jaw = 1;
+  }
+  for (int n = 0; n < 6000; ++n)
+    scene.step(inputs);
+  ASSERT_TRUE(scene.state_finite());
+  EXPECT_EQ(scene.tissue().model().health().inverted_elements, 0);
+  EXPECT_LT(scene.tissue().mesh().v.rowwise().norm().maxCoeff(), 0.1);
+}
+
+}  // namespace
+}  // namespace incise::sim::surgery
