@@ -1,0 +1,127 @@
+#include "sim/surgery/scene_presets.h"
+
+#include <algorithm>
+#include <map>
+#include <stdexcept>
+#include <utility>
+
+#include "sim/scene/scene_run.h"
+#include "sim/solve/stable_time_step.h"
+
+namespace incise::sim::surgery {
+
+namespace {
+
+// The model of a scene whose tissue labels carry the given materials (every label listed; the
+// model kind is the first one's: a scene has one model).
+ModelFactory model_of(const std::map<int, Material>& materials) {
+  Scene scene;
+  scene.material = materials.begin()->second;
+  scene.materials_by_label = materials;
+  return [scene](const TetMesh& mesh) { return make_model(scene, mesh); };
+}
+
+// dt, wave speed and damping time of a tissue mesh with these materials: the stable step of the
+// fastest material on the mesh's smallest altitude, and beta = damping l_min / c (scene_run.h's
+// Kelvin-Voigt time; for the mass-spring model, a bound of the same order).
+void set_step(SurgicalSceneSpec& spec, const std::map<int, Material>& materials) {
+  Real c = 0, damping = 0;
+  for (const auto& [label, m] : materials) {
+    c = std::max(c, p_wave_speed(m.youngs_modulus, m.poisson_ratio, m.density));
+    damping = std::max(damping, m.damping);
+  }
+  const Real l_min = element_lengths(spec.tissue.rest, spec.tissue.tets).min_altitude;
+  spec.wave_speed = c;
+  spec.dt = kExplicitSafety * l_min / c;
+  spec.damping_time = damping * l_min / c;
+}
+
+tools::MarkedTarget target_of(const std::vector<Vec3>& line, Real half_width) {
+  tools::MarkedTarget target;
+  target.line.resize(static_cast<Eigen::Index>(line.size()), 3);
+  for (std::size_t k = 0; k < line.size(); ++k)
+    target.line.row(static_cast<Eigen::Index>(k)) = line[k].transpose();
+  target.depth_direction = -Vec3::UnitZ();
+  target.depth = 0.01;  // a cut may go 1 cm deep under the marked line
+  target.half_width = half_width;
+  return target;
+}
+
+std::vector<char> held(int nodes, const std::vector<int>& held_nodes) {
+  std::vector<char> fixed(static_cast<std::size_t>(nodes), 0);
+  for (const int i : held_nodes)
+    fixed[static_cast<std::size_t>(i)] = 1;
+  return fixed;
+}
+
+ToolSpec tool(ToolKind kind, int device) {
+  ToolSpec t;
+  t.kind = kind;
+  t.device = device;
+  return t;
+}
+
+}  // namespace
+
+std::vector<ToolSpec> LiverSceneOptions::default_tools() {
+  return {tool(ToolKind::probe, 0), tool(ToolKind::grasper, 1)};
+}
+
+std::vector<ToolSpec> KneeSceneOptions::default_tools() {
+  ToolSpec scope = tool(ToolKind::scope, 0);
+  scope.shaft_radius = 0.002;  // a 4 mm arthroscope
+  ToolSpec probe = tool(ToolKind::probe, 1);
+  probe.probe.radius = 0.0015;  // a hook probe's tip
+  probe.shaft_radius = 0.0015;
+  return {scope, probe};
+}
+
+SurgicalSceneSetup make_liver_surgery(const LiverSceneOptions& options) {
+  LiverAnatomy liver = make_liver_scene(options.anatomy);
+  SurgicalSceneSetup setup;
+  setup.name = "liver";
+  SurgicalSceneSpec& spec = setup.spec;
+  const std::map<int, Material> materials = {{kLiverLabel, options.liver},
+                                             {kGallbladderBedLabel, options.liver}};
+  spec.fixed = held(liver.organ.num_nodes(), liver.held_nodes);
+  spec.tissue = std::move(liver.organ);
+  spec.model = model_of(materials);
+  set_step(spec, materials);
+  spec.tools = options.tools;
+  spec.damage.strain_thresholds = {{kLiverLabel, options.strain_threshold},
+                                   {kGallbladderBedLabel, options.strain_threshold}};
+  spec.damage.protected_labels = liver.protected_labels;
+  spec.damage.target = target_of(liver.cut_line, options.target_half_width);
+  setup.landmarks = std::move(liver.landmarks);
+  setup.cut_target = std::move(liver.cut_line);
+  return setup;
+}
+
+SurgicalSceneSetup make_knee_surgery(const KneeSceneOptions& options) {
+  KneeAnatomy knee = make_knee(options.anatomy);
+  SurgicalSceneSetup setup;
+  setup.name = "knee";
+  SurgicalSceneSpec& spec = setup.spec;
+  const std::map<int, Material> materials = {{kMedialMeniscusLabel, options.meniscus},
+                                             {kLateralMeniscusLabel, options.meniscus},
+                                             {kLigamentLabel, options.ligament}};
+  spec.fixed = held(knee.tissue.num_nodes(), knee.held_nodes);
+  spec.tissue = std::move(knee.tissue);
+  spec.model = model_of(materials);
+  set_step(spec, materials);
+  spec.tools = options.tools;
+  spec.bones = {{"femur", knee.femur.vertices, knee.femur.triangles},
+                {"tibia", knee.tibia.vertices, knee.tibia.triangles}};
+  for (const auto& [label, m] : materials) {
+    (void)m;
+    spec.damage.strain_thresholds.push_back({label, options.strain_threshold});
+  }
+  spec.damage.protected_labels = knee.protected_labels;
+  spec.damage.target = target_of(knee.cut_target, options.target_half_width);
+  setup.landmarks = std::move(knee.landmarks);
+  setup.portals = std::move(knee.portals);
+  setup.cut_target = std::move(knee.cut_target);
+  return setup;
+}
+
+}  // namespace incise::sim::surgery

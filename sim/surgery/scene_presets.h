@@ -1,0 +1,61 @@
+#pragma once
+
+// The surgical scenes of issue 6 item 8, built from the generated anatomy (sim/mesh/cgal/
+// anatomy.h) into a SurgicalSceneSpec with their tools:
+//   liver  a liver-like organ held on its flat side, for laparoscopic probing, grasping and
+//          cutting along a marked line (the cut target); the gallbladder bed is protected;
+//   knee   a knee-like joint: rigid femur and tibia (FCL surfaces), deformable menisci and ACL
+//          from a labelled volume, held at their attachments; a 30-degree arthroscope and a
+//          probe, for inspection (landmarks) and a meniscus cut (the medial meniscus's radial
+//          tear line); the ACL is protected (cutting it is a never event).
+// Each models only what it needs: the bones are rigid surfaces, only the soft tissue is
+// simulated. The time step is the tissue's stable step (stable_time_step, kExplicitSafety); the
+// wave speed and damping time for TissueBody's sliver guard follow the materials.
+
+#include <string>
+#include <vector>
+
+#include "sim/mesh/cgal/anatomy.h"
+#include "sim/scene/scene.h"
+#include "sim/surgery/surgical_scene.h"
+
+namespace incise::sim::surgery {
+
+// A scene ready to run, with what a task and the renderer need to know about it.
+struct SurgicalSceneSetup {
+  std::string name;  // "liver" or "knee"
+  SurgicalSceneSpec spec;
+  std::vector<Landmark> landmarks;
+  std::vector<Portal> portals;   // knee: where the scope and the probe enter
+  std::vector<Vec3> cut_target;  // the marked line [m]
+};
+
+struct LiverSceneOptions {
+  LiverOptions anatomy;
+  // Liver parenchyma (soft, near-incompressible in life; nu 0.45 keeps the explicit step
+  // affordable) and the gallbladder bed, both corotational with polar rotations (robust to
+  // inversion under a hard push).
+  Material liver{MaterialModel::corotational_polar, 4000, 0.45, 1050, 0.3, 0};
+  Real strain_threshold = 0.4;     // max principal Green strain that damages the liver [-]
+  Real target_half_width = 0.003;  // a cut within this of the marked line is on target [m]
+  std::vector<ToolSpec> tools = default_tools();
+  static std::vector<ToolSpec> default_tools();  // a probe on device 0, a grasper on device 1
+};
+
+struct KneeSceneOptions {
+  KneeOptions anatomy{0.001, 0.003, 0.005, 10};
+  // Menisci and ligament, kept soft enough for an explicit step (real menisci are far stiffer:
+  // the scene trades stiffness for rate, and the bones carry the joint).
+  Material meniscus{MaterialModel::corotational_polar, 30000, 0.3, 1100, 0.3, 0};
+  Material ligament{MaterialModel::corotational_polar, 60000, 0.3, 1100, 0.3, 0};
+  Real strain_threshold = 0.25;
+  Real target_half_width = 0.0015;
+  std::vector<ToolSpec> tools = default_tools();
+  static std::vector<ToolSpec> default_tools();  // a scope on device 0, a probe on device 1
+};
+
+// Throws std::invalid_argument for bad options (as the anatomy's checks, or a bad material).
+SurgicalSceneSetup make_liver_surgery(const LiverSceneOptions& options);
+SurgicalSceneSetup make_knee_surgery(const KneeSceneOptions& options);
+
+}  // namespace incise::sim::surgery
