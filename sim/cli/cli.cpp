@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "sim/cli/scene_mesh.h"
+#include "sim/cli/surgery_command.h"
 #include "sim/io/result_json.h"
 #include "sim/io/scene_json.h"
 #include "sim/mesh/mesh_file_error.h"
@@ -28,6 +29,9 @@ constexpr const char* kHelp =
 usage:
   incise solve SCENE.json --out RESULT.json   run a scene, write its result
   incise mesh-info MESH                       counts, labels, size and quality of a tet mesh
+  incise surgery SCENE.json --script SCRIPT.json --out RESULT.json
+                                              run a surgical scene file with a tool script
+                                              (docs/surgical_scene_files.md)
   incise --help                               show this text
 
 MESH: a gmsh .msh file (ASCII 2.2 or 4.1; tetrahedra and their physical tags as labels) or a
@@ -203,6 +207,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
     }
     if (args[0] == "solve") return solve(args, err);
     if (args[0] == "mesh-info") return mesh_info(args, out, err);
+    if (args[0] == "surgery") return run_surgery_command(args, out, err);
     return usage_error(err, "unknown command " + args[0]);
   } catch (const std::exception& error) {
     err << "incise: internal error: " << error.what() << "\n";

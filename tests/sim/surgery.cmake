@@ -8,7 +8,18 @@ gtest_discover_tests(sim_surgery_tests DISCOVERY_TIMEOUT 30)
 
 # The liver and knee scenes (issue 6 item 8): built from the anatomy, stepped with their tools.
 if(TARGET incise_sim_surgery_scenes)
-  add_executable(sim_surgery_scene_tests surgery/scene_presets_test.cpp)
+  add_executable(sim_surgery_scene_tests
+    surgery/scene_presets_test.cpp
+    surgery/scene_file_test.cpp
+    surgery/surgery_cli_test.cpp
+  )
   target_link_libraries(sim_surgery_scene_tests PRIVATE incise_sim_surgery_scenes GTest::gtest_main)
+  # The scene files and the CLI test (which runs the real incise binary, like cli_test.cpp).
+  target_include_directories(sim_surgery_scene_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
+  target_compile_definitions(sim_surgery_scene_tests PRIVATE
+    INCISE_CLI_PATH="$<TARGET_FILE:incise>"
+    INCISE_SCENES_DIR="${PROJECT_SOURCE_DIR}/sim/scenes")
+  add_dependencies(sim_surgery_scene_tests incise)
   gtest_discover_tests(sim_surgery_scene_tests DISCOVERY_TIMEOUT 30)
 endif()
+

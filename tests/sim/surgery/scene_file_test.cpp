@@ -1,0 +1,391 @@
+// Surgical scene files and tool scripts (sim/surgery/scene_file.h): the shipped scene files are
+// the presets with their tools (the same spec, node for node), left-out members take the preset's
+// values, every bad input names its JSON path, and a script's keyframes resolve their places and
+// interpolate in closed form.
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <typeinfo>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "sim/surgery/scene_file.h"
+
+namespace incise::sim::surgery {
+namespace {
+
+using nlohmann::json;
+
+ToolSpec tool(ToolKind kind, int device) {
+  ToolSpec t;
+  t.kind = kind;
+  t.device = device;
+  return t;
+}
+
+json read_json(const std::string& file) {
+  std::ifstream stream(file);
+  std::ostringstream text;
+  text << stream.rdbuf();
+  return json::parse(text.str());
+}
+
+void expect_same_tool(const ToolSpec& a, const ToolSpec& b, std::size_t k) {
+  SCOPED_TRACE("tool " + std::to_string(k));
+  EXPECT_EQ(a.kind, b.kind);
+  EXPECT_EQ(a.device, b.device);
+  EXPECT_EQ(a.shaft_length, b.shaft_length);
+  EXPECT_EQ(a.shaft_radius, b.shaft_radius);
+  EXPECT_EQ(a.probe.radius, b.probe.radius);
+  EXPECT_EQ(a.probe.coupling_stiffness, b.probe.coupling_stiffness);
+  EXPECT_EQ(a.probe.coupling_damping_ratio, b.probe.coupling_damping_ratio);
+  EXPECT_EQ(a.probe.allowed_penetration, b.probe.allowed_penetration);
+  EXPECT_EQ(a.probe.max_force, b.probe.max_force);
+  EXPECT_EQ(a.grasp.jaw_length, b.grasp.jaw_length);
+  EXPECT_EQ(a.grasp.jaw_radius, b.grasp.jaw_radius);
+  EXPECT_EQ(a.grasp.tear_force, b.grasp.tear_force);
+  EXPECT_EQ(a.max_jaw_angle, b.max_jaw_angle);
+  EXPECT_EQ(a.blade_length, b.blade_length);
+  EXPECT_EQ(a.view_angle_degrees, b.view_angle_degrees);
+  EXPECT_EQ(a.field_of_view_degrees, b.field_of_view_degrees);
+}
+
+void expect_same_tools(const std::vector<ToolSpec>& a, const std::vector<ToolSpec>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k)
+    expect_same_tool(a[k], b[k], k);
+}
+
+void expect_same_material(const Material& a, const Material& b) {
+  EXPECT_EQ(a.model, b.model);
+  EXPECT_EQ(a.youngs_modulus, b.youngs_modulus);
+  EXPECT_EQ(a.poisson_ratio, b.poisson_ratio);
+  EXPECT_EQ(a.density, b.density);
+  EXPECT_EQ(a.damping, b.damping);
+}
+
+// The whole spec: mesh, held nodes, step, tools, damage settings; the model through what it
+// makes of the mesh (its kind and its lumped masses, which carry the densities).
+void expect_same_setup(const SurgicalSceneSetup& a, const SurgicalSceneSetup& b) {
+  EXPECT_EQ(a.name, b.name);
+  const SurgicalSceneSpec& s = a.spec;
+  const SurgicalSceneSpec& t = b.spec;
+  EXPECT_EQ(s.tissue.rest, t.tissue.rest);
+  EXPECT_EQ(s.tissue.tets, t.tissue.tets);
+  EXPECT_EQ(s.tissue.labels, t.tissue.labels);
+  EXPECT_EQ(s.fixed, t.fixed);
+  EXPECT_EQ(s.dt, t.dt);
+  EXPECT_EQ(s.wave_speed, t.wave_speed);
+  EXPECT_EQ(s.damping_time, t.damping_time);
+  EXPECT_EQ(s.cut_every, t.cut_every);
+  EXPECT_EQ(s.damage_every, t.damage_every);
+  ASSERT_EQ(s.bones.size(), t.bones.size());
+  for (std::size_t b_ = 0; b_ < s.bones.size(); ++b_) {
+    EXPECT_EQ(s.bones[b_].vertices, t.bones[b_].vertices);
+    EXPECT_EQ(s.bones[b_].triangles, t.bones[b_].triangles);
+  }
+  expect_same_tools(s.tools, t.tools);
+  ASSERT_EQ(s.damage.strain_thresholds.size(), t.damage.strain_thresholds.size());
+  for (std::size_t k = 0; k < s.damage.strain_thresholds.size(); ++k) {
+    EXPECT_EQ(s.damage.strain_thresholds[k].label, t.damage.strain_thresholds[k].label);
+    EXPECT_EQ(s.damage.strain_thresholds[k].max_principal_strain,
+              t.damage.strain_thresholds[k].max_principal_strain);
+  }
+  EXPECT_EQ(s.damage.protected_labels, t.damage.protected_labels);
+  EXPECT_EQ(s.damage.target.line, t.damage.target.line);
+  EXPECT_EQ(s.damage.target.half_width, t.damage.target.half_width);
+  const auto model_a = s.model(s.tissue);
+  const auto model_b = t.model(t.tissue);
+  EXPECT_EQ(typeid(*model_a), typeid(*model_b));
+  EXPECT_EQ(model_a->masses(), model_b->masses());
+  EXPECT_EQ(a.cut_target, b.cut_target);
+  EXPECT_EQ(a.landmarks.size(), b.landmarks.size());
+  EXPECT_EQ(a.portals.size(), b.portals.size());
+}
+
+TEST(SceneFile, TheShippedLiverFileIsThePresetWithAProbeAGrasperAndAScalpel) {
+  const SurgicalSceneFile file =
+      parse_surgical_scene_file(read_json(INCISE_SCENES_DIR "/liver_surgery.json"));
+  LiverSceneOptions expected;
+  ToolSpec scalpel = tool(ToolKind::scalpel, 2);
+  scalpel.blade_length = 0.012;
+  expected.tools = {tool(ToolKind::probe, 0), tool(ToolKind::grasper, 1), scalpel};
+  ASSERT_EQ(file.anatomy, Anatomy::liver);
+  expect_same_tools(file.liver.tools, expected.tools);
+  expect_same_material(file.liver.liver, expected.liver);
+  EXPECT_EQ(file.liver.anatomy.cell_size, expected.anatomy.cell_size);
+  EXPECT_EQ(file.liver.anatomy.length, expected.anatomy.length);
+  EXPECT_EQ(file.liver.strain_threshold, expected.strain_threshold);
+  EXPECT_EQ(file.liver.target_half_width, expected.target_half_width);
+  expect_same_setup(build_surgical_scene(file), make_liver_surgery(expected));
+}
+
+TEST(SceneFile, TheShippedKneeFileIsThePresetWithAScopeAProbeAndAScalpel) {
+  const SurgicalSceneFile file =
+      parse_surgical_scene_file(read_json(INCISE_SCENES_DIR "/knee_surgery.json"));
+  KneeSceneOptions expected;
+  ToolSpec scalpel = tool(ToolKind::scalpel, 2);
+  scalpel.blade_length = 0.02;
+  expected.tools = KneeSceneOptions::default_tools();
+  expected.tools.push_back(scalpel);
+  ASSERT_EQ(file.anatomy, Anatomy::knee);
+  expect_same_tools(file.knee.tools, expected.tools);
+  expect_same_material(file.knee.meniscus, expected.meniscus);
+  expect_same_material(file.knee.ligament, expected.ligament);
+  EXPECT_EQ(file.knee.anatomy.tissue_cell_size, expected.anatomy.tissue_cell_size);
+  EXPECT_EQ(file.knee.strain_threshold, expected.strain_threshold);
+  expect_same_setup(build_surgical_scene(file), make_knee_surgery(expected));
+}
+
+// Left-out members are the preset's; a listed tool starts from the preset's tool of its kind.
+TEST(SceneFile, DefaultsAreThePresets) {
+  const SurgicalSceneFile liver = parse_surgical_scene_file(json{{"anatomy", "liver"}});
+  const LiverSceneOptions preset;
+  expect_same_tools(liver.liver.tools, preset.tools);
+  expect_same_material(liver.liver.liver, preset.liver);
+  EXPECT_EQ(liver.liver.anatomy.cell_size, preset.anatomy.cell_size);
+  EXPECT_EQ(liver.liver.anatomy.cut_points, preset.anatomy.cut_points);
+  EXPECT_EQ(liver.cut_every, SurgicalSceneSpec{}.cut_every);
+  EXPECT_EQ(liver.damage_every, SurgicalSceneSpec{}.damage_every);
+
+  const SurgicalSceneFile knee = parse_surgical_scene_file(json::parse(R"({
+    "anatomy": "knee", "anatomy_options": {"flexion_deg": 30},
+    "materials": {"ligament": {"E": 80000}},
+    "tools": [{"kind": "probe", "device": 1}, {"kind": "grasper", "device": 0, "tear_force": 2}],
+    "solver": {"cut_every": 5}})"));
+  const KneeSceneOptions knee_preset;
+  EXPECT_EQ(knee.knee.anatomy.flexion_deg, 30);
+  EXPECT_EQ(knee.knee.anatomy.voxel_size, knee_preset.anatomy.voxel_size);
+  EXPECT_EQ(knee.knee.ligament.youngs_modulus, 80000);
+  EXPECT_EQ(knee.knee.ligament.density, knee_preset.ligament.density);
+  expect_same_material(knee.knee.meniscus, knee_preset.meniscus);
+  ASSERT_EQ(knee.knee.tools.size(), 2u);
+  expect_same_tool(knee.knee.tools[0], knee_preset.tools[1], 0);  // the hook probe
+  ToolSpec grasper = tool(ToolKind::grasper, 0);
+  grasper.grasp.tear_force = 2;
+  expect_same_tool(knee.knee.tools[1], grasper, 1);
+  EXPECT_EQ(knee.cut_every, 5);
+}
+
+struct BadCase {
+  const char* json;
+  const char* error;  // SceneError::what(): "<path>: <reason>"
+};
+
+TEST(SceneFile, EveryBadInputNamesItsPath) {
+  const BadCase cases[] = {
+      {R"([])", "the scene must be a JSON object (got [])"},
+      {R"({})", "anatomy: is required"},
+      {R"({"anatomy": "spleen"})", R"(anatomy: "spleen" is not one of liver, knee)"},
+      {R"({"anatomy": "liver", "tool": []})",
+       "tool: unknown key (expected one of: description, anatomy, anatomy_options, materials, "
+       "tools, damage, solver)"},
+      {R"({"anatomy": "liver", "tools": {}})", "tools: must be an array (got {})"},
+      {R"({"anatomy": "liver", "tools": [{"kind": "probe", "device": 0}, {"kind": "saw"}]})",
+       R"(tools[1].kind: "saw" is not one of probe, grasper, scalpel, scope)"},
+      {R"({"anatomy": "liver", "tools": [{"kind": "probe"}]})", "tools[0].device: is required"},
+      {R"({"anatomy": "liver", "tools": [{"kind": "probe", "device": -1}]})",
+       "tools[0].device: must be in [0, 15] (got -1)"},
+      {R"({"anatomy": "liver", "tools": [{"kind": "probe", "device": 0, "jaw_length": 0.01}]})",
+       "tools[0].jaw_length: is a setting of grasper, not of a probe"},
+      {R"({"anatomy": "knee", "tools": [{"kind": "scope", "device": 0, "radius": 0.01}]})",
+       "tools[0].radius: is a setting of probe, not of a scope"},
+      {R"({"anatomy": "liver", "tools": [{"kind": "probe", "device": 0, "radius": 0.0001}]})",
+       "tools[0].radius: must be > 5e-04 (got 1e-04)"},
+      {R"({"anatomy": "liver", "tools": [{"kind": "scalpel", "device": 2, "blade_length": 0}]})",
+       "tools[0].blade_length: must be > 0 (got 0)"},
+      {R"({"anatomy": "knee", "tools": [{"kind": "scope", "device": 0,
+           "view_angle_degrees": 90}]})",
+       "tools[0].view_angle_degrees: must be in [0, 90) (got 90)"},
+      {R"({"anatomy": "liver", "tools": [{"kind": "grasper", "device": 0, "max_jaw_angle": 4}]})",
+       "tools[0].max_jaw_angle: must be in (0, 3.141592653589793) (got 4)"},
+      {R"({"anatomy": "liver", "tools": [{"kind": "probe", "device": 0, "shaft": 1}]})",
+       "tools[0].shaft: unknown key (expected one of: kind, device, shaft_length, shaft_radius, "
+       "radius, coupling_stiffness, max_force, tear_force, jaw_length, max_jaw_angle, "
+       "blade_length, view_angle_degrees, field_of_view_degrees)"},
+      {R"({"anatomy": "liver", "materials": {"liver": {"nu": 0.5}}})",
+       "materials.liver.nu: must be in (-1, 0.5) (got 0.5)"},
+      {R"({"anatomy": "liver", "materials": {"liver": {"E": "4"}}})",
+       R"(materials.liver.E: must be a number (got "4"))"},
+      {R"({"anatomy": "liver", "materials": {"meniscus": {}}})",
+       "materials.meniscus: unknown key (expected one of: liver)"},
+      {R"({"anatomy": "knee", "materials": {"ligament": {"model": "foam"}}})",
+       R"(materials.ligament.model: "foam" is not one of mss, linear, corotational, )"
+       R"(corotational_polar, stvk, neohookean)"},
+      {R"({"anatomy": "liver", "anatomy_options": {"cell_size": 0.1}})",
+       "anatomy_options.cell_size: cell_size [m] = 0.1 is outside [0.00266667, 0.032]"},
+      {R"({"anatomy": "knee", "anatomy_options": {"flexion_deg": 100}})",
+       "anatomy_options.flexion_deg: flexion_deg = 100 is outside [0, 90]"},
+      {R"({"anatomy": "knee", "anatomy_options": {"cell_size": 0.002}})",
+       "anatomy_options.cell_size: unknown key (expected one of: voxel_size, tissue_cell_size, "
+       "bone_facet_size, flexion_deg)"},
+      {R"({"anatomy": "liver", "damage": {"strain_threshold": -1}})",
+       "damage.strain_threshold: must be > 0 (got -1)"},
+      {R"({"anatomy": "liver", "solver": {"cut_every": 0}})",
+       "solver.cut_every: must be in [1, 2147483647] (got 0)"},
+      {R"({"anatomy": "liver", "solver": {"damage_every": 1.5}})",
+       "solver.damage_every: must be an integer (got 1.5)"},
+  };
+  for (const BadCase& c : cases) {
+    SCOPED_TRACE(c.json);
+    try {
+      parse_surgical_scene_file(json::parse(c.json));
+      ADD_FAILURE() << "accepted";
+    } catch (const SceneError& error) {
+      EXPECT_EQ(std::string(error.what()), c.error);
+    }
+  }
+  // Malformed text fails before anything is meshed.
+  try {
+    parse_surgical_scene("{\"anatomy\": ");
+    ADD_FAILURE() << "accepted";
+  } catch (const SceneError& error) {
+    EXPECT_EQ(error.path(), "");
+    EXPECT_EQ(std::string(error.what()).rfind("malformed JSON: ", 0), 0u) << error.what();
+  }
+}
+
+// A scene for scripts without meshing: the places and tools a script may refer to.
+SurgicalSceneSetup scripted_scene() {
+  SurgicalSceneSetup scene;
+  scene.name = "test";
+  scene.spec.tools = {tool(ToolKind::probe, 0), tool(ToolKind::grasper, 1)};
+  scene.landmarks = {{"horn", Vec3(0.01, 0, 0)}, {"notch", Vec3(0, 0.02, 0)}};
+  scene.portals = {{"medial", Vec3(0, 0, 0.05), Vec3(0, 0, -1)}};
+  scene.cut_target = {Vec3(-0.01, 0, 0), Vec3(0, 0, 0.001), Vec3(0.01, 0, 0)};
+  return scene;
+}
+
+void expect_near(const Vec3& a, const Vec3& b, Real tolerance = 1e-15) {
+  EXPECT_LT((a - b).norm(), tolerance) << a.transpose() << " vs " << b.transpose();
+}
+
+// Positions and the jaw linear, the direction normalised-lerped, held outside the keyframes; the
+// orientation turns e_z onto the direction.
+TEST(ToolScript, InterpolatesInClosedForm) {
+  const ToolScript script = parse_tool_script(json::parse(R"({
+    "duration": 1,
+    "devices": [{"keyframes": [
+      {"t": 0.1, "tip": [0, 0, 0], "direction": [2, 0, 0], "jaw": 1},
+      {"t": 0.5, "tip": [0.04, -0.02, 0.01], "direction": [0, 3, 0], "jaw": 0}]}]})"),
+                                              scripted_scene());
+  ASSERT_EQ(script.devices.size(), 1u);
+  const DeviceTrack& track = script.devices[0];
+  const Vec3 b(0.04, -0.02, 0.01);
+  const ToolInput mid = sample_track(track, 0.2);  // s = 1/4
+  expect_near(mid.tip, 0.25 * b);
+  expect_near(mid.orientation * Vec3::UnitZ(), Vec3(3, 1, 0) / std::sqrt(10.0));
+  EXPECT_NEAR(mid.jaw, 0.75, 1e-15);
+  const ToolInput before = sample_track(track, 0);
+  expect_near(before.tip, Vec3::Zero());
+  expect_near(before.orientation * Vec3::UnitZ(), Vec3::UnitX());
+  EXPECT_EQ(before.jaw, 1);
+  const ToolInput after = sample_track(track, 0.9);
+  expect_near(after.tip, b);
+  expect_near(after.orientation * Vec3::UnitZ(), Vec3::UnitY());
+  EXPECT_EQ(after.jaw, 0);
+  const ToolInput at_key = sample_track(track, 0.5);
+  expect_near(at_key.tip, b);
+  std::vector<ToolInput> inputs;
+  sample_script(script, 0.2, inputs);
+  ASSERT_EQ(inputs.size(), 1u);
+  expect_near(inputs[0].tip, mid.tip);
+}
+
+// "at" + "offset", "towards", "along", "advance", the cut line's ends, and what carries over.
+TEST(ToolScript, ResolvesPlacesAndCarriesDirectionAndJaw) {
+  const ToolScript script = parse_tool_script(json::parse(R"({
+    "duration": 2,
+    "devices": [
+      {"keyframes": [
+        {"t": 0, "at": "horn", "offset": [0, 0, 0.01], "towards": "notch", "advance": 0.005,
+         "jaw": 0.4},
+        {"t": 1, "at": "cut_end"}]},
+      {"keyframes": [{"t": 0, "at": "medial", "along": "medial", "advance": 0.01},
+                     {"t": 2, "at": "cut_start"}]}]})"),
+                                              scripted_scene());
+  const Keyframe& first = script.devices[0].keyframes[0];
+  const Vec3 base(0.01, 0, 0.01);
+  const Vec3 towards = (Vec3(0, 0.02, 0) - base).normalized();
+  expect_near(first.direction, towards);
+  expect_near(first.tip, base + 0.005 * towards);
+  EXPECT_EQ(first.jaw, 0.4);
+  const Keyframe& second = script.devices[0].keyframes[1];
+  expect_near(second.tip, Vec3(0.01, 0, 0));  // the cut line's last point
+  expect_near(second.direction, towards);     // carried over
+  EXPECT_EQ(second.jaw, 0.4);
+  const Keyframe& portal = script.devices[1].keyframes[0];
+  expect_near(portal.direction, -Vec3::UnitZ());
+  expect_near(portal.tip, Vec3(0, 0, 0.04));
+  EXPECT_EQ(portal.jaw, 1);  // the first keyframe's default: open
+  expect_near(script.devices[1].keyframes[1].tip, Vec3(-0.01, 0, 0));
+}
+
+TEST(ToolScript, EveryBadInputNamesItsPath) {
+  const BadCase cases[] = {
+      {R"([1])", "the script must be a JSON object (got [1])"},
+      {R"({"devices": []})", "duration: is required"},
+      {R"({"duration": 0, "devices": []})", "duration: must be > 0 (got 0)"},
+      {R"({"duration": 1, "devices": []})", "devices: must be a non-empty array (got [])"},
+      {R"({"duration": 1, "device": []})",
+       "device: unknown key (expected one of: description, duration, devices)"},
+      {R"({"duration": 1, "devices": [{"keyframes": []}]})",
+       "devices[0].keyframes: must be a non-empty array (got [])"},
+      {R"({"duration": 1, "devices": [{"keyframes": [{"t": 0, "tip": [0, 0, 0]}]},
+                                      {"keyframes": [{"t": 0, "tip": [0, 0, 0]}]}, {}]})",
+       "devices[2]: no tool of the test scene is on device 2"},
+      {R"({"duration": 1, "devices": [{"keyframes": [{"t": 0, "tipp": [0, 0, 0]}]}]})",
+       "devices[0].keyframes[0].tipp: unknown key (expected one of: t, tip, at, offset, "
+       "direction, towards, along, advance, jaw)"},
+      {R"({"duration": 1, "devices": [{"keyframes": [{"t": 2, "tip": [0, 0, 0]}]}]})",
+       "devices[0].keyframes[0].t: must be in [0, 1] (got 2)"},
+      {R"({"duration": 1, "devices": [{"keyframes": [{"t": 0.5, "tip": [0, 0, 0]},
+                                                      {"t": 0.5, "tip": [0, 0, 0]}]}]})",
+       "devices[0].keyframes[1].t: must be after the previous keyframe's (0.5) (got 0.5)"},
+      {R"({"duration": 1, "devices": [{"keyframes": [{"t": 0, "tip": [0, 0]}]}]})",
+       "devices[0].keyframes[0].tip: must be an array of 3 numbers (got [0,0])"},
+      {R"({"duration": 1, "devices": [{"keyframes": [{"t": 0, "tip": [0, 0, 0], "at": "horn"}]}]})",
+       R"(devices[0].keyframes[0]: has both "tip" and "at" (give one))"},
+      {R"({"duration": 1, "devices": [{"keyframes": [{"t": 0, "jaw": 0}]}]})",
+       R"(devices[0].keyframes[0]: needs "tip" or "at")"},
+      {R"({"duration": 1, "devices": [{"keyframes": [{"t": 0, "tip": [0, 0, 0],
+                                                      "offset": [0, 0, 1]}]}]})",
+       R"(devices[0].keyframes[0].offset: belongs to "at" (a "tip" is already a point))"},
+      {R"({"duration": 1, "devices": [{"keyframes": [{"t": 0, "at": "knob"}]}]})",
+       R"(devices[0].keyframes[0].at: "knob" is not a place of the test scene (one of: horn, )"
+       R"(notch, medial, cut_start, cut_end))"},
+      {R"({"duration": 1, "devices": [{"keyframes": [{"t": 0, "at": "horn", "along": "horn"}]}]})",
+       R"(devices[0].keyframes[0].along: "horn" is not a portal of the test scene (one of: )"
+       R"(medial))"},
+      {R"({"duration": 1, "devices": [{"keyframes": [{"t": 0, "at": "horn", "towards": "horn"}]}]})",
+       "devices[0].keyframes[0].towards: is where the tip is"},
+      {R"({"duration": 1, "devices": [{"keyframes": [{"t": 0, "at": "horn",
+           "direction": [0, 0, 1], "towards": "notch"}]}]})",
+       R"(devices[0].keyframes[0]: has more than one of "direction", "towards", "along")"},
+      {R"({"duration": 1, "devices": [{"keyframes": [{"t": 0, "tip": [0, 0, 0],
+                                                      "direction": [0, 0, 0]}]}]})",
+       "devices[0].keyframes[0].direction: must not be zero"},
+      {R"({"duration": 1, "devices": [{"keyframes": [{"t": 0, "tip": [0, 0, 0]},
+           {"t": 1, "tip": [0, 0, 0], "direction": [0, 0, 1]}]}]})",
+       "devices[0].keyframes[1].direction: turns the tool round from the previous keyframe's "
+       "direction (undefined halfway; add a keyframe between)"},
+      {R"({"duration": 1, "devices": [{"keyframes": [{"t": 0, "tip": [0, 0, 0], "jaw": 1.5}]}]})",
+       "devices[0].keyframes[0].jaw: must be in [0, 1] (got 1.5)"},
+  };
+  const SurgicalSceneSetup scene = scripted_scene();
+  for (const BadCase& c : cases) {
+    SCOPED_TRACE(c.json);
+    try {
+      parse_tool_script(json::parse(c.json), scene);
+      ADD_FAILURE() << "accepted";
+    } catch (const SceneError& error) {
+      EXPECT_EQ(std::string(error.what()), c.error);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace incise::sim::surgery
