@@ -1,8 +1,13 @@
 #include "sim/io/json_object_reader.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <fstream>
 #include <limits>
+#include <sstream>
+#include <string>
 #include <utility>
 
 #include "sim/scene/scene_error.h"
@@ -126,6 +131,29 @@ Vec3 read_vec3(const json& value, const std::string& path) {
     result(static_cast<Eigen::Index>(a)) = read_number(value[a], element_path(path, a));
   }
   return result;
+}
+
+nlohmann::json parse_json_text(std::string_view text) {
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& error) {
+    // what() is "[json.exception.parse_error.101] parse error at line 1, column 2: ...".
+    std::string reason = error.what();
+    const std::size_t start = reason.find("] ");
+    if (start != std::string::npos) reason.erase(0, start + 2);
+    throw SceneError("", "malformed JSON: " + reason);
+  }
+}
+
+std::string read_text_file(const std::filesystem::path& file) {
+  std::error_code error;
+  if (std::filesystem::is_directory(file, error)) throw SceneError("", "is a directory");
+  std::ifstream stream(file, std::ios::binary);
+  if (!stream) throw SceneError("", std::string("cannot open file (") + std::strerror(errno) + ")");
+  std::ostringstream text;
+  text << stream.rdbuf();
+  if (stream.bad()) throw SceneError("", "cannot read file");
+  return text.str();
 }
 
 }  // namespace incise::sim

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <initializer_list>
 #include <string>
 #include <string_view>
@@ -18,6 +19,13 @@ std::string element_path(const std::string& path, std::size_t index);
 
 // A short one-line rendering of a JSON value for "(got ...)" in messages.
 std::string describe(const nlohmann::json& value);
+
+// The JSON value of text; throws SceneError("", "malformed JSON: <parser's reason>").
+nlohmann::json parse_json_text(std::string_view text);
+
+// The whole file as text; throws SceneError("", ...) for a directory or a file that cannot be
+// opened or read (the caller names the file).
+std::string read_text_file(const std::filesystem::path& file);
 
 // Reads one JSON object of a scene: rejects members outside the allowed set and reads typed
 // members, throwing SceneError at the member's path ("material.E: must be a number (got

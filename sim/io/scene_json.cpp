@@ -341,28 +341,11 @@ Scene parse_scene(const json& value) {
 }
 
 Scene parse_scene_text(std::string_view text) {
-  json value;
-  try {
-    value = json::parse(text);
-  } catch (const json::parse_error& error) {
-    // what() is "[json.exception.parse_error.101] parse error at line 1, column 2: ...".
-    std::string reason = error.what();
-    const std::size_t start = reason.find("] ");
-    if (start != std::string::npos) reason.erase(0, start + 2);
-    throw SceneError("", "malformed JSON: " + reason);
-  }
-  return parse_scene(value);
+  return parse_scene(parse_json_text(text));
 }
 
 Scene read_scene_file(const std::filesystem::path& file) {
-  std::error_code error;
-  if (std::filesystem::is_directory(file, error)) throw SceneError("", "is a directory");
-  std::ifstream stream(file, std::ios::binary);
-  if (!stream) throw SceneError("", std::string("cannot open file (") + std::strerror(errno) + ")");
-  std::ostringstream text;
-  text << stream.rdbuf();
-  if (stream.bad()) throw SceneError("", "cannot read file");
-  return parse_scene_text(text.str());
+  return parse_scene_text(read_text_file(file));
 }
 
 }  // namespace incise::sim

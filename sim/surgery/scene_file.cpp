@@ -58,29 +58,6 @@ int read_count(const JsonObjectReader& object, std::string_view key, int lo, int
   return static_cast<int>(n);
 }
 
-json parse_json(std::string_view text) {
-  try {
-    return json::parse(text);
-  } catch (const json::parse_error& error) {
-    // what() is "[json.exception.parse_error.101] parse error at line 1, column 2: ...".
-    std::string reason = error.what();
-    const std::size_t start = reason.find("] ");
-    if (start != std::string::npos) reason.erase(0, start + 2);
-    throw SceneError("", "malformed JSON: " + reason);
-  }
-}
-
-std::string read_text(const std::filesystem::path& file) {
-  std::error_code error;
-  if (std::filesystem::is_directory(file, error)) throw SceneError("", "is a directory");
-  std::ifstream stream(file, std::ios::binary);
-  if (!stream) throw SceneError("", std::string("cannot open file (") + std::strerror(errno) + ")");
-  std::ostringstream text;
-  text << stream.rdbuf();
-  if (stream.bad()) throw SceneError("", "cannot read file");
-  return text.str();
-}
-
 // --- scene file ---
 
 // The anatomy's own range checks (anatomy.h) say "<what>: <field> [unit] = v is outside [a, b]";
@@ -339,11 +316,11 @@ SurgicalSceneSetup build_surgical_scene(const SurgicalSceneFile& file) {
 }
 
 SurgicalSceneSetup parse_surgical_scene(std::string_view text) {
-  return build_surgical_scene(parse_surgical_scene_file(parse_json(text)));
+  return build_surgical_scene(parse_surgical_scene_file(parse_json_text(text)));
 }
 
 SurgicalSceneSetup read_surgical_scene(const std::filesystem::path& file) {
-  return parse_surgical_scene(read_text(file));
+  return parse_surgical_scene(read_text_file(file));
 }
 
 // --- script ---
@@ -489,11 +466,11 @@ ToolScript parse_tool_script(const json& value, const SurgicalSceneSetup& scene)
 }
 
 ToolScript parse_tool_script_text(std::string_view text, const SurgicalSceneSetup& scene) {
-  return parse_tool_script(parse_json(text), scene);
+  return parse_tool_script(parse_json_text(text), scene);
 }
 
 ToolScript read_tool_script(const std::filesystem::path& file, const SurgicalSceneSetup& scene) {
-  return parse_tool_script_text(read_text(file), scene);
+  return parse_tool_script_text(read_text_file(file), scene);
 }
 
 ToolInput sample_track(const DeviceTrack& track, Real t) {

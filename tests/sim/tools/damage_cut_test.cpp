@@ -128,20 +128,25 @@ TEST(DamageCut, WithoutATargetEveryCutIsOffTarget) {
   EXPECT_EQ(box.tracker.metrics().cut_mean_distance, 0);
 }
 
-TEST(DamageCut, CuttingAProtectedLabelIsANeverEvent) {
-  // Label 3 (protected) on the cells of y > 0.02: the cut at y = 0.015 misses it, the one at
-  // y = 0.025 runs through it over its whole cross-section.
-  CutBox probe{DamageSettings{}};
-  Eigen::VectorXi labels(probe.mesh.num_tets());
-  for (int t = 0; t < probe.mesh.num_tets(); ++t) {
+// The box with label 3 (protected) on the cells of y > 0.02.
+CutBox protected_band_box() {
+  const TetMesh mesh = CutBox{DamageSettings{}}.mesh;
+  Eigen::VectorXi labels(mesh.num_tets());
+  for (int t = 0; t < mesh.num_tets(); ++t) {
     Real cy = 0;
     for (int k = 0; k < 4; ++k)
-      cy += probe.mesh.rest(probe.mesh.tets(t, k), 1) / 4;
+      cy += mesh.rest(mesh.tets(t, k), 1) / 4;
     labels(t) = cy > 0.02 ? 3 : 0;
   }
   DamageSettings settings = with_target();
   settings.protected_labels = {3};
-  CutBox box(settings, labels);
+  return CutBox(settings, labels);
+}
+
+TEST(DamageCut, CuttingAProtectedLabelIsANeverEvent) {
+  // Label 3 (protected) on the cells of y > 0.02: the cut at y = 0.015 misses it, the one at
+  // y = 0.025 runs through it over its whole cross-section.
+  CutBox box = protected_band_box();
 
   const CutDamage first = box.cut(Vec3(0.03, kLineY, 0.01), Vec3::UnitZ());
   EXPECT_FALSE(first.never_event);
@@ -164,17 +169,7 @@ TEST(DamageCut, CuttingAProtectedLabelIsANeverEvent) {
 // Faces given with their labels (a progressive cut's, which the blade's temporary pieces may
 // have split) count as the same faces found through their tets.
 TEST(DamageCut, LabelledFacesCountAsTheirTetsSay) {
-  CutBox probe{DamageSettings{}};
-  Eigen::VectorXi labels(probe.mesh.num_tets());
-  for (int t = 0; t < probe.mesh.num_tets(); ++t) {
-    Real cy = 0;
-    for (int k = 0; k < 4; ++k)
-      cy += probe.mesh.rest(probe.mesh.tets(t, k), 1) / 4;
-    labels(t) = cy > 0.02 ? 3 : 0;
-  }
-  DamageSettings settings = with_target();
-  settings.protected_labels = {3};
-  CutBox box(settings, labels);
+  CutBox box = protected_band_box();
   const Vec3 u = Vec3::UnitX(), w = Vec3::UnitZ(), point(0.03, 0.025, 0.01);
   const cut::CutReport report = cut::cut_mesh(
       box.mesh, cut::blade_sweep(point - u - w, point + u - w, point - u + w, point + u + w),
