@@ -209,7 +209,11 @@ void SurgicalScene::step(std::span<const ToolInput> inputs) {
   ++steps_;
   time_ += spec_.dt;
   if (steps_ % spec_.damage_every == 0 && state_finite()) {
-    damage_->record_strain(mesh.x, strain_time_);
+    try {
+      damage_->record_strain(mesh.x, strain_time_);
+    } catch (const std::invalid_argument&) {
+      ++strain_records_skipped_;  // a strain overflowed: the state is running away
+    }
     strain_time_ = 0;
   }
 }
@@ -229,7 +233,13 @@ void SurgicalScene::grasp(Tool& tool, int index) {
     event(EventKind::release, index, text);
   }
   if (grasper.phase() == tools::GraspPhase::closing) {
-    const int grabbed = grasper.grab(mesh.rest, mesh.x, tissue_->inverse_masses(), surface_nodes_);
+    // Only committed nodes: a scalpel's temporary nodes are renumbered every cut frame.
+    const int stable = stable_nodes();
+    std::vector<int> candidates;
+    for (const int v : surface_nodes_) {
+      if (v < stable) candidates.push_back(v);
+    }
+    const int grabbed = grasper.grab(mesh.rest, mesh.x, tissue_->inverse_masses(), candidates);
     if (grabbed > 0) event(EventKind::grab, index, std::to_string(grabbed) + " vertices");
   }
   if (const auto released = grasper.measure(tissue_->internal())) {
@@ -352,10 +362,16 @@ void SurgicalScene::after_topology_change(int tets_before, std::span<const int> 
   prescribed_.position = Points::Zero(n, 3);
   prescribed_rows_.clear();
   surface_nodes_ = tissue_->surface().nodes;
+  const int stable = stable_nodes();
   for (Tool& tool : tools_) {
     if (!tool.grasper) continue;
     for (const int v : std::vector<int>(tool.grasper->grabbed())) {
-      if (v >= n) tool.grasper->on_vertex_removed(v);
+      if (v >= std::min(n, stable)) {
+        if (const auto released = tool.grasper->on_vertex_removed(v)) {
+          event(EventKind::release, static_cast<int>(&tool - tools_.data()),
+                std::string(to_string(released->reason)) + " (cut away)");
+        }
+      }
     }
   }
 }
@@ -416,6 +432,14 @@ std::optional<ScopeCamera> SurgicalScene::scope_camera() const {
     return camera;
   }
   return std::nullopt;
+}
+
+int SurgicalScene::stable_nodes() const {
+  int stable = tissue_->mesh().num_nodes();
+  for (const Tool& tool : tools_) {
+    if (tool.cutter) stable = std::min(stable, tool.cutter->committed_nodes());
+  }
+  return stable;
 }
 
 bool SurgicalScene::state_finite() const {

@@ -152,8 +152,11 @@ class SurgicalScene {
   const tools::DamageTracker& damage_tracker() const { return *damage_; }
   // Whether every tissue position and velocity is finite.
   bool state_finite() const;
-  // Scalpel updates refused because tets were inverted (the cut waits for the tissue to recover).
+  // Scalpel updates refused because tets were inverted (the cut waits for the tissue to recover;
+  // an open stroke ends).
   int cuts_refused() const { return cuts_refused_; }
+  // Strain records skipped because a strain was not finite (a running-away state).
+  int strain_records_skipped() const { return strain_records_skipped_; }
 
  private:
   struct Tool;
@@ -163,6 +166,8 @@ class SurgicalScene {
   void bones(Tool& tool, int index);
   void after_topology_change(int tets_before, std::span<const int> changed);
   void event(EventKind kind, int tool, std::string detail);
+  // Nodes below this index keep their numbers through cut frames (the scalpels' committed nodes).
+  int stable_nodes() const;
 
   SurgicalSceneSpec spec_;
   std::unique_ptr<TissueBody> tissue_;
@@ -180,6 +185,7 @@ class SurgicalScene {
   Real strain_time_ = 0;  // since the last strain record
   std::int64_t steps_ = 0;
   int cuts_refused_ = 0;
+  int strain_records_skipped_ = 0;
 };
 
 }  // namespace incise::sim::surgery

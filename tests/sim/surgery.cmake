@@ -23,3 +23,20 @@ if(TARGET incise_sim_surgery_scenes)
   gtest_discover_tests(sim_surgery_scene_tests DISCOVERY_TIMEOUT 30)
 endif()
 
+# The stability suite and benchmarks of issue 6 (docs/surgery_stability.md): random tool
+# sequences on the liver and knee scenes; a CI-sized test, the long runner and the benchmark.
+if(TARGET incise_sim_surgery_scenes)
+  add_library(surgery_stability_suite STATIC surgery/stability_suite.cpp)
+  target_link_libraries(surgery_stability_suite PUBLIC incise_sim_surgery_scenes)
+
+  add_executable(sim_surgery_stability_tests surgery/stability_test.cpp)
+  target_link_libraries(sim_surgery_stability_tests PRIVATE surgery_stability_suite
+                        GTest::gtest_main)
+  gtest_discover_tests(sim_surgery_stability_tests DISCOVERY_TIMEOUT 30)
+
+  add_executable(surgery_stability surgery/stability_main.cpp)
+  target_link_libraries(surgery_stability PRIVATE surgery_stability_suite)
+
+  add_executable(bench_surgery surgery/bench_surgery.cpp)
+  target_link_libraries(bench_surgery PRIVATE surgery_stability_suite)
+endif()
