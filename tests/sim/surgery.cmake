@@ -18,7 +18,7 @@ if(TARGET incise_sim_surgery_scenes)
   target_include_directories(sim_surgery_scene_tests PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
   target_compile_definitions(sim_surgery_scene_tests PRIVATE
     INCISE_CLI_PATH="$<TARGET_FILE:incise>"
-    INCISE_SCENES_DIR="${PROJECT_SOURCE_DIR}/sim/scenes")
+    INCISE_SCENES_DIR="${PROJECT_SOURCE_DIR}/sim/scenes/surgery")
   add_dependencies(sim_surgery_scene_tests incise)
   gtest_discover_tests(sim_surgery_scene_tests DISCOVERY_TIMEOUT 30)
 endif()
