@@ -3,6 +3,10 @@
 // contact forces, shared by the contact tests (tests/sim/tools/contact_*.cpp).
 
 #include <memory>
+#include <stdexcept>
+#include <string>
+
+#include <gtest/gtest.h>
 
 #include "sim/collide/surface_bvh.h"
 #include "sim/mesh/tet_mesh.h"
@@ -42,5 +46,17 @@ struct ContactBlock {
   Points forces;  // #nodes by 3 [N]
   Prescribed prescribed;
 };
+
+// The message of the std::invalid_argument that f throws (fails the test if none).
+template <class F>
+std::string message_of(F&& f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no std::invalid_argument";
+  return {};
+}
 
 }  // namespace incise::sim::tools::contact_testing

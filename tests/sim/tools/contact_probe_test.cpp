@@ -19,6 +19,7 @@ namespace incise::sim::tools {
 namespace {
 
 using contact_testing::ContactBlock;
+using contact_testing::message_of;
 
 constexpr Real kTop = 0.01;  // the block's top [m]
 
@@ -166,17 +167,6 @@ TEST(Probe, ReportsTheContactRegionInTheRestConfiguration) {
   EXPECT_GE(region.radius, pressed.probe.settings().radius);
   EXPECT_LT(region.radius, 3 * pressed.probe.settings().radius);
   EXPECT_THROW(pressed.probe.contact_region(Points::Zero(2, 3)), std::invalid_argument);
-}
-
-template <class F>
-std::string message_of(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no std::invalid_argument";
-  return {};
 }
 
 TEST(Probe, BadInputIsRefusedWithAPreciseMessage) {

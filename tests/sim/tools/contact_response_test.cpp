@@ -16,6 +16,7 @@ namespace incise::sim::tools {
 namespace {
 
 using contact_testing::ContactBlock;
+using contact_testing::message_of;
 
 // A 2 x 2 x 1 cm soft block with random node velocities, so that damping acts too.
 ContactBlock moving_block() {
@@ -171,18 +172,6 @@ TEST(ContactResponse, NoContactAddsNothing) {
                      collide::Sphere{Vec3(0.01, 0.01, 0.0151), 0.005}, Vec3::Zero(), node_forces);
   EXPECT_EQ(r.contacts, 0);
   EXPECT_TRUE(node_forces.isZero(0));
-}
-
-// The message of the std::invalid_argument that f throws (fails the test if none).
-template <class F>
-std::string message_of(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no std::invalid_argument";
-  return {};
 }
 
 TEST(ContactResponse, BadInputIsRefusedWithAPreciseMessage) {
