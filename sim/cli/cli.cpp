@@ -110,20 +110,11 @@ int usage_error(std::ostream& err, const std::string& problem) {
 }
 
 int solve(const std::vector<std::string>& args, std::ostream& err) {
-  std::optional<std::string> scene_file;
+  const CommandArgs parsed = parse_command_args(args, {"--out"});
+  if (!parsed.problem.empty()) return usage_error(err, parsed.problem);
+  const std::optional<std::string>& scene_file = parsed.file;
   std::optional<std::string> result_file;
-  for (std::size_t i = 1; i < args.size(); ++i) {
-    if (args[i] == "--out") {
-      if (i + 1 == args.size()) return usage_error(err, "--out needs a file name");
-      result_file = args[++i];
-    } else if (!args[i].empty() && args[i][0] == '-') {
-      return usage_error(err, "unknown option " + args[i]);
-    } else if (scene_file) {
-      return usage_error(err, "more than one scene file");
-    } else {
-      scene_file = args[i];
-    }
-  }
+  if (parsed.options.contains("--out")) result_file = parsed.options.at("--out");
   if (!scene_file) return usage_error(err, "solve needs a scene file");
   if (!result_file) return usage_error(err, "solve needs --out RESULT.json");
 
@@ -215,6 +206,30 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
     err << "incise: internal error\n";
   }
   return kExitFailed;
+}
+
+CommandArgs parse_command_args(const std::vector<std::string>& args,
+                               std::initializer_list<std::string_view> file_options) {
+  CommandArgs parsed;
+  for (std::size_t i = 1; i < args.size() && parsed.problem.empty(); ++i) {
+    const bool option =
+        std::find(file_options.begin(), file_options.end(), args[i]) != file_options.end();
+    if (option) {
+      if (i + 1 == args.size()) {
+        parsed.problem = args[i] + " needs a file name";
+      } else {
+        parsed.options[args[i]] = args[i + 1];
+        ++i;
+      }
+    } else if (!args[i].empty() && args[i][0] == '-') {
+      parsed.problem = "unknown option " + args[i];
+    } else if (parsed.file) {
+      parsed.problem = "more than one scene file";
+    } else {
+      parsed.file = args[i];
+    }
+  }
+  return parsed;
 }
 
 }  // namespace incise::sim

@@ -1,7 +1,11 @@
 #pragma once
 
+#include <initializer_list>
+#include <map>
+#include <optional>
 #include <ostream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace incise::sim {
@@ -18,5 +22,16 @@ inline constexpr int kExitUsage = 2;   // bad arguments, unreadable or invalid s
 // Writes help to out and each error as one line "incise: ..." to err; returns the exit code.
 // Never throws.
 int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+
+// A command's arguments after its name (args[0]): one positional scene file and the file-valued
+// options named (e.g. "--out"). `problem` is empty on success, else the usage error: "--out
+// needs a file name", "unknown option -x", "more than one scene file".
+struct CommandArgs {
+  std::optional<std::string> file;
+  std::map<std::string, std::string, std::less<>> options;
+  std::string problem;
+};
+CommandArgs parse_command_args(const std::vector<std::string>& args,
+                               std::initializer_list<std::string_view> file_options);
 
 }  // namespace incise::sim

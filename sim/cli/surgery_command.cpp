@@ -125,20 +125,12 @@ json result_json(const SurgicalSceneSetup& setup, const SurgicalScene& scene,
 
 int run_surgery_command(const std::vector<std::string>& args, std::ostream& out,
                         std::ostream& err) {
-  std::optional<std::string> scene_file, script_file, result_file;
-  for (std::size_t i = 1; i < args.size(); ++i) {
-    if (args[i] == "--out" || args[i] == "--script") {
-      if (i + 1 == args.size()) return usage_error(err, args[i] + " needs a file name");
-      (args[i] == "--out" ? result_file : script_file) = args[i + 1];
-      ++i;
-    } else if (!args[i].empty() && args[i][0] == '-') {
-      return usage_error(err, "unknown option " + args[i]);
-    } else if (scene_file) {
-      return usage_error(err, "more than one scene file");
-    } else {
-      scene_file = args[i];
-    }
-  }
+  const CommandArgs parsed = parse_command_args(args, {"--out", "--script"});
+  if (!parsed.problem.empty()) return usage_error(err, parsed.problem);
+  const std::optional<std::string>& scene_file = parsed.file;
+  std::optional<std::string> script_file, result_file;
+  if (parsed.options.contains("--script")) script_file = parsed.options.at("--script");
+  if (parsed.options.contains("--out")) result_file = parsed.options.at("--out");
   if (!scene_file) return usage_error(err, "surgery needs a scene file");
   if (!script_file) return usage_error(err, "surgery needs --script SCRIPT.json");
   if (!result_file) return usage_error(err, "surgery needs --out RESULT.json");
