@@ -28,6 +28,10 @@ std::optional<User> AuthSessionsRepo::touch(std::string_view token, std::int64_t
   if (!q.step()) return std::nullopt;
   User user{q.int64(0), q.text(1), q.text(2), parse_role(q.text(3)).value_or(Role::trainee),
             q.int64(4)};
+  // End the read before writing. A write while the SELECT is still open would upgrade its read
+  // transaction, and if a session thread's connection has committed since the read began, SQLite
+  // answers SQLITE_BUSY_SNAPSHOT at once, without waiting on the busy timeout.
+  q.reset();
   db_.prepare("UPDATE auth_sessions SET expires_at = ? WHERE token_hash = ?")
       .bind(1, now + ttl_s)
       .bind_blob(2, hash)

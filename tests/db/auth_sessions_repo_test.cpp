@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "db/password.h"
@@ -103,6 +105,31 @@ TEST_F(AuthSessionsRepoTest, OnlyAHashOfTheTokenIsStored) {
 TEST_F(AuthSessionsRepoTest, SessionOfAnUnknownUserIsRefused) {
   EXPECT_THROW(sessions_.create(ann_ + 100, 1000, 100), ConstraintError);
   EXPECT_EQ(row_count(db(), "auth_sessions"), 0);
+}
+
+// A request checks its cookie (touch) while a live session's own connection writes to the same
+// file. Touch must never fail with "database is locked": its write has to wait on the busy timeout,
+// which SQLite does not do when a read transaction is upgraded after another connection committed.
+TEST_F(AuthSessionsRepoTest, TouchSurvivesAnotherConnectionWriting) {
+  const std::string token = sessions_.create(ann_, 1000, 1'000'000);
+  auto other = tmp_.open_another();
+  std::atomic<bool> done = false;
+  std::thread writer([&] {
+    for (std::int64_t i = 0; !done; ++i) {
+      other->prepare("UPDATE users SET created_at = ? WHERE id = ?").bind(1, i).bind(2, ann_).run();
+    }
+  });
+  int touched = 0;
+  try {
+    for (; touched < 2000; ++touched)
+      ASSERT_TRUE(sessions_.touch(token, 1001 + touched, 100));
+  } catch (const DbError& e) {
+    ADD_FAILURE() << "touch " << touched << " failed: " << e.what();
+  }
+  done = true;
+  writer.join();
+  EXPECT_EQ(touched, 2000);
+  EXPECT_EQ(expiry_of(token), 1000 + 2000 + 100);
 }
 
 }  // namespace
