@@ -22,6 +22,12 @@
 // rigid motion is thus never damped in the rotation-invariant models, the viscous forces have no
 // net torque (P_v F^T = F S_v F^T is symmetric), and D is symmetric positive semi-definite.
 // add_forces uses the frame at x; add_damping_times uses the frame of the last prepare_stiffness.
+//
+// With A = F the viscous stiffness grows as |F|^2: a stretched sliver (F in the tens, after a cut)
+// becomes far stiffer in damping than the explicit step allows, and its growth feeds itself (a
+// blow-up within a few steps). So beta is scaled by viscous_scale(A) = min(1, 3 / |A|_F^2): never
+// more viscous stiffness than at rest (|I|_F^2 = 3), the value the stable step assumes. A scalar
+// keeps the stress torque-free and dissipative; elements stretched less than that are unchanged.
 #include <cmath>
 #include <concepts>
 #include <cstdint>
@@ -46,6 +52,12 @@ inline Mat3 linear_stress(const Mat3& e, const Lame& lame) {
 
 inline Mat3 sym(const Mat3& a) {
   return Real(0.5) * (a + a.transpose());
+}
+
+// The factor on beta for a damping frame A (see the header): min(1, 3 / |A|_F^2).
+inline Real viscous_scale(const Mat3& frame) {
+  const Real norm2 = frame.squaredNorm();
+  return norm2 > 3 ? 3 / norm2 : Real(1);
 }
 
 // The 3x3 block (b, a) of the element matrix of the linear elastic stress in a frame A,
@@ -99,7 +111,8 @@ class TetFemModel : public Model {
       if (beta > 0) {
         const Mat3 rate = edge_matrix(v, elements_.tets, t) * dm_inv;
         const Mat3& a = s.damping_frame;
-        s.first_piola += beta * a * linear_stress(sym(a.transpose() * rate), lame);
+        s.first_piola +=
+            beta * viscous_scale(a) * a * linear_stress(sym(a.transpose() * rate), lame);
       }
       scatter_stress(elements_, t, s.first_piola, f);
     }
@@ -137,7 +150,9 @@ class TetFemModel : public Model {
       const Mat3 rate = edge_matrix(dv, elements_.tets, t) * elements_.rest_inverse[ts];
       const Mat3 a = kernel_.damping_frame(states_[ts]);
       scatter_stress(elements_, t,
-                     -beta * a * linear_stress(sym(a.transpose() * rate), elements_.lame[ts]), out);
+                     -beta * viscous_scale(a) * a *
+                         linear_stress(sym(a.transpose() * rate), elements_.lame[ts]),
+                     out);
     }
   }
 
@@ -168,9 +183,9 @@ class TetFemModel : public Model {
   void add_damping_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const override {
     for (int t = 0; t < elements_.num_tets(); ++t) {
       if (!elements_.alive(t)) continue;
-      const Real beta = elements_.damping(t);
       const std::size_t ts = static_cast<std::size_t>(t);
       const Mat3 frame = kernel_.damping_frame(states_[ts]);
+      const Real beta = elements_.damping(t) * viscous_scale(frame);
       const Mat3 gram = frame * frame.transpose();
       const Gradients g = gradients(t);
       const Gradients h = frame * g;
@@ -209,8 +224,8 @@ class TetFemModel : public Model {
       const Lame& lame = elements_.lame[ts];
       const Real volume = elements_.rest_volume(t);
       const Gradients g = gradients(t);
-      const Real beta = damping_scale * elements_.damping(t);
       const Mat3 damping_frame = kernel_.damping_frame(states_[ts]);
+      const Real beta = damping_scale * elements_.damping(t) * viscous_scale(damping_frame);
       const Mat3 damping_gram = damping_frame * damping_frame.transpose();
       const Gradients hd = damping_frame * g;
       if constexpr (FrameLinearKernel<Kernel>) {

@@ -3,6 +3,7 @@
 // symmetric, triplets = add_stiffness_times.
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Sparse>
 
 #include <algorithm>
@@ -169,6 +170,35 @@ TEST_P(ModelLaws, DampingIsTheVelocityDerivativeAndSymmetricPositive) {
   const Real wv = flat(dw).dot(flat(d_dv));
   EXPECT_NEAR(vw, wv, 1e-12 * d_dv.norm() * dw.norm());
   EXPECT_GE(flat(dv).dot(flat(d_dv)), -1e-12 * d_dv.norm() * dv.norm());
+}
+
+// The largest eigenvalue of the damping matrix D at x (dense: the test meshes are small).
+Real largest_damping(Model& model, const Points& x) {
+  model.prepare_stiffness(x);
+  std::vector<Eigen::Triplet<Real>> triplets;
+  model.add_damping_triplets(triplets);
+  const auto n = 3 * x.rows();
+  Eigen::SparseMatrix<Real> d(n, n);
+  d.setFromTriplets(triplets.begin(), triplets.end());
+  const Eigen::MatrixXd dense(d);
+  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(dense, Eigen::EigenvaluesOnly)
+      .eigenvalues()
+      .maxCoeff();
+}
+
+// A tet stretched tenfold (a sliver a cut left, pulled) must not become ~100 times stiffer in
+// damping than at rest, or the explicit step the scene chose for its rest shape blows up: the
+// FEM models scale beta by min(1, 3 / |F|_F^2), which bounds D by 3 times its rest value (the
+// worst case, a uniaxial stretch; tet_fem_model.h).
+TEST_P(ModelLaws, DampingOfAStretchedStateStaysWithinThreeTimesItsRestValue) {
+  if (factory_.name.rfind("mss", 0) == 0) GTEST_SKIP() << "springs have their own damping";
+  const Real at_rest = largest_damping(*model_, mesh_.rest);
+  ASSERT_GT(at_rest, 0);
+  for (const Vec3& stretch : {Vec3(10, 1, 1), Vec3(0.3, 6, 1), Vec3(4, 4, 4)}) {
+    const Points x =
+        rigidly_moved(mesh_.rest * stretch.asDiagonal(), random_rotation(5), Vec3(0.1, -0.2, 0.05));
+    EXPECT_LE(largest_damping(*model_, x), 3 * at_rest * (1 + 1e-9)) << stretch.transpose();
+  }
 }
 
 // K dx against the central difference of the forces. Exact (to the difference's error) for every
