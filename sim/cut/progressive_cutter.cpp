@@ -4,20 +4,22 @@
 #include <array>
 #include <climits>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "sim/cut/material_map.h"
 #include "sim/mesh/tet_adjacency.h"
 
 namespace incise::sim::cut {
 namespace {
 
-Box3 tet_box(const TetMesh& mesh, int t) {
+Box3 tet_box(const Points& positions, const Tets& tets, int t) {
   Box3 box;
   for (int k = 0; k < 4; ++k)
-    box.extend(row3(mesh.x, mesh.tets(t, k)));
+    box.extend(row3(positions, tets(t, k)));
   return box;
 }
 
@@ -27,8 +29,9 @@ Box3 grown(const Box3& box, Real by) {
 
 }  // namespace
 
-ProgressiveCutter::ProgressiveCutter(TetMesh& mesh, const CutOptions& options, Real pose_spacing)
-    : mesh_(mesh), options_(options) {
+ProgressiveCutter::ProgressiveCutter(TetMesh& mesh, const CutOptions& options, Real pose_spacing,
+                                     BladeSpace space)
+    : mesh_(mesh), options_(options), space_(space) {
   if (!(options.snap > 0 && options.snap < 0.5)) {
     throw std::invalid_argument("cut snap fraction " + std::to_string(options.snap) +
                                 " is outside (0, 0.5)");
@@ -43,7 +46,7 @@ ProgressiveCutter::ProgressiveCutter(TetMesh& mesh, const CutOptions& options, R
     const Edges edges = unique_edges(mesh.tets);
     Real sum = 0;
     for (Eigen::Index e = 0; e < edges.rows(); ++e)
-      sum += (row3(mesh.x, edges(e, 0)) - row3(mesh.x, edges(e, 1))).norm();
+      sum += (row3(cut_positions(), edges(e, 0)) - row3(cut_positions(), edges(e, 1))).norm();
     pose_spacing_ = 0.25 * sum / static_cast<Real>(edges.rows());
   }
 }
@@ -71,11 +74,11 @@ void ProgressiveCutter::collect_region(const Box3& quad_box) {
     marked_.resize(static_cast<std::size_t>(mesh_.num_nodes()), 0);
   Real diameter = 0;
   for (int t = 0; t < mesh_.num_tets(); ++t)
-    diameter = std::max(diameter, tet_box(mesh_, t).sizes().norm());
+    diameter = std::max(diameter, tet_box(cut_positions(), mesh_.tets, t).sizes().norm());
   const Box3 near = grown(quad_box, diameter);
   active_slots_.clear();
   for (int t = 0; t < mesh_.num_tets(); ++t) {
-    if (!tet_box(mesh_, t).intersects(near)) continue;
+    if (!tet_box(cut_positions(), mesh_.tets, t).intersects(near)) continue;
     active_slots_.push_back(t);
     for (int k = 0; k < 4; ++k)
       marked_[static_cast<std::size_t>(mesh_.tets(t, k))] = 1;
@@ -122,10 +125,16 @@ void ProgressiveCutter::extract_region() {
   region_.rest.resize(num_nodes, 3);
   region_.x.resize(num_nodes, 3);
   region_.v.resize(num_nodes, 3);
+  // In material space the region's x holds the rest positions and its rest the current ones: the
+  // cut finds crossings on x, and interpolates new nodes alike in both, so swapping is exact
+  // (write_back swaps them back).
+  const bool swap = space_ == BladeSpace::material;
+  Points& region_rest = swap ? region_.x : region_.rest;
+  Points& region_x = swap ? region_.rest : region_.x;
   for (Eigen::Index i = 0; i < num_nodes; ++i) {
     const int node = region_nodes_[static_cast<std::size_t>(i)];
-    region_.rest.row(i) = mesh_.rest.row(node);
-    region_.x.row(i) = mesh_.x.row(node);
+    region_rest.row(i) = mesh_.rest.row(node);
+    region_x.row(i) = mesh_.x.row(node);
     region_.v.row(i) = mesh_.v.row(node);
     local_of_[static_cast<std::size_t>(node)] = -1;  // reset for the next frame
   }
@@ -160,9 +169,12 @@ int ProgressiveCutter::write_back(bool save) {
   const int new_nodes = region_.num_nodes() - region_num_nodes_;
   for (Points* points : {&mesh_.rest, &mesh_.x, &mesh_.v})
     points->conservativeResize(node_base + new_nodes, 3);
+  const bool swap = space_ == BladeSpace::material;  // as extract_region
+  const Points& region_rest = swap ? region_.x : region_.rest;
+  const Points& region_x = swap ? region_.rest : region_.x;
   for (int i = 0; i < new_nodes; ++i) {
-    mesh_.rest.row(node_base + i) = region_.rest.row(region_num_nodes_ + i);
-    mesh_.x.row(node_base + i) = region_.x.row(region_num_nodes_ + i);
+    mesh_.rest.row(node_base + i) = region_rest.row(region_num_nodes_ + i);
+    mesh_.x.row(node_base + i) = region_x.row(region_num_nodes_ + i);
     mesh_.v.row(node_base + i) = region_.v.row(region_num_nodes_ + i);
     region_nodes_.push_back(node_base + i);
   }
@@ -180,6 +192,16 @@ int ProgressiveCutter::write_back(bool save) {
     region_slots_.push_back(tet_base + k);
     frame_.changed_tets.push_back(tet_base + k);
   }
+  if (swap && save) {
+    // The blade's temporary pieces are oriented by split_front_tets on the region's "rest", which
+    // here is the current configuration: orient them on the true rest positions.
+    for (int t : frame_.changed_tets) {
+      if (t >= mesh_.num_tets()) continue;
+      const auto corner = [&](int k) { return row3(mesh_.rest, mesh_.tets(t, k)); };
+      if (signed_volume(corner(0), corner(1), corner(2), corner(3)) < 0)
+        std::swap(mesh_.tets(t, 0), mesh_.tets(t, 1));
+    }
+  }
   region_num_nodes_ = region_.num_nodes();
   region_num_tets_ = region_.num_tets();
   return new_tets;
@@ -190,6 +212,20 @@ const FrameReport& ProgressiveCutter::update(const Vec3& a, const Vec3& b) {
   frame_ = FrameReport{};
   frame_.tets_before = mesh_.num_tets();
   undo_temporary();
+  if (space_ == BladeSpace::material) {
+    const std::optional<MaterialMap> map =
+        material_map_at(mesh_, a, (a - b).norm() + 4 * pose_spacing_);
+    if (!map) {
+      frame_.blade_unmapped = true;
+      finish_changed();
+      return frame_;
+    }
+    return update_in_space(map->rest_of(a), map->rest_of(b));
+  }
+  return update_in_space(a, b);
+}
+
+const FrameReport& ProgressiveCutter::update_in_space(const Vec3& a, const Vec3& b) {
   // The previous pose stays in the strip if the blade has moved pose_spacing from the last kept
   // one; else the current pose replaces it (the strip's last quad stretches).
   if (stroke_a_.size() >= 2 &&
@@ -285,10 +321,7 @@ const FrameReport& ProgressiveCutter::update(const Vec3& a, const Vec3& b) {
       }
     }
   }
-  std::vector<int>& changed = frame_.changed_tets;
-  std::sort(changed.begin(), changed.end());
-  changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
-  changed.erase(std::lower_bound(changed.begin(), changed.end(), mesh_.num_tets()), changed.end());
+  finish_changed();
   return frame_;
 }
 
@@ -298,6 +331,10 @@ void ProgressiveCutter::end_stroke() {
   undo_temporary();
   stroke_a_.clear();
   stroke_b_.clear();
+  finish_changed();
+}
+
+void ProgressiveCutter::finish_changed() {
   std::vector<int>& changed = frame_.changed_tets;
   std::sort(changed.begin(), changed.end());
   changed.erase(std::unique(changed.begin(), changed.end()), changed.end());

@@ -23,6 +23,15 @@
 // last quad stretches meanwhile), so a slow hand does not pile up thin quads: exact for straight
 // strokes, off a curved one by O(spacing^2 x curvature).
 //
+// Blade space: update always takes the blade in the current configuration. BladeSpace::current
+// keeps the strip there and finds the crossings on the current positions. BladeSpace::material
+// maps each blade pose into the rest configuration, through the tet the blade's tip is in (after
+// the temporary pieces are undone; material_map.h), and finds the crossings on the rest
+// positions: the strip is then embedded in the material. With a strip fixed in space, tissue that
+// moves under it (a crack opening, the organ still ringing from a probe) is crossed again and
+// again by the same old quads; each pass slices the pieces thinner (a 0.5 mm wobble turned a 40 mm
+// stroke through 1758 tets into 620,000 tets). In material space a piece is crossed once.
+//
 // Representation for a model: the mesh holds the committed tets in slots [0, committed_tets())
 // and nodes [0, committed_nodes()), then the temporary ones; temporary pieces of a committed tet
 // take its slot (saved and restored on undo) and the following slots, temporary nodes (split
@@ -43,6 +52,8 @@
 
 namespace incise::sim::cut {
 
+enum class BladeSpace { current, material };
+
 struct FrameReport {
   int tets_before = 0;         // #tets after the previous frame
   int region_tets = 0;         // tets of the local region this frame
@@ -52,9 +63,13 @@ struct FrameReport {
   // tracker records as cut (tools::DamageTracker::record_cut).
   Triangles committed_crack_face_nodes;
   std::vector<int> committed_crack_face_labels;  // the tissue label of the piece each bounds
-  int front_tets = 0;                            // tets the blade is inside
-  int temporary_tets = 0;                        // temporary pieces now in the mesh
-  int temporary_nodes = 0;                       // temporary nodes now in the mesh (at the end)
+  // Material space only: no tet near the blade's tip, or that tet is squashed or inverted, so
+  // the blade has no place in the material and nothing was cut this frame (the temporary pieces
+  // were still undone; the stroke goes on).
+  bool blade_unmapped = false;
+  int front_tets = 0;               // tets the blade is inside
+  int temporary_tets = 0;           // temporary pieces now in the mesh
+  int temporary_nodes = 0;          // temporary nodes now in the mesh (at the end)
   std::vector<int> changed_tets;    // slots < #tets whose row changed this frame, ascending
   Triangles temporary_crack_faces;  // the temporary crack's boundary faces (both sides)
 };
@@ -64,10 +79,12 @@ class ProgressiveCutter {
   // Cuts mesh in place; mesh must outlive the cutter and change only through it (positions and
   // velocities may be moved by the simulation).
   //   pose_spacing  [m] the strip's pose spacing; 0 for a quarter of the mean edge length
+  //   space         where update's blade and the crossings are (see above)
   // Throws std::invalid_argument for options.snap outside (0, 0.5) or a negative pose_spacing.
-  explicit ProgressiveCutter(TetMesh& mesh, const CutOptions& options = {}, Real pose_spacing = 0);
+  explicit ProgressiveCutter(TetMesh& mesh, const CutOptions& options = {}, Real pose_spacing = 0,
+                             BladeSpace space = BladeSpace::current);
 
-  // One haptic frame: the blade's cutting edge is (a, b) [m, current configuration]. The first
+  // One haptic frame: the blade's cutting edge is (a, b) [m, in the blade space]. The first
   // pose of a stroke only starts it. Throws std::invalid_argument if a == b.
   const FrameReport& update(const Vec3& a, const Vec3& b);
 
@@ -81,14 +98,24 @@ class ProgressiveCutter {
 
  private:
   void undo_temporary();
+  // update's work after the undo, with the blade in the blade space.
+  const FrameReport& update_in_space(const Vec3& a, const Vec3& b);
+  // Sorts and uniques frame_.changed_tets and drops slots that have gone.
+  void finish_changed();
   void collect_region(const Box3& quad_box);
   void extract_region();
   // Writes the region mesh region_ back; rows of region slots that differ are recorded (saved
   // first if save), appended tets and nodes appended. Returns the #new tets.
   int write_back(bool save);
 
+  // The positions the crossings are found on: mesh_.x or, in material space, mesh_.rest.
+  const Points& cut_positions() const {
+    return space_ == BladeSpace::material ? mesh_.rest : mesh_.x;
+  }
+
   TetMesh& mesh_;
   CutOptions options_;
+  BladeSpace space_ = BladeSpace::current;
   int committed_nodes_ = 0;
   int committed_tets_ = 0;
   std::vector<std::pair<int, std::array<int, 4>>> saved_rows_;  // committed rows under temp

@@ -72,6 +72,8 @@ void validate(const SurgicalSceneSpec& spec) {
           "bone_stiffness must be > 0");
   require(spec.wave_speed > 0 && std::isfinite(spec.wave_speed), "wave_speed must be > 0");
   require(spec.damping_time >= 0 && std::isfinite(spec.damping_time), "damping_time must be >= 0");
+  require(spec.ambient_damping >= 0 && std::isfinite(spec.ambient_damping),
+          "ambient_damping must be >= 0");
   require(spec.cut_every >= 1, "cut_every must be >= 1");
   require(spec.damage_every >= 1, "damage_every must be >= 1");
   for (std::size_t k = 0; k < spec.tools.size(); ++k) {
@@ -104,6 +106,7 @@ SurgicalScene::SurgicalScene(SurgicalSceneSpec spec) : spec_(std::move(spec)) {
   validate(spec_);
   tissue_ = std::make_unique<TissueBody>(spec_.tissue, spec_.model, spec_.fixed, spec_.dt,
                                          spec_.wave_speed, spec_.damping_time);
+  tissue_->set_ambient_damping(spec_.ambient_damping);
   for (std::size_t b = 0; b < spec_.bones.size(); ++b) {
     try {
       bones_.emplace_back(spec_.bones[b].vertices, spec_.bones[b].triangles);
@@ -295,19 +298,21 @@ void SurgicalScene::cut(Tool& tool, int index) {
   std::vector<int> near;
   tissue_->bvh().overlapping_triangles(mesh.x, collide::Capsule{a, b, 1e-4}, near);
   if (!tool.stroke && near.empty()) return;
-  // The blade's crossings are found in the deformed configuration: where tets are inverted (a
-  // violent push has tangled the tissue) they mean nothing, so the cut waits until the tissue
-  // has recovered, and says so (cuts_refused).
-  if (tissue_->model().health().inverted_elements > 0) {
-    ++cuts_refused_;
-    return;
+  // The blade cuts the material it passes through: the cutter maps it into the rest
+  // configuration through the tet its tip is in, so tissue moving under the blade is not cut
+  // again (progressive_cutter.h). Where that tet is squashed or inverted (a violent push has
+  // tangled the tissue there) the blade has no place in the material: the cut waits until the
+  // tissue has recovered, and says so (cuts_refused).
+  if (!tool.cutter) {
+    tool.cutter = std::make_unique<cut::ProgressiveCutter>(mesh, cut::CutOptions{}, 0,
+                                                           cut::BladeSpace::material);
   }
-  if (!tool.cutter) tool.cutter = std::make_unique<cut::ProgressiveCutter>(mesh);
   const cut::FrameReport& report = tool.cutter->update(a, b);
   const int tets_before = report.tets_before;
   const std::vector<int> changed = report.changed_tets;
   const Triangles committed = report.committed_crack_face_nodes;
   const std::vector<int> labels = report.committed_crack_face_labels;
+  if (report.blade_unmapped && !near.empty()) ++cuts_refused_;
   tool.stroke = !near.empty() || report.front_tets > 0;
   if (!tool.stroke) {
     // The blade has left the tissue: its temporary pieces go.

@@ -88,6 +88,12 @@ struct SurgicalSceneSpec {
   // The models' Kelvin-Voigt damping time beta [s] (scene_run.h: damping * l_min / c for the
   // FEM models), >= 0: the stability guard for slivers includes it.
   Real damping_time = 0;
+  // [1/s], >= 0: mass-proportional damping of the tissue's motion, standing for what surrounds
+  // it (the abdomen's fluid and neighbouring organs, the joint capsule): a free node's velocity
+  // decays as exp(-ambient_damping t). The Kelvin-Voigt damping above acts on strain rates and
+  // barely touches an organ's lowest modes: without this, a liver a tool has jerked swings for
+  // seconds (and tangles) where a real one settles in a fraction of a second.
+  Real ambient_damping = 0;
   Vec3 gravity = Vec3::Zero();  // [m/s^2]
   Real bone_stiffness = 2000;   // penalty of a tool against a bone [N/m], > 0
   int cut_every = 10;           // steps between scalpel updates, >= 1
@@ -152,8 +158,9 @@ class SurgicalScene {
   const tools::DamageTracker& damage_tracker() const { return *damage_; }
   // Whether every tissue position and velocity is finite.
   bool state_finite() const;
-  // Scalpel updates refused because tets were inverted (the cut waits for the tissue to recover;
-  // an open stroke ends).
+  // Scalpel updates refused because the tet at the blade's tip was squashed or inverted (the cut
+  // waits for the tissue there to recover; the stroke stays open while the blade is in the
+  // tissue).
   int cuts_refused() const { return cuts_refused_; }
   // Strain records skipped because a strain was not finite (a running-away state).
   int strain_records_skipped() const { return strain_records_skipped_; }

@@ -5,6 +5,7 @@
 add_executable(sim_cutting_tests
   cutting/cut_checks.cpp
   cutting/cut_mesh_test.cpp
+  cutting/material_map_test.cpp
   cutting/progressive_cutter_test.cpp
   cutting/simplify_cut_test.cpp
   cutting/tet_split_test.cpp
