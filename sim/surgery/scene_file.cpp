@@ -252,6 +252,10 @@ void read_damage(const json& value, Real& strain_threshold, Real& target_half_wi
 template <typename SceneOptions>
 void read_common(const JsonObjectReader& root, SceneOptions& options) {
   if (root.has("tools")) options.tools = read_tools(root, SceneOptions::default_tools());
+  if (root.has("ambient_damping")) {
+    options.ambient_damping = root.number("ambient_damping");
+    check_range(root.path("ambient_damping"), options.ambient_damping, 0, true, kInfinity, false);
+  }
   if (root.has("damage")) {
     read_damage(root.required("damage"), options.strain_threshold, options.target_half_width);
   }
@@ -263,9 +267,9 @@ SurgicalSceneFile parse_surgical_scene_file(const json& value) {
   if (!value.is_object()) {
     throw SceneError("", "the scene must be a JSON object (got " + describe(value) + ")");
   }
-  const JsonObjectReader root(
-      value, "",
-      {"description", "anatomy", "anatomy_options", "materials", "tools", "damage", "solver"});
+  const JsonObjectReader root(value, "",
+                              {"description", "anatomy", "anatomy_options", "materials",
+                               "ambient_damping", "tools", "damage", "solver"});
   if (root.has("description")) (void)root.string("description");
   SurgicalSceneFile file;
   const std::string anatomy = root.string("anatomy");

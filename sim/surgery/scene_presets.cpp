@@ -87,6 +87,7 @@ SurgicalSceneSetup make_liver_surgery(const LiverSceneOptions& options) {
   spec.tissue = std::move(liver.organ);
   spec.model = model_of(materials);
   set_step(spec, materials);
+  spec.ambient_damping = options.ambient_damping;
   spec.tools = options.tools;
   spec.damage.strain_thresholds = {{kLiverLabel, options.strain_threshold},
                                    {kGallbladderBedLabel, options.strain_threshold}};
@@ -109,6 +110,7 @@ SurgicalSceneSetup make_knee_surgery(const KneeSceneOptions& options) {
   spec.tissue = std::move(knee.tissue);
   spec.model = model_of(materials);
   set_step(spec, materials);
+  spec.ambient_damping = options.ambient_damping;
   spec.tools = options.tools;
   spec.bones = {{"femur", knee.femur.vertices, knee.femur.triangles},
                 {"tibia", knee.tibia.vertices, knee.tibia.triangles}};

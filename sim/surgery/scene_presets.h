@@ -38,6 +38,9 @@ struct LiverSceneOptions {
   Material liver{MaterialModel::corotational_polar, 4000, 0.45, 1050, 0.3, 0};
   Real strain_threshold = 0.4;     // max principal Green strain that damages the liver [-]
   Real target_half_width = 0.003;  // a cut within this of the marked line is on target [m]
+  // What surrounds the tissue, as mass-proportional damping [1/s] (SurgicalSceneSpec): a time
+  // constant of 50 ms, about critical for the organ's lowest mode.
+  Real ambient_damping = 20;
   std::vector<ToolSpec> tools = default_tools();
   static std::vector<ToolSpec> default_tools();  // a probe on device 0, a grasper on device 1
 };
@@ -50,6 +53,9 @@ struct KneeSceneOptions {
   Material ligament{MaterialModel::corotational_polar, 60000, 0.3, 1100, 0.3, 0};
   Real strain_threshold = 0.25;
   Real target_half_width = 0.0015;
+  // What surrounds the tissue, as mass-proportional damping [1/s] (SurgicalSceneSpec): a time
+  // constant of 50 ms, about critical for the organ's lowest mode.
+  Real ambient_damping = 20;
   std::vector<ToolSpec> tools = default_tools();
   static std::vector<ToolSpec> default_tools();  // a scope on device 0, a probe on device 1
 };

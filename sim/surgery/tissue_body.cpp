@@ -103,7 +103,15 @@ void TissueBody::begin_step() {
   forces_ = internal_;
 }
 
+void TissueBody::set_ambient_damping(Real per_second) {
+  if (!(per_second >= 0 && std::isfinite(per_second))) {
+    throw std::invalid_argument("tissue: ambient damping must be >= 0");
+  }
+  ambient_damping_ = per_second;
+}
+
 void TissueBody::end_step(Real dt, const Vec3& gravity, const Prescribed& prescribed) {
+  if (ambient_damping_ > 0) mesh_.v /= 1 + ambient_damping_ * dt;
   symplectic_euler_step(dt, gravity, inv_mass_, prescribed, forces_, mesh_.x, mesh_.v);
 }
 

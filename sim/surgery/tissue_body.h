@@ -68,6 +68,12 @@ class TissueBody {
   // What the tools added this step (forces() - internal()) [N]. Allocates.
   Points external() const { return forces_ - internal_; }
 
+  // Mass-proportional damping [1/s] (SurgicalSceneSpec::ambient_damping), >= 0; 0 at first.
+  // Applied implicitly: v / (1 + a dt) each step, so any value is stable.
+  // Throws std::invalid_argument for a negative or non-finite value.
+  void set_ambient_damping(Real per_second);
+  Real ambient_damping() const { return ambient_damping_; }
+
   void begin_step();
   // Throws std::invalid_argument for dt <= 0 (as symplectic_euler_step).
   void end_step(Real dt, const Vec3& gravity, const Prescribed& prescribed);
@@ -106,6 +112,7 @@ class TissueBody {
   Real dt_;
   Real wave_speed_;
   Real damping_time_;
+  Real ambient_damping_ = 0;
   std::vector<Real> mass_scale_;  // per node, >= 1
   int mass_scaled_nodes_ = 0;
   Real max_mass_scale_ = 1;

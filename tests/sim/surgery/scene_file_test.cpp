@@ -80,6 +80,7 @@ void expect_same_setup(const SurgicalSceneSetup& a, const SurgicalSceneSetup& b)
   EXPECT_EQ(s.dt, t.dt);
   EXPECT_EQ(s.wave_speed, t.wave_speed);
   EXPECT_EQ(s.damping_time, t.damping_time);
+  EXPECT_EQ(s.ambient_damping, t.ambient_damping);
   EXPECT_EQ(s.cut_every, t.cut_every);
   EXPECT_EQ(s.damage_every, t.damage_every);
   ASSERT_EQ(s.bones.size(), t.bones.size());
@@ -155,7 +156,7 @@ TEST(SceneFile, DefaultsAreThePresets) {
     "anatomy": "knee", "anatomy_options": {"flexion_deg": 30},
     "materials": {"ligament": {"E": 80000}},
     "tools": [{"kind": "probe", "device": 1}, {"kind": "grasper", "device": 0, "tear_force": 2}],
-    "solver": {"cut_every": 5}})"));
+    "ambient_damping": 0, "solver": {"cut_every": 5}})"));
   const KneeSceneOptions knee_preset;
   EXPECT_EQ(knee.knee.anatomy.flexion_deg, 30);
   EXPECT_EQ(knee.knee.anatomy.voxel_size, knee_preset.anatomy.voxel_size);
@@ -168,6 +169,10 @@ TEST(SceneFile, DefaultsAreThePresets) {
   grasper.grasp.tear_force = 2;
   expect_same_tool(knee.knee.tools[1], grasper, 1);
   EXPECT_EQ(knee.cut_every, 5);
+  EXPECT_EQ(knee.knee.ambient_damping, 0);
+  EXPECT_EQ(build_surgical_scene(knee).spec.ambient_damping, 0);
+  EXPECT_EQ(liver.liver.ambient_damping, preset.ambient_damping);
+  EXPECT_GT(preset.ambient_damping, 0);
 }
 
 struct BadCase {
@@ -182,7 +187,10 @@ TEST(SceneFile, EveryBadInputNamesItsPath) {
       {R"({"anatomy": "spleen"})", R"(anatomy: "spleen" is not one of liver, knee)"},
       {R"({"anatomy": "liver", "tool": []})",
        "tool: unknown key (expected one of: description, anatomy, anatomy_options, materials, "
-       "tools, damage, solver)"},
+       "ambient_damping, tools, damage, solver)"},
+      {R"({"anatomy": "liver", "ambient_damping": -1})", "ambient_damping: must be >= 0 (got -1)"},
+      {R"({"anatomy": "knee", "ambient_damping": "20"})",
+       R"(ambient_damping: must be a number (got "20"))"},
       {R"({"anatomy": "liver", "tools": {}})", "tools: must be an array (got {})"},
       {R"({"anatomy": "liver", "tools": [{"kind": "probe", "device": 0}, {"kind": "saw"}]})",
        R"(tools[1].kind: "saw" is not one of probe, grasper, scalpel, scope)"},
