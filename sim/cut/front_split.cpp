@@ -20,16 +20,16 @@ namespace {
 // against its four face planes (Cyrus-Beck). Returns false if the chord is empty or shorter than
 // 1e-6 of the segment. enter / leave: the face the chord enters / leaves by, or -1 where it starts
 // / ends inside the tet (an end of the blade inside the tissue).
-bool clip_chord(const TetMesh& mesh, int t, const Vec3& a, const Vec3& b, Real& s0, Real& s1,
-                int& enter, int& leave) {
+bool clip_chord(const Points& x, const Tets& tets, int t, const Vec3& a, const Vec3& b, Real& s0,
+                Real& s1, int& enter, int& leave) {
   s0 = 0;
   s1 = 1;
   enter = leave = -1;
   const Vec3 d = b - a;
   for (int k = 0; k < 4; ++k) {
-    const Vec3 p = row3(mesh.x, mesh.tets(t, kTetFaces[k][0]));
-    const Vec3 q = row3(mesh.x, mesh.tets(t, kTetFaces[k][1]));
-    const Vec3 r = row3(mesh.x, mesh.tets(t, kTetFaces[k][2]));
+    const Vec3 p = row3(x, tets(t, kTetFaces[k][0]));
+    const Vec3 q = row3(x, tets(t, kTetFaces[k][1]));
+    const Vec3 r = row3(x, tets(t, kTetFaces[k][2]));
     const Vec3 n = (q - p).cross(r - p);  // outwards
     const Real f = n.dot(a - p);
     const Real g = n.dot(d);
@@ -127,6 +127,21 @@ std::pair<int, int> edge_key(int a, int b) {
 
 }  // namespace
 
+void blade_front_tets(const Points& x, const Tets& tets, const Vec3& a, const Vec3& b,
+                      std::vector<int>& out) {
+  out.clear();
+  const Box3 blade_box(a.cwiseMin(b), a.cwiseMax(b));
+  for (int t = 0; t < static_cast<int>(tets.rows()); ++t) {
+    Box3 box;
+    for (int k = 0; k < 4; ++k)
+      box.extend(row3(x, tets(t, k)));
+    if (!box.intersects(blade_box)) continue;
+    Real s0 = 0, s1 = 1;
+    int enter = -1, leave = -1;
+    if (clip_chord(x, tets, t, a, b, s0, s1, enter, leave)) out.push_back(t);
+  }
+}
+
 FrontSplitReport split_front_tets(TetMesh& mesh, const CutSurface& surface, const Vec3& a,
                                   const Vec3& b, const CutOptions& options) {
   if (mesh.x.rows() != mesh.rest.rows() || mesh.v.rows() != mesh.rest.rows() ||
@@ -152,7 +167,7 @@ FrontSplitReport split_front_tets(TetMesh& mesh, const CutSurface& surface, cons
       box.extend(row3(mesh.x, mesh.tets(t, k)));
     if (!box.intersects(blade_box)) continue;
     Front f{t, 0, 1, -1, -1};
-    if (clip_chord(mesh, t, a, b, f.s0, f.s1, f.enter, f.leave)) fronts.push_back(f);
+    if (clip_chord(mesh.x, mesh.tets, t, a, b, f.s0, f.s1, f.enter, f.leave)) fronts.push_back(f);
   }
   report.front_tets = static_cast<int>(fronts.size());
   if (fronts.empty()) return report;

@@ -44,6 +44,11 @@ struct FrontSplitReport {
   Triangles crack_faces;          // the opened crack faces, both sides, final node indices
 };
 
+// The tets (slots, ascending) whose interior the blade edge (a, b) crosses in positions x: the
+// ones split_front_tets calls front tets. out is cleared first. O(#tets), a box test per tet.
+void blade_front_tets(const Points& x, const Tets& tets, const Vec3& a, const Vec3& b,
+                      std::vector<int>& out);
+
 // Splits, in place, the tets of mesh that the blade edge (a, b) [m, current configuration] is
 // inside, along surface (the surface swept so far, ending at the blade), and opens the crack
 // behind the blade. Nodes are appended to rest, x, v; a split tet's first piece takes its slot,

@@ -102,6 +102,99 @@ void ProgressiveCutter::collect_region(const Box3& quad_box) {
   }
 }
 
+void ProgressiveCutter::collect_star(const std::vector<int>& seeds) {
+  // The region: every tet sharing a node with a seed (the seeds' stars), no tet active.
+  if (marked_.size() < static_cast<std::size_t>(mesh_.num_nodes()))
+    marked_.resize(static_cast<std::size_t>(mesh_.num_nodes()), 0);
+  for (int t : seeds) {
+    for (int k = 0; k < 4; ++k)
+      marked_[static_cast<std::size_t>(mesh_.tets(t, k))] = 1;
+  }
+  region_slots_.clear();
+  region_active_.clear();
+  for (int t = 0; t < mesh_.num_tets(); ++t) {
+    bool in = false;
+    for (int k = 0; k < 4; ++k)
+      in = in || marked_[static_cast<std::size_t>(mesh_.tets(t, k))] != 0;
+    if (!in) continue;
+    region_slots_.push_back(t);
+    region_active_.push_back(0);
+  }
+  for (int t : seeds) {
+    for (int k = 0; k < 4; ++k)
+      marked_[static_cast<std::size_t>(mesh_.tets(t, k))] = 0;
+  }
+}
+
+CutSurface ProgressiveCutter::region_surface() const {
+  // The stroke's quads that meet the region (older parts of the strip cannot cross its edges).
+  Box3 region_box;
+  for (int i = 0; i < region_num_nodes_; ++i)
+    region_box.extend(row3(region_.x, i));
+  std::vector<int> quads;
+  for (std::size_t k = 0; k + 1 < stroke_a_.size(); ++k) {
+    Box3 box;
+    for (const Vec3& p : {stroke_a_[k], stroke_b_[k], stroke_a_[k + 1], stroke_b_[k + 1]})
+      box.extend(p);
+    if (box.intersects(region_box)) quads.push_back(static_cast<int>(k));
+  }
+  CutSurface surface;
+  surface.vertices.resize(4 * static_cast<Eigen::Index>(quads.size()), 3);
+  surface.triangles.resize(2 * static_cast<Eigen::Index>(quads.size()), 3);
+  for (std::size_t q = 0; q < quads.size(); ++q) {
+    const auto k = static_cast<std::size_t>(quads[q]);
+    const auto v = 4 * static_cast<int>(q);
+    surface.vertices.row(v) = stroke_a_[k].transpose();
+    surface.vertices.row(v + 1) = stroke_b_[k].transpose();
+    surface.vertices.row(v + 2) = stroke_a_[k + 1].transpose();
+    surface.vertices.row(v + 3) = stroke_b_[k + 1].transpose();
+    surface.triangles.row(2 * static_cast<Eigen::Index>(q)) << v, v + 1, v + 3;
+    surface.triangles.row(2 * static_cast<Eigen::Index>(q) + 1) << v, v + 3, v + 2;
+  }
+  return surface;
+}
+
+void ProgressiveCutter::commit_complete_cuts(const CutSurface& surface) {
+  const CutReport committed = cut_mesh_active(region_, surface, region_active_, options_);
+  frame_.committed_crack_faces = static_cast<int>(committed.crack_faces.rows());
+  frame_.committed_new_tets = write_back(false);
+  frame_.committed_crack_face_labels.assign(static_cast<std::size_t>(committed.crack_faces.rows()),
+                                            0);
+  if (committed.crack_faces.rows() > 0) {
+    // The label of the piece each crack face bounds, found among the region's tets (each crack
+    // face is a face of exactly one of them) before the blade's temporary split changes them.
+    std::vector<std::pair<std::array<int, 3>, int>> faces;
+    for (int t = 0; t < region_.num_tets(); ++t) {
+      for (int k = 0; k < 4; ++k) {
+        std::array<int, 3> key = {region_.tets(t, (k + 1) % 4), region_.tets(t, (k + 2) % 4),
+                                  region_.tets(t, (k + 3) % 4)};
+        std::sort(key.begin(), key.end());
+        faces.push_back({key, region_.labels(t)});
+      }
+    }
+    std::sort(faces.begin(), faces.end());
+    for (Eigen::Index f = 0; f < committed.crack_faces.rows(); ++f) {
+      std::array<int, 3> key = {committed.crack_faces(f, 0), committed.crack_faces(f, 1),
+                                committed.crack_faces(f, 2)};
+      std::sort(key.begin(), key.end());
+      const auto it = std::lower_bound(faces.begin(), faces.end(), std::make_pair(key, INT_MIN));
+      if (it != faces.end() && it->first == key) {
+        frame_.committed_crack_face_labels[static_cast<std::size_t>(f)] = it->second;
+      }
+    }
+  }
+  // write_back appended the new nodes to region_nodes_: every local node has its global index.
+  frame_.committed_crack_face_nodes.resize(committed.crack_faces.rows(), 3);
+  for (Eigen::Index f = 0; f < committed.crack_faces.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      frame_.committed_crack_face_nodes(f, c) =
+          region_nodes_[static_cast<std::size_t>(committed.crack_faces(f, c))];
+    }
+  }
+  committed_nodes_ = mesh_.num_nodes();
+  committed_tets_ = mesh_.num_tets();
+}
+
 void ProgressiveCutter::extract_region() {
   if (local_of_.size() < static_cast<std::size_t>(mesh_.num_nodes()))
     local_of_.resize(static_cast<std::size_t>(mesh_.num_nodes()), -1);
@@ -220,12 +313,15 @@ const FrameReport& ProgressiveCutter::update(const Vec3& a, const Vec3& b) {
       finish_changed();
       return frame_;
     }
-    return update_in_space(map->rest_of(a), map->rest_of(b));
+    update_in_space(map->rest_of(a), map->rest_of(b));
+  } else {
+    update_in_space(a, b);
   }
-  return update_in_space(a, b);
+  finish_changed();
+  return frame_;
 }
 
-const FrameReport& ProgressiveCutter::update_in_space(const Vec3& a, const Vec3& b) {
+void ProgressiveCutter::update_in_space(const Vec3& a, const Vec3& b) {
   // The previous pose stays in the strip if the blade has moved pose_spacing from the last kept
   // one; else the current pose replaces it (the strip's last quad stretches).
   if (stroke_a_.size() >= 2 &&
@@ -237,92 +333,50 @@ const FrameReport& ProgressiveCutter::update_in_space(const Vec3& a, const Vec3&
   stroke_a_.push_back(a);
   stroke_b_.push_back(b);
   const std::size_t poses = stroke_a_.size();
-  if (poses >= 2) {
+  if (poses < 2) return;
+  // A tet is cut completely only once the blade has left it: while the set of front tets (those
+  // the blade is inside) keeps its members, there is nothing to commit, and the frame only redoes
+  // the blade's temporary pieces on the front's star. The check runs anyway every
+  // kCommitEvery frames, for a tet thinner than the blade's travel in a frame, which the blade
+  // can pass without being inside it at any frame.
+  blade_front_tets(cut_positions(), mesh_.tets, a, b, front_);
+  const bool commit = front_ != front_before_ || ++frames_since_commit_ >= kCommitEvery;
+  frame_.looked_for_cuts = commit;
+  if (commit) {
+    frames_since_commit_ = 0;
     Box3 quad_box;
     for (const Vec3& p : {stroke_a_[poses - 2], stroke_b_[poses - 2], a, b})
       quad_box.extend(p);
     collect_region(quad_box);
-    extract_region();
-    frame_.region_tets = region_num_tets_;
-    // The stroke's quads that meet the region (older parts of the strip cannot cross its edges).
-    Box3 region_box;
-    for (int i = 0; i < region_num_nodes_; ++i)
-      region_box.extend(row3(region_.x, i));
-    std::vector<int> quads;
-    for (std::size_t k = 0; k + 1 < poses; ++k) {
-      Box3 box;
-      for (const Vec3& p : {stroke_a_[k], stroke_b_[k], stroke_a_[k + 1], stroke_b_[k + 1]})
-        box.extend(p);
-      if (box.intersects(region_box)) quads.push_back(static_cast<int>(k));
-    }
-    CutSurface surface;
-    surface.vertices.resize(4 * static_cast<Eigen::Index>(quads.size()), 3);
-    surface.triangles.resize(2 * static_cast<Eigen::Index>(quads.size()), 3);
-    for (std::size_t q = 0; q < quads.size(); ++q) {
-      const auto k = static_cast<std::size_t>(quads[q]);
-      const auto v = 4 * static_cast<int>(q);
-      surface.vertices.row(v) = stroke_a_[k].transpose();
-      surface.vertices.row(v + 1) = stroke_b_[k].transpose();
-      surface.vertices.row(v + 2) = stroke_a_[k + 1].transpose();
-      surface.vertices.row(v + 3) = stroke_b_[k + 1].transpose();
-      surface.triangles.row(2 * static_cast<Eigen::Index>(q)) << v, v + 1, v + 3;
-      surface.triangles.row(2 * static_cast<Eigen::Index>(q) + 1) << v, v + 3, v + 2;
-    }
-    const CutReport committed = cut_mesh_active(region_, surface, region_active_, options_);
-    frame_.committed_crack_faces = static_cast<int>(committed.crack_faces.rows());
-    frame_.committed_new_tets = write_back(false);
-    // The label of the piece each crack face bounds, found among the region's tets (each crack
-    // face is a face of exactly one of them) before the blade's temporary split changes them.
-    {
-      std::vector<std::pair<std::array<int, 3>, int>> faces;
-      for (int t = 0; t < region_.num_tets(); ++t) {
-        for (int k = 0; k < 4; ++k) {
-          std::array<int, 3> key = {region_.tets(t, (k + 1) % 4), region_.tets(t, (k + 2) % 4),
-                                    region_.tets(t, (k + 3) % 4)};
-          std::sort(key.begin(), key.end());
-          faces.push_back({key, region_.labels(t)});
-        }
-      }
-      std::sort(faces.begin(), faces.end());
-      frame_.committed_crack_face_labels.assign(
-          static_cast<std::size_t>(committed.crack_faces.rows()), 0);
-      for (Eigen::Index f = 0; f < committed.crack_faces.rows(); ++f) {
-        std::array<int, 3> key = {committed.crack_faces(f, 0), committed.crack_faces(f, 1),
-                                  committed.crack_faces(f, 2)};
-        std::sort(key.begin(), key.end());
-        const auto it = std::lower_bound(faces.begin(), faces.end(), std::make_pair(key, INT_MIN));
-        if (it != faces.end() && it->first == key) {
-          frame_.committed_crack_face_labels[static_cast<std::size_t>(f)] = it->second;
-        }
-      }
-    }
-    // write_back appended the new nodes to region_nodes_: every local node has its global index.
-    frame_.committed_crack_face_nodes.resize(committed.crack_faces.rows(), 3);
-    for (Eigen::Index f = 0; f < committed.crack_faces.rows(); ++f) {
-      for (int c = 0; c < 3; ++c) {
-        frame_.committed_crack_face_nodes(f, c) =
-            region_nodes_[static_cast<std::size_t>(committed.crack_faces(f, c))];
-      }
-    }
-    committed_nodes_ = mesh_.num_nodes();
-    committed_tets_ = mesh_.num_tets();
-
-    const FrontSplitReport front = split_front_tets(region_, surface, a, b, options_);
-    frame_.front_tets = front.front_tets;
-    write_back(true);
-    frame_.temporary_tets =
-        mesh_.num_tets() - committed_tets_ + static_cast<int>(saved_rows_.size());
-    frame_.temporary_nodes = mesh_.num_nodes() - committed_nodes_;
-    frame_.temporary_crack_faces = front.crack_faces;
-    for (Eigen::Index f = 0; f < front.crack_faces.rows(); ++f) {
-      for (int c = 0; c < 3; ++c) {
-        const int local = front.crack_faces(f, c);
-        frame_.temporary_crack_faces(f, c) = region_nodes_[static_cast<std::size_t>(local)];
-      }
+  } else {
+    collect_star(front_);
+  }
+  extract_region();
+  frame_.region_tets = region_num_tets_;
+  CutSurface surface = region_surface();
+  if (commit) {
+    commit_complete_cuts(surface);
+    // The committed pieces took the front tets' slots and more: the front, as the next frame
+    // will compare it.
+    if (frame_.committed_new_tets > 0 || !frame_.changed_tets.empty()) {
+      blade_front_tets(cut_positions(), mesh_.tets, a, b, front_);
     }
   }
-  finish_changed();
-  return frame_;
+  front_before_ = front_;
+  if (front_.empty()) return;
+
+  const FrontSplitReport front = split_front_tets(region_, surface, a, b, options_);
+  frame_.front_tets = front.front_tets;
+  write_back(true);
+  frame_.temporary_tets = mesh_.num_tets() - committed_tets_ + static_cast<int>(saved_rows_.size());
+  frame_.temporary_nodes = mesh_.num_nodes() - committed_nodes_;
+  frame_.temporary_crack_faces = front.crack_faces;
+  for (Eigen::Index f = 0; f < front.crack_faces.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int local = front.crack_faces(f, c);
+      frame_.temporary_crack_faces(f, c) = region_nodes_[static_cast<std::size_t>(local)];
+    }
+  }
 }
 
 void ProgressiveCutter::end_stroke() {
@@ -331,6 +385,8 @@ void ProgressiveCutter::end_stroke() {
   undo_temporary();
   stroke_a_.clear();
   stroke_b_.clear();
+  front_before_.clear();
+  frames_since_commit_ = 0;
   finish_changed();
 }
 

@@ -5,10 +5,13 @@
 //   1. the previous frame's temporary pieces are undone (rows restored, arrays truncated);
 //   2. complete cuts are committed where the surface swept so far (this stroke's strip of blade
 //      poses) now crosses tets completely, i.e. where the blade has left them: cut_mesh_active
-//      on a local region only;
+//      on a local region only. A tet is complete only once the blade has left it, so this runs
+//      only on frames where the set of front tets (blade_front_tets) changed, and every 8th
+//      frame for a tet thinner than a frame's travel; most frames at hand speed skip it;
 //   3. the tets the blade is inside are split temporarily (split_front_tets), so that the crack
 //      is seen up to the blade. They are redone every frame from the committed tets (seed 001's
-//      Fig. 17 variant: the tet count grows only by committed cuts).
+//      Fig. 17 variant: the tet count grows only by committed cuts), on the front tets' stars
+//      only when step 2 was skipped.
 //
 // Local region: the tets whose (current) box meets the box B of the strip's last quad, grown by
 // the largest tet diameter D, are active (the surface grew only in B; the D margin lets a crack
@@ -55,9 +58,10 @@ namespace incise::sim::cut {
 enum class BladeSpace { current, material };
 
 struct FrameReport {
-  int tets_before = 0;         // #tets after the previous frame
-  int region_tets = 0;         // tets of the local region this frame
-  int committed_new_tets = 0;  // tets created by this frame's complete cuts
+  int tets_before = 0;           // #tets after the previous frame
+  int region_tets = 0;           // tets of the local region this frame
+  bool looked_for_cuts = false;  // step 2 ran this frame (else the front was unchanged)
+  int committed_new_tets = 0;    // tets created by this frame's complete cuts
   int committed_crack_faces = 0;
   // This frame's committed crack faces (both sides), as node indices of the mesh: what a damage
   // tracker records as cut (tools::DamageTracker::record_cut).
@@ -99,10 +103,16 @@ class ProgressiveCutter {
  private:
   void undo_temporary();
   // update's work after the undo, with the blade in the blade space.
-  const FrameReport& update_in_space(const Vec3& a, const Vec3& b);
+  void update_in_space(const Vec3& a, const Vec3& b);
   // Sorts and uniques frame_.changed_tets and drops slots that have gone.
   void finish_changed();
   void collect_region(const Box3& quad_box);
+  // The region as the stars of seeds (slots), none active: the blade's temporary pieces only.
+  void collect_star(const std::vector<int>& seeds);
+  // The strip's quads that meet the region's box.
+  CutSurface region_surface() const;
+  // The complete cuts of the region's active tets by surface, written back and reported.
+  void commit_complete_cuts(const CutSurface& surface);
   void extract_region();
   // Writes the region mesh region_ back; rows of region slots that differ are recorded (saved
   // first if save), appended tets and nodes appended. Returns the #new tets.
@@ -132,6 +142,11 @@ class ProgressiveCutter {
   TetMesh region_;
   int region_num_nodes_ = 0;
   int region_num_tets_ = 0;
+  // The front tets (the blade inside them) of this frame and of the last one, slots ascending,
+  // and the frames since complete cuts were last looked for (update_in_space).
+  static constexpr int kCommitEvery = 8;
+  std::vector<int> front_, front_before_;
+  int frames_since_commit_ = 0;
 };
 
 }  // namespace incise::sim::cut

@@ -18,7 +18,7 @@ int main() {
   const int tets_before = mesh.num_tets();
   cut::ProgressiveCutter cutter(mesh);
   const Vec3 along = Vec3(0.05, 0.02, 1).normalized();
-  std::vector<double> ms;
+  std::vector<double> ms, looked, skipped;
   int max_region = 0, max_temporary = 0;
   const int frames = 1400;
   for (int f = 0; f <= frames; ++f) {
@@ -27,6 +27,7 @@ int main() {
     const cut::FrameReport& report = cutter.update(centre - 0.05 * along, centre + 0.05 * along);
     ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
                      .count());
+    (report.looked_for_cuts ? looked : skipped).push_back(ms.back());
     max_region = std::max(max_region, report.region_tets);
     max_temporary = std::max(max_temporary, report.temporary_tets);
   }
@@ -36,6 +37,14 @@ int main() {
               mesh.num_tets() - tets_before, frames + 1);
   std::printf("update ms: median %.3f p99 %.3f max %.3f\n", ms[ms.size() / 2],
               ms[ms.size() * 99 / 100], ms.back());
+  for (auto* part : {&looked, &skipped}) {
+    std::sort(part->begin(), part->end());
+    if (part->empty()) continue;
+    std::printf(
+        "  %s: %zu frames, median %.3f ms, p99 %.3f ms\n",
+        part == &looked ? "frames looking for complete cuts" : "front unchanged (temporary only)",
+        part->size(), (*part)[part->size() / 2], (*part)[part->size() * 99 / 100]);
+  }
   std::printf("region tets max %d, temporary pieces max %d\n", max_region, max_temporary);
   return 0;
 }
