@@ -49,8 +49,9 @@ struct SurgicalScene::Tool {
   std::optional<tools::Probe> probe;  // probe and scope, made at the first input
   std::optional<tools::Grasper> grasper;
   std::unique_ptr<cut::ProgressiveCutter> cutter;
-  bool stroke = false;          // the scalpel's blade is in the tissue
-  tools::LocalForceModel bone;  // this step's bone contacts, on the tool at its tip
+  bool stroke = false;            // the scalpel's blade is in the tissue
+  std::vector<int> stroke_slots;  // committed slots the open stroke's complete cuts changed
+  tools::LocalForceModel bone;    // this step's bone contacts, on the tool at its tip
   bool touching_bone = false;
   Vec3 hand_force = Vec3::Zero();  // grasper: the tissue's pull on the hand
 };
@@ -314,6 +315,11 @@ void SurgicalScene::cut(Tool& tool, int index) {
   const std::vector<int> labels = report.committed_crack_face_labels;
   if (report.blade_unmapped && !near.empty()) ++cuts_refused_;
   tool.stroke = !near.empty() || report.front_tets > 0;
+  if (report.committed_new_tets > 0 || report.committed_crack_faces > 0) {
+    for (const int s : changed) {
+      if (s < tool.cutter->committed_tets()) tool.stroke_slots.push_back(s);
+    }
+  }
   if (!tool.stroke) {
     // The blade has left the tissue: its temporary pieces go.
     const int before = mesh.num_tets();
@@ -322,15 +328,73 @@ void SurgicalScene::cut(Tool& tool, int index) {
   } else if (!changed.empty() || mesh.num_tets() != tets_before) {
     after_topology_change(tets_before, changed);
   }
-  if (committed.rows() == 0) return;
-  // Recorded with the labels the cutter found: some of these faces are already split by the
-  // blade's temporary pieces, so no tet holds them now.
-  const tools::CutDamage cut = damage_->record_cut(mesh.rest, committed, labels);
-  char text[96];
-  std::snprintf(text, sizeof text, "%.1f mm^2, %.1f mm^2 off target", 1e6 * cut.area,
-                1e6 * cut.area_outside_target);
-  event(EventKind::cut, index, text);
-  if (cut.never_event) event(EventKind::never_event, index, "a protected tissue was cut");
+  if (committed.rows() > 0) {
+    // Recorded with the labels the cutter found: some of these faces are already split by the
+    // blade's temporary pieces, so no tet holds them now.
+    const tools::CutDamage cut = damage_->record_cut(mesh.rest, committed, labels);
+    char text[96];
+    std::snprintf(text, sizeof text, "%.1f mm^2, %.1f mm^2 off target", 1e6 * cut.area,
+                  1e6 * cut.area_outside_target);
+    event(EventKind::cut, index, text);
+    if (cut.never_event) event(EventKind::never_event, index, "a protected tissue was cut");
+  }
+  if (!tool.stroke) simplify_after_stroke(tool);
+}
+
+void SurgicalScene::simplify_after_stroke(Tool& tool) {
+  std::vector<int> region;
+  region.swap(tool.stroke_slots);
+  if (region.empty()) return;
+  // Node and slot numbers change: wait while another stroke is open or a grasper holds (their
+  // indices would go stale); the slivers stay until the next stroke ends.
+  for (const Tool& other : tools_) {
+    if (other.stroke) return;
+    if (other.grasper && (other.grasper->phase() == tools::GraspPhase::holding ||
+                          other.grasper->phase() == tools::GraspPhase::closing)) {
+      return;
+    }
+  }
+  std::sort(region.begin(), region.end());
+  region.erase(std::unique(region.begin(), region.end()), region.end());
+  region.erase(std::lower_bound(region.begin(), region.end(), tissue_->mesh().num_tets()),
+               region.end());
+  const int slots_before = std::max(damage_->num_slots(), tissue_->mesh().num_tets());
+  const cut::SimplifyReport report = tissue_->simplify(region, spec_.simplify);
+  collapses_ += report.collapses;
+  if (report.collapses == 0) return;
+  // Every cutter's numbering is stale (none has an open stroke): a new one is made at the next
+  // stroke.
+  for (Tool& t : tools_)
+    t.cutter.reset();
+  // The damage tracker's slots follow the compaction: a kept tet inherits its old slot's state.
+  const TetMesh& mesh = tissue_->mesh();
+  const int slots = std::max(slots_before, mesh.num_tets());
+  TetMesh view;
+  view.rest = mesh.rest;
+  view.tets.resize(slots, 4);
+  view.labels.resize(slots);
+  damage_alive_.assign(static_cast<std::size_t>(slots), 0);
+  std::vector<int> all(static_cast<std::size_t>(slots));
+  std::vector<int> parents(static_cast<std::size_t>(slots), -1);
+  for (int s = 0; s < slots; ++s) {
+    all[static_cast<std::size_t>(s)] = s;
+    const bool alive = s < mesh.num_tets();
+    view.tets.row(s) = mesh.tets.row(alive ? s : 0);
+    view.labels(s) = mesh.labels(alive ? s : 0);
+    damage_alive_[static_cast<std::size_t>(s)] = alive ? 1 : 0;
+  }
+  for (std::size_t old = 0; old < report.tet_map.size(); ++old) {
+    const int to = report.tet_map[old];
+    if (to >= 0 && static_cast<int>(old) < damage_->num_slots()) {
+      parents[static_cast<std::size_t>(to)] = static_cast<int>(old);
+    }
+  }
+  damage_->update_elements(view, damage_alive_, all, parents);
+  const int n = mesh.num_nodes();
+  prescribed_.mask = AxisMask::Zero(n, 3);
+  prescribed_.position = Points::Zero(n, 3);
+  prescribed_rows_.clear();
+  surface_nodes_ = tissue_->surface().nodes;
 }
 
 void SurgicalScene::after_topology_change(int tets_before, std::span<const int> changed) {

@@ -98,6 +98,9 @@ struct SurgicalSceneSpec {
   Real bone_stiffness = 2000;   // penalty of a tool against a bone [N/m], > 0
   int cut_every = 10;           // steps between scalpel updates, >= 1
   int damage_every = 10;        // steps between strain records, >= 1
+  // The slivers a stroke's cuts leave are collapsed once the stroke ends (seed 001 VII.C), with
+  // these settings; min_quality 0 turns it off.
+  cut::SimplifyOptions simplify;
 };
 
 enum class EventKind { grab, release, cut, collision, never_event };
@@ -164,11 +167,16 @@ class SurgicalScene {
   int cuts_refused() const { return cuts_refused_; }
   // Strain records skipped because a strain was not finite (a running-away state).
   int strain_records_skipped() const { return strain_records_skipped_; }
+  // Edge collapses made by the simplification after strokes (spec.simplify).
+  int collapses() const { return collapses_; }
 
  private:
   struct Tool;
 
   void cut(Tool& tool, int index);
+  // After a stroke: the slivers among the tets its complete cuts changed are collapsed
+  // (TissueBody::simplify), unless another stroke is open or a grasper holds.
+  void simplify_after_stroke(Tool& tool);
   void grasp(Tool& tool, int index);
   void bones(Tool& tool, int index);
   void after_topology_change(int tets_before, std::span<const int> changed);
@@ -193,6 +201,7 @@ class SurgicalScene {
   std::int64_t steps_ = 0;
   int cuts_refused_ = 0;
   int strain_records_skipped_ = 0;
+  int collapses_ = 0;
 };
 
 }  // namespace incise::sim::surgery

@@ -115,6 +115,25 @@ void TissueBody::end_step(Real dt, const Vec3& gravity, const Prescribed& prescr
   symplectic_euler_step(dt, gravity, inv_mass_, prescribed, forces_, mesh_.x, mesh_.v);
 }
 
+cut::SimplifyReport TissueBody::simplify(std::span<const int> region,
+                                         const cut::SimplifyOptions& options) {
+  cut::SimplifyReport report = cut::simplify_cut_region(mesh_, region, options);
+  if (report.collapses == 0) return report;
+  std::vector<char> fixed(static_cast<std::size_t>(mesh_.num_nodes()), 0);
+  for (std::size_t i = 0; i < report.node_map.size(); ++i) {
+    const int to = report.node_map[i];
+    if (to >= 0) fixed[static_cast<std::size_t>(to)] = fixed_[i];
+  }
+  fixed_ = std::move(fixed);
+  model_->update_topology(mesh_);
+  ++full_updates_;
+  update_inverse_masses();
+  rebuild_surface();
+  internal_.setZero(mesh_.num_nodes(), 3);
+  forces_.setZero(mesh_.num_nodes(), 3);
+  return report;
+}
+
 void TissueBody::topology_changed(int tets_before, std::span<const int> changed) {
   const int n = mesh_.num_nodes();
   const std::size_t old_nodes = fixed_.size();

@@ -18,6 +18,7 @@
 
 #include "sim/collide/surface_bvh.h"
 #include "sim/core/types.h"
+#include "sim/cut/simplify_cut.h"
 #include "sim/mesh/boundary_surface.h"
 #include "sim/mesh/tet_mesh.h"
 #include "sim/models/model.h"
@@ -85,6 +86,12 @@ class TissueBody {
   // rest point is a held node's (a cut's copies of an attachment stay attached); the surface and
   // its tree are rebuilt.
   void topology_changed(int tets_before, std::span<const int> changed);
+
+  // Removes the slivers among the region's tets (slots) by checked edge collapses
+  // (cut::simplify_cut_region: seed 001's inversion, topology and boundary checks) and compacts
+  // the mesh; held flags follow the nodes, and the model, masses, surface and tree are rebuilt.
+  // The report's tet_map and node_map say where each old slot and node went (-1: removed).
+  cut::SimplifyReport simplify(std::span<const int> region, const cut::SimplifyOptions& options);
 
   // Counts of topology_changed calls: whether the model could follow locally.
   int local_updates() const { return local_updates_; }

@@ -3,7 +3,7 @@
 // with their seeds, and the worst cases. Exits 1 on any failure, 2 on bad arguments.
 //
 //   surgery_stability [--sequences N] [--steps M] [--seed S] [--scene liver|knee|both]
-//                     [--seconds T] [--verbose]
+//                     [--seconds T] [--verbose] [--no-simplify]
 // Steps default to 1500 (liver) and 6000 (knee). Sequence k of a scene has seed S + k; --seconds
 // stops each scene after T / #scenes seconds (whatever --sequences says). Replay a failure: --scene
 // <it> --seed <its seed> --sequences 1.
@@ -31,12 +31,13 @@ struct Options {
   std::vector<std::string> scenes = {"liver", "knee"};
   double seconds = 0;    // 0: no time limit
   bool verbose = false;  // a line per sequence
+  bool simplify = true;  // --no-simplify: no sliver collapses after strokes (for comparison)
 };
 
 [[noreturn]] void usage(const std::string& why) {
   std::fprintf(stderr,
                "surgery_stability: %s\nusage: surgery_stability [--sequences N] [--steps M] "
-               "[--seed S] [--scene liver|knee|both] [--seconds T] [--verbose]\n",
+               "[--seed S] [--scene liver|knee|both] [--seconds T] [--verbose] [--no-simplify]\n",
                why.c_str());
   std::exit(2);
 }
@@ -47,6 +48,10 @@ Options parse(int argc, char** argv) {
     const std::string arg = argv[i];
     if (arg == "--verbose") {
       o.verbose = true;
+      continue;
+    }
+    if (arg == "--no-simplify") {
+      o.simplify = false;
       continue;
     }
     if (i + 1 >= argc) usage("missing a value after " + arg);
@@ -106,7 +111,8 @@ void print_worst(const std::vector<stab::SequenceResult>& results, const char* w
 int run_scene(const std::string& name, const Options& o, double budget) {
   using Clock = std::chrono::steady_clock;
   const auto built = Clock::now();
-  const incise::sim::surgery::SurgicalSceneSetup setup = stab::stability_scene(name);
+  incise::sim::surgery::SurgicalSceneSetup setup = stab::stability_scene(name);
+  if (!o.simplify) setup.spec.simplify.min_quality = 0;
   const stab::SceneGeometry geometry = stab::geometry_of(setup);
   const double build_seconds = std::chrono::duration<double>(Clock::now() - built).count();
   stab::GeneratorSettings generator = stab::default_generator(name);
@@ -192,6 +198,8 @@ int run_scene(const std::string& name, const Options& o, double budget) {
   print_worst(results, "peak mass-scaled nodes",
               [](const R& r) { return r.peak_mass_scaled_nodes; });
   print_worst(results, "max mass scale", [](const R& r) { return r.max_mass_scale; });
+  print_worst(results, "mass scale at end", [](const R& r) { return r.mass_scale_at_end; });
+  print_worst(results, "edge collapses", [](const R& r) { return r.collapses; });
   print_worst(results, "wall time [s]", [](const R& r) { return r.seconds; });
   for (const R& r : results) {
     if (!r.passed) {

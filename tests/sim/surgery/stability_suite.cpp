@@ -570,6 +570,8 @@ SequenceResult run_sequence(const SurgicalSceneSpec& spec, const std::string& sc
     r.inverted_at_end = tissue.model().health().inverted_elements;
     r.speed_at_end = tissue.mesh().v.rows() > 0 ? tissue.mesh().v.rowwise().norm().maxCoeff() : 0;
     r.final_tets = tissue.mesh().num_tets();
+    r.mass_scale_at_end = tissue.max_mass_scale();
+    r.collapses = s.collapses();
     r.cuts_refused = s.cuts_refused();
     if (ok && r.inverted_at_end > 0) {
       fail(r, std::to_string(r.inverted_at_end) + " elements still inverted after " +

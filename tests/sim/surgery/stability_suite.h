@@ -148,7 +148,9 @@ struct SequenceResult {
   int initial_nodes = 0, peak_nodes = 0;
   int cuts_refused = 0;
   int peak_mass_scaled_nodes = 0;
-  Real max_mass_scale = 1;
+  Real max_mass_scale = 1;     // the largest at any step (slivers of an open stroke included)
+  Real mass_scale_at_end = 1;  // after the strokes' simplification and the settle
+  int collapses = 0;           // edge collapses of the simplification after strokes
   std::array<int, kEventKinds> events{};
   std::array<int, kSegmentKinds> segments{};
   double seconds = 0;  // wall time
