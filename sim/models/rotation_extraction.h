@@ -19,6 +19,10 @@ QrRotation qr_rotation(const Mat3& deformation);
 // F = U Sigma V^T with the signs fixed so that U and V are rotations (an inverted F keeps a
 // negative last singular value, as in Irving et al. 2004, "Invertible finite elements"):
 // R = U V^T, and S = V Sigma V^T is symmetric.
+// Computed from the eigen decomposition of F^T F in closed form (falls back to the SVD for an F
+// flat to a line or a point).
 Mat3 polar_rotation(const Mat3& deformation);
+// The same rotation by Eigen's Jacobi SVD: slower (it iterates), the reference for the above.
+Mat3 polar_rotation_svd(const Mat3& deformation);
 
 }  // namespace incise::sim

@@ -6,6 +6,7 @@ add_executable(sim_models_tests
   models/model_fixtures.cpp
   models/model_laws_test.cpp
   models/projected_tangent_test.cpp
+  models/rotation_extraction_test.cpp
   models/system_blocks_test.cpp
   models/tet_elements_test.cpp
 )
