@@ -313,7 +313,11 @@ const FrameReport& ProgressiveCutter::update(const Vec3& a, const Vec3& b) {
       finish_changed();
       return frame_;
     }
-    update_in_space(map->rest_of(a), map->rest_of(b));
+    // The far end through the tissue near it (its own tet, or the nearest): extrapolating the
+    // tip's tet over the whole blade would swing the far end about as that tet deforms, and the
+    // strip would sweep material the blade never passed.
+    const std::optional<MaterialMap> far = material_map_at(mesh_, b, 4 * pose_spacing_);
+    update_in_space(map->rest_of(a), far ? far->rest_of(b) : map->rest_of(b));
   } else {
     update_in_space(a, b);
   }
