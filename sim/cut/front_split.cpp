@@ -127,6 +127,12 @@ std::pair<int, int> edge_key(int a, int b) {
 
 }  // namespace
 
+bool chord_in_tet(const Points& x, const Tets& tets, int t, const Vec3& a, const Vec3& b, Real& s0,
+                  Real& s1) {
+  int enter = -1, leave = -1;
+  return clip_chord(x, tets, t, a, b, s0, s1, enter, leave);
+}
+
 void blade_front_tets(const Points& x, const Tets& tets, const Vec3& a, const Vec3& b,
                       std::vector<int>& out) {
   out.clear();
@@ -144,6 +150,17 @@ void blade_front_tets(const Points& x, const Tets& tets, const Vec3& a, const Ve
 
 FrontSplitReport split_front_tets(TetMesh& mesh, const CutSurface& surface, const Vec3& a,
                                   const Vec3& b, const CutOptions& options) {
+  std::vector<int> tets;
+  blade_front_tets(mesh.x, mesh.tets, a, b, tets);
+  std::vector<FrontChord> chords;
+  chords.reserve(tets.size());
+  for (const int t : tets)
+    chords.push_back({t, a, b});
+  return split_front_chords(mesh, surface, chords, options);
+}
+
+FrontSplitReport split_front_chords(TetMesh& mesh, const CutSurface& surface,
+                                    std::span<const FrontChord> chords, const CutOptions& options) {
   if (mesh.x.rows() != mesh.rest.rows() || mesh.v.rows() != mesh.rest.rows() ||
       mesh.labels.size() != mesh.tets.rows()) {
     throw std::invalid_argument("split_front_tets: the mesh's arrays disagree in size");
@@ -153,21 +170,23 @@ FrontSplitReport split_front_tets(TetMesh& mesh, const CutSurface& surface, cons
   const int num_tets = mesh.num_tets();
   report.first_new_node = num_nodes;
 
-  // The front tets and their chords.
+  // The front tets and their chords (a + s (b - a), s in [s0, s1], inside the tet).
   struct Front {
     int tet;
     Real s0, s1;
     int enter, leave;
+    Vec3 a, b;
   };
   std::vector<Front> fronts;
-  const Box3 blade_box(a.cwiseMin(b), a.cwiseMax(b));
-  for (int t = 0; t < num_tets; ++t) {
-    Box3 box;
-    for (int k = 0; k < 4; ++k)
-      box.extend(row3(mesh.x, mesh.tets(t, k)));
-    if (!box.intersects(blade_box)) continue;
-    Front f{t, 0, 1, -1, -1};
-    if (clip_chord(mesh.x, mesh.tets, t, a, b, f.s0, f.s1, f.enter, f.leave)) fronts.push_back(f);
+  for (const FrontChord& c : chords) {
+    if (c.tet < 0 || c.tet >= num_tets) {
+      throw std::invalid_argument("split_front_chords: tet " + std::to_string(c.tet) +
+                                  " is out of range");
+    }
+    Front f{c.tet, 0, 1, -1, -1, c.a, c.b};
+    if (clip_chord(mesh.x, mesh.tets, c.tet, c.a, c.b, f.s0, f.s1, f.enter, f.leave)) {
+      fronts.push_back(f);
+    }
   }
   report.front_tets = static_cast<int>(fronts.size());
   if (fronts.empty()) return report;
@@ -217,7 +236,7 @@ FrontSplitReport split_front_tets(TetMesh& mesh, const CutSurface& surface, cons
       std::sort(key.begin(), key.end());
       if (pierce_point.count(key)) continue;
       // Barycentric coordinates of the pierce point in the face (least squares in its plane).
-      const Vec3 p = a + s * (b - a);
+      const Vec3 p = f.a + s * (f.b - f.a);
       const Vec3 q0 = row3(mesh.x, key[0]);
       Eigen::Matrix<Real, 3, 2> m;
       m.col(0) = row3(mesh.x, key[1]) - q0;
@@ -268,7 +287,7 @@ FrontSplitReport split_front_tets(TetMesh& mesh, const CutSurface& surface, cons
     const auto front =
         std::find_if(fronts.begin(), fronts.end(), [t](const Front& f) { return f.tet == t; });
     if (front != fronts.end()) {
-      const Vec3 mid = a + (front->s0 + front->s1) / 2 * (b - a);
+      const Vec3 mid = front->a + (front->s0 + front->s1) / 2 * (front->b - front->a);
       const Vec3 x0 = row3(mesh.x, tet[0]);
       Mat3 m;
       for (int k = 1; k < 4; ++k)

@@ -25,6 +25,7 @@
 // and a centre are kept at least kFrontMargin (barycentric) inside their face or tet, so no piece
 // is flat; the crack is then off the blade by at most that fraction of the tet.
 
+#include <span>
 #include <vector>
 
 #include "sim/core/types.h"
@@ -44,6 +45,11 @@ struct FrontSplitReport {
   Triangles crack_faces;          // the opened crack faces, both sides, final node indices
 };
 
+// Whether the segment a + s (b - a), s in [0, 1], passes through the interior of tet t
+// (positions x, positively oriented), and the part inside it, [s0, s1].
+bool chord_in_tet(const Points& x, const Tets& tets, int t, const Vec3& a, const Vec3& b, Real& s0,
+                  Real& s1);
+
 // The tets (slots, ascending) whose interior the blade edge (a, b) crosses in positions x: the
 // ones split_front_tets calls front tets. out is cleared first. O(#tets), a box test per tet.
 void blade_front_tets(const Points& x, const Tets& tets, const Vec3& a, const Vec3& b,
@@ -56,5 +62,17 @@ void blade_front_tets(const Points& x, const Tets& tets, const Vec3& a, const Ve
 // Does nothing if the blade is inside no tet. Throws std::invalid_argument like cut_mesh.
 FrontSplitReport split_front_tets(TetMesh& mesh, const CutSurface& surface, const Vec3& a,
                                   const Vec3& b, const CutOptions& options = {});
+
+// A chord of its own per tet: the crack in tet ends on the segment (a, b) (clipped to the tet)
+// instead of on one blade for all. What a stroke's end uses to keep the partial crack along the
+// path of the blade's tip (ProgressiveCutter::end_stroke). A chord that misses its tet is skipped.
+// Throws std::invalid_argument as split_front_tets, or for a tet out of range.
+struct FrontChord {
+  int tet = -1;
+  Vec3 a = Vec3::Zero(), b = Vec3::Zero();
+};
+FrontSplitReport split_front_chords(TetMesh& mesh, const CutSurface& surface,
+                                    std::span<const FrontChord> chords,
+                                    const CutOptions& options = {});
 
 }  // namespace incise::sim::cut

@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/LU>
+
 #include "sim/cut/material_map.h"
 #include "sim/mesh/tet_adjacency.h"
 
@@ -156,11 +158,14 @@ CutSurface ProgressiveCutter::region_surface() const {
 
 void ProgressiveCutter::commit_complete_cuts(const CutSurface& surface) {
   const CutReport committed = cut_mesh_active(region_, surface, region_active_, options_);
-  frame_.committed_crack_faces = static_cast<int>(committed.crack_faces.rows());
   frame_.committed_new_tets = write_back(false);
-  frame_.committed_crack_face_labels.assign(static_cast<std::size_t>(committed.crack_faces.rows()),
-                                            0);
-  if (committed.crack_faces.rows() > 0) {
+  report_committed_faces(committed.crack_faces);
+}
+
+void ProgressiveCutter::report_committed_faces(const Triangles& local_faces) {
+  frame_.committed_crack_faces += static_cast<int>(local_faces.rows());
+  std::vector<int> labels(static_cast<std::size_t>(local_faces.rows()), 0);
+  if (local_faces.rows() > 0) {
     // The label of the piece each crack face bounds, found among the region's tets (each crack
     // face is a face of exactly one of them) before the blade's temporary split changes them.
     std::vector<std::pair<std::array<int, 3>, int>> faces;
@@ -173,26 +178,86 @@ void ProgressiveCutter::commit_complete_cuts(const CutSurface& surface) {
       }
     }
     std::sort(faces.begin(), faces.end());
-    for (Eigen::Index f = 0; f < committed.crack_faces.rows(); ++f) {
-      std::array<int, 3> key = {committed.crack_faces(f, 0), committed.crack_faces(f, 1),
-                                committed.crack_faces(f, 2)};
+    for (Eigen::Index f = 0; f < local_faces.rows(); ++f) {
+      std::array<int, 3> key = {local_faces(f, 0), local_faces(f, 1), local_faces(f, 2)};
       std::sort(key.begin(), key.end());
       const auto it = std::lower_bound(faces.begin(), faces.end(), std::make_pair(key, INT_MIN));
-      if (it != faces.end() && it->first == key) {
-        frame_.committed_crack_face_labels[static_cast<std::size_t>(f)] = it->second;
-      }
+      if (it != faces.end() && it->first == key) labels[static_cast<std::size_t>(f)] = it->second;
     }
   }
   // write_back appended the new nodes to region_nodes_: every local node has its global index.
-  frame_.committed_crack_face_nodes.resize(committed.crack_faces.rows(), 3);
-  for (Eigen::Index f = 0; f < committed.crack_faces.rows(); ++f) {
+  const Eigen::Index before = frame_.committed_crack_face_nodes.rows();
+  frame_.committed_crack_face_nodes.conservativeResize(before + local_faces.rows(), 3);
+  for (Eigen::Index f = 0; f < local_faces.rows(); ++f) {
     for (int c = 0; c < 3; ++c) {
-      frame_.committed_crack_face_nodes(f, c) =
-          region_nodes_[static_cast<std::size_t>(committed.crack_faces(f, c))];
+      frame_.committed_crack_face_nodes(before + f, c) =
+          region_nodes_[static_cast<std::size_t>(local_faces(f, c))];
     }
   }
+  frame_.committed_crack_face_labels.insert(frame_.committed_crack_face_labels.end(),
+                                            labels.begin(), labels.end());
   committed_nodes_ = mesh_.num_nodes();
   committed_tets_ = mesh_.num_tets();
+}
+
+void ProgressiveCutter::commit_partial_crack() {
+  // Per committed tet, the tip's path from where it first enters to where it last leaves (or
+  // ends): its chord.
+  const Points& x = cut_positions();
+  Box3 path_box;
+  for (const Vec3& p : stroke_a_)
+    path_box.extend(p);
+  std::vector<FrontChord> chords;
+  for (int t = 0; t < mesh_.num_tets(); ++t) {
+    if (!tet_box(x, mesh_.tets, t).intersects(path_box)) continue;
+    bool found = false, enters = false, leaves = false;
+    Vec3 first = Vec3::Zero(), last = Vec3::Zero();
+    for (std::size_t k = 0; k + 1 < stroke_a_.size(); ++k) {
+      const Vec3& p = stroke_a_[k];
+      const Vec3& q = stroke_a_[k + 1];
+      Real s0 = 0, s1 = 1;
+      if (!chord_in_tet(x, mesh_.tets, t, p, q, s0, s1)) continue;
+      if (!found) {
+        first = p + s0 * (q - p);
+        enters = s0 > 0;  // through a face (else the path starts inside)
+      }
+      last = p + s1 * (q - p);
+      leaves = s1 < 1;  // through a face (else the path ends inside)
+      found = true;
+    }
+    const Vec3 along = last - first;
+    if (!found || !(along.norm() > 0)) continue;
+    // A chord hugging a face or an edge would leave slivers (the star's centre, on the chord, is
+    // then near the tet's boundary): that tet stays whole, its sliver of crack closed.
+    const Vec3 mid = 0.5 * (first + last);
+    const Vec3 o = row3(x, mesh_.tets(t, 0));
+    Mat3 m;
+    for (int k = 1; k < 4; ++k)
+      m.col(k - 1) = row3(x, mesh_.tets(t, k)) - o;
+    const Vec3 l = m.partialPivLu().solve(mid - o);
+    if (std::min({1 - l.sum(), l(0), l(1), l(2)}) < kPartialChordMargin) continue;
+    // Where the path crosses a face, the chord reaches a little past it, so that the split finds
+    // the face it pierces (an end exactly on the face is inside or outside by round-off).
+    chords.push_back({t, enters ? Vec3(first - 0.01 * along) : first,
+                      leaves ? Vec3(last + 0.01 * along) : last});
+  }
+  if (chords.empty()) return;
+  std::vector<int> seeds;
+  for (const FrontChord& c : chords)
+    seeds.push_back(c.tet);
+  collect_star(seeds);
+  extract_region();
+  frame_.region_tets = region_num_tets_;
+  // The chords in region slots (region_slots_ is ascending, as the seeds).
+  for (FrontChord& c : chords) {
+    c.tet = static_cast<int>(std::lower_bound(region_slots_.begin(), region_slots_.end(), c.tet) -
+                             region_slots_.begin());
+  }
+  const CutSurface surface = region_surface();
+  const FrontSplitReport split = split_front_chords(region_, surface, chords, options_);
+  frame_.front_tets = split.front_tets;
+  frame_.committed_new_tets = write_back(false);
+  report_committed_faces(split.crack_faces);
 }
 
 void ProgressiveCutter::extract_region() {
@@ -285,9 +350,9 @@ int ProgressiveCutter::write_back(bool save) {
     region_slots_.push_back(tet_base + k);
     frame_.changed_tets.push_back(tet_base + k);
   }
-  if (swap && save) {
-    // The blade's temporary pieces are oriented by split_front_tets on the region's "rest", which
-    // here is the current configuration: orient them on the true rest positions.
+  if (swap) {
+    // The blade's pieces are oriented by split_front_chords on the region's "rest", which here is
+    // the current configuration: orient them on the true rest positions.
     for (int t : frame_.changed_tets) {
       if (t >= mesh_.num_tets()) continue;
       const auto corner = [&](int k) { return row3(mesh_.rest, mesh_.tets(t, k)); };
@@ -383,15 +448,17 @@ void ProgressiveCutter::update_in_space(const Vec3& a, const Vec3& b) {
   }
 }
 
-void ProgressiveCutter::end_stroke() {
+const FrameReport& ProgressiveCutter::end_stroke(bool keep_partial) {
   frame_ = FrameReport{};
   frame_.tets_before = mesh_.num_tets();
   undo_temporary();
+  if (keep_partial && stroke_a_.size() >= 2) commit_partial_crack();
   stroke_a_.clear();
   stroke_b_.clear();
   front_before_.clear();
   frames_since_commit_ = 0;
   finish_changed();
+  return frame_;
 }
 
 void ProgressiveCutter::finish_changed() {

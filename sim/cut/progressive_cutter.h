@@ -92,9 +92,13 @@ class ProgressiveCutter {
   // pose of a stroke only starts it. Throws std::invalid_argument if a == b.
   const FrameReport& update(const Vec3& a, const Vec3& b);
 
-  // Ends the stroke: the temporary pieces are undone (a tet the blade is still inside stays
-  // whole) and the next update starts a new stroke.
-  void end_stroke();
+  // Ends the stroke: the temporary pieces are undone and the next update starts a new stroke.
+  // With keep_partial, the tets the path of the blade's tip (a) ran through keep the crack the
+  // strip left in them: each is split (split_front_chords) with the chord from where the tip's
+  // path enters it to where it leaves or ends, so a cut shallower than the tets still opens; the
+  // pieces are committed, and last_frame() reports them as committed crack faces. Else those
+  // tets stay whole (a cut opens only where it crossed tets completely).
+  const FrameReport& end_stroke(bool keep_partial = false);
 
   int committed_nodes() const { return committed_nodes_; }
   int committed_tets() const { return committed_tets_; }
@@ -106,6 +110,10 @@ class ProgressiveCutter {
   void update_in_space(const Vec3& a, const Vec3& b);
   // Sorts and uniques frame_.changed_tets and drops slots that have gone.
   void finish_changed();
+  // Reports the region's new crack faces (local node indices, after write_back) as committed.
+  void report_committed_faces(const Triangles& local_faces);
+  // end_stroke's partial crack along the tip's path.
+  void commit_partial_crack();
   void collect_region(const Box3& quad_box);
   // The region as the stars of seeds (slots), none active: the blade's temporary pieces only.
   void collect_star(const std::vector<int>& seeds);
@@ -145,6 +153,12 @@ class ProgressiveCutter {
   // The front tets (the blade inside them) of this frame and of the last one, slots ascending,
   // and the frames since complete cuts were last looked for (update_in_space).
   static constexpr int kCommitEvery = 8;
+  // end_stroke(true): a tet keeps its partial crack only if its chord's midpoint is at least
+  // this far inside it (barycentric). Measured on the liver stability suite: 0.01 left slivers
+  // that stayed inverted (1 failure in 64 sequences, mass scales to 3e5); 0.03 none in 75, and
+  // the liver script's cut opens 152 of about 240 mm^2 (56 without partial cracks); 0.05 keeps
+  // almost no partial crack.
+  static constexpr Real kPartialChordMargin = 0.03;
   std::vector<int> front_, front_before_;
   int frames_since_commit_ = 0;
 };

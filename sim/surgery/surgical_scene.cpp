@@ -310,9 +310,9 @@ void SurgicalScene::cut(Tool& tool, int index) {
   }
   const cut::FrameReport& report = tool.cutter->update(a, b);
   const int tets_before = report.tets_before;
-  const std::vector<int> changed = report.changed_tets;
-  const Triangles committed = report.committed_crack_face_nodes;
-  const std::vector<int> labels = report.committed_crack_face_labels;
+  std::vector<int> changed = report.changed_tets;
+  Triangles committed = report.committed_crack_face_nodes;
+  std::vector<int> labels = report.committed_crack_face_labels;
   if (report.blade_unmapped && !near.empty()) ++cuts_refused_;
   tool.stroke = !near.empty() || report.front_tets > 0;
   if (report.committed_new_tets > 0 || report.committed_crack_faces > 0) {
@@ -321,9 +321,23 @@ void SurgicalScene::cut(Tool& tool, int index) {
     }
   }
   if (!tool.stroke) {
-    // The blade has left the tissue: its temporary pieces go.
+    // The blade has left the tissue: its temporary pieces go, and the tets along the path of its
+    // tip keep the crack the stroke left in them (a cut shallower than the tets opens too).
     const int before = mesh.num_tets();
-    tool.cutter->end_stroke();
+    const cut::FrameReport& end = tool.cutter->end_stroke(true);
+    changed.insert(changed.end(), end.changed_tets.begin(), end.changed_tets.end());
+    std::sort(changed.begin(), changed.end());
+    changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+    changed.erase(std::lower_bound(changed.begin(), changed.end(), mesh.num_tets()), changed.end());
+    if (end.committed_crack_faces > 0) {
+      const Eigen::Index rows = committed.rows();
+      committed.conservativeResize(rows + end.committed_crack_face_nodes.rows(), 3);
+      committed.bottomRows(end.committed_crack_face_nodes.rows()) = end.committed_crack_face_nodes;
+      labels.insert(labels.end(), end.committed_crack_face_labels.begin(),
+                    end.committed_crack_face_labels.end());
+      tool.stroke_slots.insert(tool.stroke_slots.end(), end.changed_tets.begin(),
+                               end.changed_tets.end());
+    }
     if (mesh.num_tets() != before || !changed.empty()) after_topology_change(tets_before, changed);
   } else if (!changed.empty() || mesh.num_tets() != tets_before) {
     after_topology_change(tets_before, changed);

@@ -270,6 +270,52 @@ TEST(ProgressiveCutter, InMaterialSpaceTheCutFollowsTheTissueAsItMoves) {
   EXPECT_EQ(count, 2);
 }
 
+// A cut shallower than the tets: the blade's tip runs 0.45 deep (z = 0.55) through a box of
+// 0.25 cells. Without keep_partial only the layer the strip crosses completely (z >= 0.75) opens;
+// with it, the tets along the tip's path keep their crack too: about 0.45 x 1 on each side, the
+// box still one body and valid.
+TEST(ProgressiveCutter, AStrokeEndKeepsTheCrackAlongTheTipsPath) {
+  const Real c = 0.537;  // the blade's plane x = c, away from the nodes
+  const auto cut_area = [&](bool keep_partial, TetMesh& mesh) {
+    ProgressiveCutter cutter(mesh);
+    Real area = 0;
+    const auto add = [&](const FrameReport& report) {
+      for (Eigen::Index r = 0; r < report.committed_crack_face_nodes.rows(); ++r) {
+        std::array<Vec3, 3> p;
+        for (int k = 0; k < 3; ++k) {
+          p[static_cast<std::size_t>(k)] = row3(mesh.rest, report.committed_crack_face_nodes(r, k));
+          // On the plane, or (a pierce point or a star centre) kept within the front margin.
+          EXPECT_LT(std::abs(p[static_cast<std::size_t>(k)].x() - c),
+                    4 * kFrontMargin * std::sqrt(3.0) / 4);
+        }
+        area += 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).norm();
+      }
+    };
+    for (int f = 0; f <= 40; ++f) {
+      const Real y = -0.5 + 2.0 * f / 40;
+      add(cutter.update(Vec3(c, y, 0.55), Vec3(c, y, 1.5)));
+    }
+    add(cutter.end_stroke(keep_partial));
+    EXPECT_EQ(mesh.num_nodes(), cutter.committed_nodes());
+    EXPECT_EQ(mesh.num_tets(), cutter.committed_tets());
+    return area;
+  };
+  TetMesh plain = make_box_mesh({1, 1, 1}, {4, 4, 4});
+  TetMesh kept = plain;
+  const Real volume = total_volume(plain.rest, plain.tets);
+  const Real plain_area = cut_area(false, plain);
+  const Real kept_area = cut_area(true, kept);
+  expect_valid(plain, volume);
+  expect_valid(kept, volume);
+  // Both sides of the z >= 0.75 layer, and a few small tets below it the strip crosses whole.
+  EXPECT_GE(plain_area, 2 * 0.25 - 1e-9);
+  EXPECT_LT(plain_area, 2 * 0.25 + 0.02);
+  EXPECT_NEAR(kept_area, 2 * 0.45, 0.05 * 2 * 0.45);
+  int count = 0;
+  tet_components(kept.tets, &count);
+  EXPECT_EQ(count, 1);
+}
+
 TEST(ProgressiveCutter, RejectsBadInput) {
   TetMesh mesh = make_box_mesh({1, 1, 1}, {2, 2, 2});
   EXPECT_THROW(ProgressiveCutter(mesh, CutOptions{0.6}), std::invalid_argument);
