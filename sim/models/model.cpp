@@ -43,6 +43,10 @@ std::uint64_t Model::next_topology_revision() {
 }
 
 // The defaults: one block per triplet on or below the block diagonal, holding its single entry.
+bool Model::soften_element(int, Real) {
+  return false;
+}
+
 void Model::system_blocks(std::vector<std::pair<int, int>>& blocks) const {
   std::vector<Eigen::Triplet<Real>> triplets;
   add_stiffness_triplets(triplets);

@@ -123,6 +123,14 @@ class Model {
 
   virtual ModelHealth health() const = 0;
 
+  // Scales element slot t's stiffness, and with it its stiffness-proportional damping, to factor
+  // (in (0, 1]) times its material's; update_topology, and update_elements for the changed slots,
+  // reset it to 1. Returns false when the model cannot (the default, e.g. the mass-spring model):
+  // nothing changes then. For the sliver guard (surgery/tissue_body.h): a tet a cut left too thin
+  // for the explicit step is softened rather than its nodes made heavy. Throws
+  // std::invalid_argument for t out of range or factor outside (0, 1].
+  virtual bool soften_element(int t, Real factor);
+
  protected:
   Model() : topology_revision_(next_topology_revision()) {}
   Model(const Model&) = default;

@@ -31,6 +31,8 @@
 #include <cmath>
 #include <concepts>
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "sim/models/model.h"
@@ -299,6 +301,9 @@ class TetFemModel : public Model {
     update_tet_elements(elements_, mesh, alive, changed, materials_);
     states_.resize(static_cast<std::size_t>(elements_.num_tets()),
                    kernel_.linearize(Mat3::Identity(), Lame{}));
+    material_lame_.resize(elements_.lame.size());
+    for (const int t : changed)
+      material_lame_[static_cast<std::size_t>(t)] = elements_.lame[static_cast<std::size_t>(t)];
     for (const int t : changed) {
       if (!elements_.alive(t)) continue;
       const std::size_t ts = static_cast<std::size_t>(t);
@@ -310,6 +315,17 @@ class TetFemModel : public Model {
   }
 
   ModelHealth health() const override { return health_; }
+
+  bool soften_element(int t, Real factor) override {
+    if (t < 0 || t >= elements_.num_tets() || !(factor > 0 && factor <= 1)) {
+      throw std::invalid_argument("soften_element: slot " + std::to_string(t) + " or factor " +
+                                  std::to_string(factor) + " out of range");
+    }
+    const std::size_t ts = static_cast<std::size_t>(t);
+    elements_.lame[ts].mu = factor * material_lame_[ts].mu;
+    elements_.lame[ts].lambda = factor * material_lame_[ts].lambda;
+    return true;
+  }
 
  protected:
   const Kernel& kernel() const { return kernel_; }
@@ -329,6 +345,7 @@ class TetFemModel : public Model {
   // Element data from the mesh's rest state; the linearisation starts at rest.
   void rebuild(const TetMesh& mesh) {
     elements_ = make_tet_elements(mesh, materials_);
+    material_lame_ = elements_.lame;
     states_.assign(static_cast<std::size_t>(elements_.num_tets()),
                    kernel_.linearize(Mat3::Identity(), Lame{}));
     prepare_stiffness(mesh.rest);
@@ -338,6 +355,7 @@ class TetFemModel : public Model {
   std::vector<ElementMaterial> materials_;
   Kernel kernel_;
   TetElements elements_;
+  std::vector<Lame> material_lame_;  // #slots: the materials' values, before soften_element
   std::vector<typename Kernel::State> states_;
   ModelHealth health_;
 };

@@ -60,6 +60,8 @@ void TissueBody::rebuild_surface() {
 void TissueBody::update_inverse_masses() {
   // The stability guard (see the constructor): per node, the largest scale over its tets.
   mass_scale_.assign(static_cast<std::size_t>(mesh_.num_nodes()), 1);
+  softened_elements_ = 0;
+  min_stiffness_factor_ = 1;
   const Real need = dt_ * dt_ + 2 * damping_time_ * dt_;  // dt_e^2 an element must reach
   for (int t = 0; t < mesh_.num_tets(); ++t) {
     const Vec3 a = row3(mesh_.rest, mesh_.tets(t, 0)), b = row3(mesh_.rest, mesh_.tets(t, 1)),
@@ -71,6 +73,13 @@ void TissueBody::update_inverse_masses() {
     const Real step = kExplicitSafety * (face > 0 ? 3 * volume / face : 0) / wave_speed_;
     if (step * step >= need) continue;
     const Real scale = step > 0 ? std::min(need / (step * step), Real(1e12)) : Real(1e12);
+    // Softening the sliver lowers its w^2 as much without making its nodes heavy: heavy nodes
+    // carry the inertia of thousands of others and distort the whole organ's motion.
+    if (model_->soften_element(t, 1 / scale)) {
+      ++softened_elements_;
+      min_stiffness_factor_ = std::min(min_stiffness_factor_, 1 / scale);
+      continue;
+    }
     for (int k = 0; k < 4; ++k) {
       Real& s = mass_scale_[static_cast<std::size_t>(mesh_.tets(t, k))];
       s = std::max(s, scale);

@@ -40,9 +40,13 @@ class TissueBody {
   // guard. Symplectic Euler on a mode of frequency w with damping rate beta w^2 is stable for
   // w^2 (dt^2 + 2 beta dt) < 4. An element's own stable step is dt_e = kExplicitSafety * its
   // smallest altitude / wave_speed (stable_time_step's rule, for beta = 0); one that needs more
-  // than that (a sliver a cut left) gets its nodes' masses scaled by (dt^2 + 2 beta dt) / dt_e^2,
-  // which lowers its w^2 by as much. mass_scaled_nodes() says how many: a metric, since those
-  // pieces move more sluggishly than they should, the price of not blowing up.
+  // than that (a sliver a cut left) is softened: its stiffness (and stiffness-proportional
+  // damping) times dt_e^2 / (dt^2 + 2 beta dt) (Model::soften_element), which lowers its w^2 by
+  // as much. A model that cannot soften gets the element's nodes' masses scaled by the inverse
+  // instead; heavy nodes, though, carry the inertia of thousands of others and distort the whole
+  // body's motion (an inverted sliver around one stayed inverted for seconds). softened_elements()
+  // and mass_scaled_nodes() say how many: metrics, the price of not blowing up (a softened sliver
+  // is a tiny volume of softer tissue).
   TissueBody(TetMesh mesh, const ModelFactory& make_model, std::vector<char> fixed, Real dt,
              Real wave_speed, Real damping_time);
 
@@ -96,7 +100,10 @@ class TissueBody {
   // Counts of topology_changed calls: whether the model could follow locally.
   int local_updates() const { return local_updates_; }
   int full_updates() const { return full_updates_; }
-  // The stability guard: nodes whose mass is scaled, and the largest factor.
+  // The stability guard: elements softened (Model::soften_element) and the smallest stiffness
+  // factor; nodes whose mass is scaled (for a model that cannot soften), and the largest factor.
+  int softened_elements() const { return softened_elements_; }
+  Real min_stiffness_factor() const { return min_stiffness_factor_; }
   int mass_scaled_nodes() const { return mass_scaled_nodes_; }
   Real max_mass_scale() const { return max_mass_scale_; }
 
@@ -122,6 +129,8 @@ class TissueBody {
   Real ambient_damping_ = 0;
   std::vector<Real> mass_scale_;  // per node, >= 1
   int mass_scaled_nodes_ = 0;
+  int softened_elements_ = 0;
+  Real min_stiffness_factor_ = 1;
   Real max_mass_scale_ = 1;
 };
 

@@ -207,6 +207,36 @@ TEST(ModelDamping, AStretchedStateStaysWithinThreeTimesItsRestValue) {
   }
 }
 
+// soften_element: an FEM element's elastic and viscous forces scale by the factor exactly (the
+// others' do not change), update_topology resets it; the mass-spring models cannot and say so.
+TEST(ModelSoftening, ScalesOneElementsForcesAndIsResetByARebuild) {
+  for (const ModelFactory& factory : all_models()) {
+    SCOPED_TRACE(factory.name);
+    const TetMesh mesh = test_meshes()[3].mesh;  // the jittered box
+    const std::unique_ptr<Model> model = factory.make(mesh, test_materials());
+    const Points x = rigidly_moved(mesh.rest, random_rotation(2), Vec3(0.01, 0, 0)) +
+                     random_points(mesh.num_nodes(), 0.001, 3);
+    const Points v = random_points(mesh.num_nodes(), 0.1, 4);
+    const Points before = forces(*model, x, v);
+    const bool can = model->soften_element(5, 0.25);
+    EXPECT_EQ(can, factory.name.rfind("mss", 0) != 0);
+    if (!can) {
+      EXPECT_EQ(forces(*model, x, v), before);
+      continue;
+    }
+    // Tet 5's own contribution, from a model of that tet alone.
+    TetMesh one = mesh;
+    one.tets = mesh.tets.row(5);
+    one.labels = mesh.labels.segment(5, 1);
+    const Points alone = forces(*factory.make(one, test_materials()), x, v);
+    EXPECT_LT((forces(*model, x, v) - (before - 0.75 * alone)).norm(), 1e-9 * before.norm());
+    model->update_topology(mesh);
+    EXPECT_LT((forces(*model, x, v) - before).norm(), 1e-12 * before.norm());
+    EXPECT_THROW(model->soften_element(-1, 0.5), std::invalid_argument);
+    EXPECT_THROW(model->soften_element(0, 0), std::invalid_argument);
+  }
+}
+
 // K dx against the central difference of the forces. Exact (to the difference's error) for every
 // model but corotational FEM, whose K omits the change of the rotations (see corotational_fem.h):
 // there it is exact at a rigidly moved rest shape and off by about the strain elsewhere.

@@ -192,7 +192,7 @@ TEST(SurgicalScene, SliversAStrokeLeavesAreCollapsedWhenItEnds) {
   struct Outcome {
     int collapses = 0;
     Real worst = 0, volume = 0, cut_area = 0;
-    int parts = 0;
+    int parts = 0, softened = 0, heavy = 0;
   };
   const auto run = [](bool simplify) {
     ToolSpec scalpel = tool(ToolKind::scalpel);
@@ -209,6 +209,8 @@ TEST(SurgicalScene, SliversAStrokeLeavesAreCollapsedWhenItEnds) {
     const TetMesh& mesh = scene.tissue().mesh();
     Outcome o;
     o.collapses = scene.collapses();
+    o.softened = scene.tissue().softened_elements();
+    o.heavy = scene.tissue().mass_scaled_nodes();
     o.worst = 1;
     for (int t = 0; t < mesh.num_tets(); ++t) {
       o.worst = std::min(
@@ -228,6 +230,9 @@ TEST(SurgicalScene, SliversAStrokeLeavesAreCollapsedWhenItEnds) {
   EXPECT_LT(plain.worst, 0.1);
   EXPECT_GT(simplified.worst, plain.worst);
   EXPECT_NEAR(simplified.volume, plain.volume, 1e-12);
+  // The slivers left are softened for the step, not their nodes made heavy.
+  EXPECT_GT(plain.softened, 0);
+  EXPECT_EQ(plain.heavy, 0);
   EXPECT_EQ(plain.parts, 2);
   EXPECT_EQ(simplified.parts, 2);
   EXPECT_NEAR(simplified.cut_area, plain.cut_area, 1e-12);
