@@ -184,25 +184,19 @@ TEST(HardCaseRelease, NeoHookeanYankReleasedAtThreeTimesTheExplicitLimit) {
   EXPECT_EQ(out.unconverged_steps, 0);
 }
 
-// Corotational (QR) with damping 1 (critical for the mesh's highest mode) at 2 ms does not cope,
-// and says so. Measured: 62.8 cube edges from rest with 214 inverted tets after 500 steps (an
-// earlier build: 5.8 edges, 102 tets; the tangle is chaotic), every CG solve converged. Cause (our
-// analysis, backed by the scratch fix below):
-// QR's frame (r1 along f1, r2 in the plane of f1 and f2, r3 = r1 x r2; rotation_extraction.h)
-// puts every inversion on the third column, U22 < 0, whichever node went through the opposite
-// face. The restoring force then drives f3 along r3, turning the tet into a 180-degree rotated
-// copy of its rest shape (a zero-energy state for a rotation-invariant model) instead of undoing
-// the inversion, and neighbouring tets fight those forces. The polar rotation (sign-fixed SVD)
-// puts the inversion on the smallest singular value, the node closest to its opposite face, and
-// recovers in the same run (measured 1.5e-3 of the edge). The fix to make in corotational_fem.cpp:
-// take the polar rotation for tets with det F <= 0 (a scratch kernel doing so recovered this run
-// to 1.5e-3 with no inverted tet); then this test's first block should assert recovery as the
-// polar one does.
-TEST(HardCaseRelease, CorotationalQrYankReleasedWithFullDampingStaysTangledAndSaysSo) {
+// Corotational (QR) with damping 1 (critical for the mesh's highest mode) at 2 ms. It used to stay
+// tangled (62.8 cube edges from rest with 214 inverted tets after 500 steps; the tangle was
+// chaotic): QR's frame puts every inversion on its third column (rotation_extraction.h), and the
+// restoring force can turn a tet into a 180-degree rotated copy of its rest shape instead of
+// undoing the inversion. Since the viscous stress is capped for stretched tets
+// (tet_fem_model.h: beta min(1, 3 / |F|^2)) it recovers in this run (measured shape error 1.3e-3,
+// no inverted tet); the frame's weakness is still there, so the polar rotation stays the scenes'
+// choice. The metric is true either way.
+TEST(HardCaseRelease, CorotationalQrYankReleasedWithFullDampingRecoversAndSaysSo) {
   const YankOutcome qr = yank_and_release(MaterialModel::corotational, 1.0, 2e-3, 500);
   ASSERT_TRUE(qr.finite);
-  EXPECT_GT(qr.shape_error, 0.01);
-  EXPECT_GT(qr.inverted_at_end, 0);
+  EXPECT_LT(qr.shape_error, 0.01);
+  EXPECT_EQ(qr.inverted_at_end, 0);
   // The metric is true: the model's count is the count of det F <= 0 from the positions.
   EXPECT_EQ(qr.inverted_at_end, qr.counted_inverted_at_end);
 
