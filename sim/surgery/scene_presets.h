@@ -53,9 +53,10 @@ struct KneeSceneOptions {
   Material ligament{MaterialModel::corotational_polar, 60000, 0.3, 1100, 0.3, 0};
   Real strain_threshold = 0.25;
   Real target_half_width = 0.0015;
-  // What surrounds the tissue, as mass-proportional damping [1/s] (SurgicalSceneSpec): a time
-  // constant of 50 ms, about critical for the organ's lowest mode.
-  Real ambient_damping = 20;
+  // What surrounds the tissue (the joint capsule and fluid, the bones the menisci sit between), as
+  // mass-proportional damping [1/s]: a time constant of 10 ms (the menisci's lowest modes are near
+  // 65 Hz; at 20/s a jerked meniscus was still tangled after the suite's 60 ms settle).
+  Real ambient_damping = 100;
   std::vector<ToolSpec> tools = default_tools();
   static std::vector<ToolSpec> default_tools();  // a scope on device 0, a probe on device 1
 };
