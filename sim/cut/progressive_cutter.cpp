@@ -72,35 +72,21 @@ void ProgressiveCutter::undo_temporary() {
 void ProgressiveCutter::collect_region(const Box3& quad_box) {
   // Active: the tets within D (the largest tet diameter) of the newest quad's box. Region: every
   // tet sharing a node with an active one (the stars of their nodes).
-  if (marked_.size() < static_cast<std::size_t>(mesh_.num_nodes()))
-    marked_.resize(static_cast<std::size_t>(mesh_.num_nodes()), 0);
   Real diameter = 0;
   for (int t = 0; t < mesh_.num_tets(); ++t)
     diameter = std::max(diameter, tet_box(cut_positions(), mesh_.tets, t).sizes().norm());
   const Box3 near = grown(quad_box, diameter);
   active_slots_.clear();
   for (int t = 0; t < mesh_.num_tets(); ++t) {
-    if (!tet_box(cut_positions(), mesh_.tets, t).intersects(near)) continue;
-    active_slots_.push_back(t);
-    for (int k = 0; k < 4; ++k)
-      marked_[static_cast<std::size_t>(mesh_.tets(t, k))] = 1;
+    if (tet_box(cut_positions(), mesh_.tets, t).intersects(near)) active_slots_.push_back(t);
   }
-  region_slots_.clear();
-  region_active_.clear();
-  std::size_t next_active = 0;
-  for (int t = 0; t < mesh_.num_tets(); ++t) {
-    bool in = false;
-    for (int k = 0; k < 4; ++k)
-      in = in || marked_[static_cast<std::size_t>(mesh_.tets(t, k))] != 0;
-    if (!in) continue;
-    region_slots_.push_back(t);
-    const bool active = next_active < active_slots_.size() && active_slots_[next_active] == t;
+  collect_star(active_slots_);
+  std::size_t next_active = 0;  // both lists ascending
+  for (std::size_t k = 0; k < region_slots_.size(); ++k) {
+    const bool active =
+        next_active < active_slots_.size() && active_slots_[next_active] == region_slots_[k];
     if (active) ++next_active;
-    region_active_.push_back(active ? 1 : 0);
-  }
-  for (int t : active_slots_) {
-    for (int k = 0; k < 4; ++k)
-      marked_[static_cast<std::size_t>(mesh_.tets(t, k))] = 0;
+    region_active_[k] = active ? 1 : 0;
   }
 }
 

@@ -115,7 +115,7 @@ class ProgressiveCutter {
   // end_stroke's partial crack along the tip's path.
   void commit_partial_crack();
   void collect_region(const Box3& quad_box);
-  // The region as the stars of seeds (slots), none active: the blade's temporary pieces only.
+  // The region as the stars of seeds (slots), none active yet.
   void collect_star(const std::vector<int>& seeds);
   // The strip's quads that meet the region's box.
   CutSurface region_surface() const;

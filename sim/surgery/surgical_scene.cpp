@@ -404,7 +404,11 @@ void SurgicalScene::simplify_after_stroke(Tool& tool) {
     }
   }
   damage_->update_elements(view, damage_alive_, all, parents);
-  const int n = mesh.num_nodes();
+  follow_node_count();
+}
+
+void SurgicalScene::follow_node_count() {
+  const int n = tissue_->mesh().num_nodes();
   prescribed_.mask = AxisMask::Zero(n, 3);
   prescribed_.position = Points::Zero(n, 3);
   prescribed_rows_.clear();
@@ -439,12 +443,8 @@ void SurgicalScene::after_topology_change(int tets_before, std::span<const int> 
   // #tets); the damage of a cut piece is the cut's own record.
   const std::vector<int> parents(all.size(), -1);
   damage_->update_elements(view, damage_alive_, all, parents);
-  // Per-node arrays follow the node count.
+  follow_node_count();
   const int n = mesh.num_nodes();
-  prescribed_.mask = AxisMask::Zero(n, 3);
-  prescribed_.position = Points::Zero(n, 3);
-  prescribed_rows_.clear();
-  surface_nodes_ = tissue_->surface().nodes;
   const int stable = stable_nodes();
   for (Tool& tool : tools_) {
     if (!tool.grasper) continue;

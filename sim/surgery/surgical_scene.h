@@ -180,6 +180,8 @@ class SurgicalScene {
   void grasp(Tool& tool, int index);
   void bones(Tool& tool, int index);
   void after_topology_change(int tets_before, std::span<const int> changed);
+  // The per-node arrays (prescribed rows, surface nodes) follow the tissue's node count.
+  void follow_node_count();
   void event(EventKind kind, int tool, std::string detail);
   // Nodes below this index keep their numbers through cut frames (the scalpels' committed nodes).
   int stable_nodes() const;
