@@ -54,23 +54,16 @@ std::vector<char> held(int nodes, const std::vector<int>& held_nodes) {
   return fixed;
 }
 
-ToolSpec tool(ToolKind kind, int device) {
-  ToolSpec t;
-  t.kind = kind;
-  t.device = device;
-  return t;
-}
-
 }  // namespace
 
 std::vector<ToolSpec> LiverSceneOptions::default_tools() {
-  return {tool(ToolKind::probe, 0), tool(ToolKind::grasper, 1)};
+  return {make_tool(ToolKind::probe, 0), make_tool(ToolKind::grasper, 1)};
 }
 
 std::vector<ToolSpec> KneeSceneOptions::default_tools() {
-  ToolSpec scope = tool(ToolKind::scope, 0);
+  ToolSpec scope = make_tool(ToolKind::scope, 0);
   scope.shaft_radius = 0.002;  // a 4 mm arthroscope
-  ToolSpec probe = tool(ToolKind::probe, 1);
+  ToolSpec probe = make_tool(ToolKind::probe, 1);
   probe.probe.radius = 0.0015;  // a hook probe's tip
   probe.shaft_radius = 0.0015;
   return {scope, probe};

@@ -66,6 +66,14 @@ struct ToolSpec {
   Real field_of_view_degrees = 70;  // scope, in (0, 180)
 };
 
+// A tool of the given kind driven by device `device`, with the defaults above.
+inline ToolSpec make_tool(ToolKind kind, int device = 0) {
+  ToolSpec t;
+  t.kind = kind;
+  t.device = device;
+  return t;
+}
+
 // A rigid structure (a bone) as a closed surface in the scene frame.
 struct BoneSpec {
   std::string name;

@@ -19,13 +19,6 @@ namespace {
 
 using nlohmann::json;
 
-ToolSpec tool(ToolKind kind, int device) {
-  ToolSpec t;
-  t.kind = kind;
-  t.device = device;
-  return t;
-}
-
 json read_json(const std::string& file) {
   std::ifstream stream(file);
   std::ostringstream text;
@@ -111,9 +104,9 @@ TEST(SceneFile, TheShippedLiverFileIsThePresetWithAProbeAGrasperAndAScalpel) {
   const SurgicalSceneFile file =
       parse_surgical_scene_file(read_json(INCISE_SCENES_DIR "/liver_surgery.json"));
   LiverSceneOptions expected;
-  ToolSpec scalpel = tool(ToolKind::scalpel, 2);
+  ToolSpec scalpel = make_tool(ToolKind::scalpel, 2);
   scalpel.blade_length = 0.012;
-  expected.tools = {tool(ToolKind::probe, 0), tool(ToolKind::grasper, 1), scalpel};
+  expected.tools = {make_tool(ToolKind::probe, 0), make_tool(ToolKind::grasper, 1), scalpel};
   ASSERT_EQ(file.anatomy, Anatomy::liver);
   expect_same_tools(file.liver.tools, expected.tools);
   expect_same_material(file.liver.liver, expected.liver);
@@ -128,7 +121,7 @@ TEST(SceneFile, TheShippedKneeFileIsThePresetWithAScopeAProbeAndAScalpel) {
   const SurgicalSceneFile file =
       parse_surgical_scene_file(read_json(INCISE_SCENES_DIR "/knee_surgery.json"));
   KneeSceneOptions expected;
-  ToolSpec scalpel = tool(ToolKind::scalpel, 2);
+  ToolSpec scalpel = make_tool(ToolKind::scalpel, 2);
   scalpel.blade_length = 0.02;
   expected.tools = KneeSceneOptions::default_tools();
   expected.tools.push_back(scalpel);
@@ -165,7 +158,7 @@ TEST(SceneFile, DefaultsAreThePresets) {
   expect_same_material(knee.knee.meniscus, knee_preset.meniscus);
   ASSERT_EQ(knee.knee.tools.size(), 2u);
   expect_same_tool(knee.knee.tools[0], knee_preset.tools[1], 0);  // the hook probe
-  ToolSpec grasper = tool(ToolKind::grasper, 0);
+  ToolSpec grasper = make_tool(ToolKind::grasper, 0);
   grasper.grasp.tear_force = 2;
   expect_same_tool(knee.knee.tools[1], grasper, 1);
   EXPECT_EQ(knee.cut_every, 5);
@@ -260,7 +253,7 @@ TEST(SceneFile, EveryBadInputNamesItsPath) {
 SurgicalSceneSetup scripted_scene() {
   SurgicalSceneSetup scene;
   scene.name = "test";
-  scene.spec.tools = {tool(ToolKind::probe, 0), tool(ToolKind::grasper, 1)};
+  scene.spec.tools = {make_tool(ToolKind::probe, 0), make_tool(ToolKind::grasper, 1)};
   scene.landmarks = {{"horn", Vec3(0.01, 0, 0)}, {"notch", Vec3(0, 0.02, 0)}};
   scene.portals = {{"medial", Vec3(0, 0, 0.05), Vec3(0, 0, -1)}};
   scene.cut_target = {Vec3(-0.01, 0, 0), Vec3(0, 0, 0.001), Vec3(0.01, 0, 0)};

@@ -17,13 +17,6 @@
 namespace incise::sim::surgery {
 namespace {
 
-ToolSpec tool(ToolKind kind, int device) {
-  ToolSpec t;
-  t.kind = kind;
-  t.device = device;
-  return t;
-}
-
 // An orientation whose tool axis d = R e_z is `direction`.
 Eigen::Quaternion<Real> pointing(const Vec3& direction) {
   return Eigen::Quaternion<Real>::FromTwoVectors(Vec3::UnitZ(), direction.normalized());
@@ -59,9 +52,9 @@ int count(const std::vector<SceneEvent>& events, EventKind kind) {
 
 TEST(LiverScene, ProbedGraspedAndCutAlongTheMarkedLine) {
   LiverSceneOptions options;
-  ToolSpec scalpel = tool(ToolKind::scalpel, 2);
+  ToolSpec scalpel = make_tool(ToolKind::scalpel, 2);
   scalpel.blade_length = 0.012;
-  options.tools = {tool(ToolKind::probe, 0), tool(ToolKind::grasper, 1), scalpel};
+  options.tools = {make_tool(ToolKind::probe, 0), make_tool(ToolKind::grasper, 1), scalpel};
   SurgicalSceneSetup setup = make_liver_surgery(options);
   // The step is the tissue's stable step.
   EXPECT_NEAR(setup.spec.dt,
@@ -113,7 +106,7 @@ TEST(LiverScene, ProbedGraspedAndCutAlongTheMarkedLine) {
 
 TEST(KneeScene, ScopeAndProbeThroughThePortalsAndTheLigamentIsProtected) {
   KneeSceneOptions options;
-  ToolSpec scalpel = tool(ToolKind::scalpel, 2);
+  ToolSpec scalpel = make_tool(ToolKind::scalpel, 2);
   scalpel.blade_length = 0.02;
   options.tools = KneeSceneOptions::default_tools();
   options.tools.push_back(scalpel);

@@ -16,13 +16,6 @@ namespace incise::sim::surgery::stability {
 
 namespace {
 
-ToolSpec tool(ToolKind kind, int device) {
-  ToolSpec t;
-  t.kind = kind;
-  t.device = device;
-  return t;
-}
-
 using Quat = Eigen::Quaternion<Real>;
 
 // An orientation whose tool axis d = R e_z is `direction`, rolled about it by `roll` [rad].
@@ -321,7 +314,7 @@ void fail(SequenceResult& r, std::string why) {
 }  // namespace
 
 SurgicalSceneSetup stability_scene(std::string_view name) {
-  ToolSpec scalpel = tool(ToolKind::scalpel, 2);
+  ToolSpec scalpel = make_tool(ToolKind::scalpel, 2);
   if (name == "liver") {
     LiverSceneOptions options;
     options.anatomy.cell_size = 0.01;

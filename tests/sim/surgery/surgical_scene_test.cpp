@@ -54,13 +54,6 @@ SurgicalSceneSpec block(std::vector<ToolSpec> tools) {
   return spec;
 }
 
-ToolSpec tool(ToolKind kind, int device = 0) {
-  ToolSpec t;
-  t.kind = kind;
-  t.device = device;
-  return t;
-}
-
 // An orientation whose tool axis d = R e_z points straight down (-z).
 Eigen::Quaternion<Real> pointing_down() {
   return Eigen::Quaternion<Real>(Eigen::AngleAxis<Real>(std::numbers::pi, Vec3::UnitX()));
@@ -98,7 +91,7 @@ int parts(const TetMesh& mesh) {
 }
 
 TEST(SurgicalScene, ProbePressedInBalancesTheSupportReactions) {
-  SurgicalScene scene(block({tool(ToolKind::probe)}));
+  SurgicalScene scene(block({make_tool(ToolKind::probe)}));
   const Real radius = tools::ProbeSettings{}.radius;
   const Vec3 above(0.031, 0.029, kSize.z() + radius);
   // Press 4 mm in over 0.1 s, then hold for 0.5 s while the block settles.
@@ -128,7 +121,7 @@ TEST(SurgicalScene, ProbePressedInBalancesTheSupportReactions) {
 }
 
 TEST(SurgicalScene, GrasperGrabsLiftsAndTearsAtItsThreshold) {
-  ToolSpec grasper = tool(ToolKind::grasper);
+  ToolSpec grasper = make_tool(ToolKind::grasper);
   grasper.grasp.tear_force = 0.05;
   grasper.grasp.reach = 0.006;
   SurgicalScene scene(block({grasper}));
@@ -157,7 +150,7 @@ TEST(SurgicalScene, GrasperGrabsLiftsAndTearsAtItsThreshold) {
 }
 
 TEST(SurgicalScene, ScalpelThroughTheBlockPartsItAndKeepsTheVolume) {
-  ToolSpec scalpel = tool(ToolKind::scalpel);
+  ToolSpec scalpel = make_tool(ToolKind::scalpel);
   scalpel.blade_length = 0.05;  // longer than the block is thick
   SurgicalSceneSpec spec = block({scalpel});
   const Real volume = total_volume(spec.tissue.rest, spec.tissue.tets);
@@ -195,7 +188,7 @@ TEST(SurgicalScene, SliversAStrokeLeavesAreCollapsedWhenItEnds) {
     int parts = 0, softened = 0, heavy = 0;
   };
   const auto run = [](bool simplify) {
-    ToolSpec scalpel = tool(ToolKind::scalpel);
+    ToolSpec scalpel = make_tool(ToolKind::scalpel);
     scalpel.blade_length = 0.05;
     SurgicalSceneSpec spec = block({scalpel});
     if (!simplify) spec.simplify.min_quality = 0;
@@ -239,7 +232,7 @@ TEST(SurgicalScene, SliversAStrokeLeavesAreCollapsedWhenItEnds) {
 }
 
 TEST(SurgicalScene, ToolsAgainstABoneCountCollisionsAndArePushedBack) {
-  SurgicalSceneSpec spec = block({tool(ToolKind::probe)});
+  SurgicalSceneSpec spec = block({make_tool(ToolKind::probe)});
   // A 2 cm cube of bone beside the block.
   const TetMesh cube = make_box_mesh(Vec3(0.02, 0.02, 0.02), Vec3i(1, 1, 1));
   const BoundarySurface surface = boundary_surface(cube);
@@ -277,7 +270,7 @@ TEST(SurgicalScene, ToolsAgainstABoneCountCollisionsAndArePushedBack) {
 }
 
 TEST(SurgicalScene, ScopeLooksThirtyDegreesOffItsAxis) {
-  SurgicalScene scene(block({tool(ToolKind::scope)}));
+  SurgicalScene scene(block({make_tool(ToolKind::scope)}));
   EXPECT_FALSE(scene.scope_camera().has_value());  // no input yet
   ToolInput in = at(Vec3(0.03, 0.03, 0.1));
   in.orientation = Eigen::Quaternion<Real>(Eigen::AngleAxis<Real>(0.7, Vec3(1, 2, 3).normalized()));
@@ -292,7 +285,7 @@ TEST(SurgicalScene, ScopeLooksThirtyDegreesOffItsAxis) {
 }
 
 TEST(SurgicalScene, BadSpecsAndInputsAreRefusedWithTheField) {
-  SurgicalSceneSpec spec = block({tool(ToolKind::probe)});
+  SurgicalSceneSpec spec = block({make_tool(ToolKind::probe)});
   spec.dt = 0;
   try {
     SurgicalScene scene(spec);
@@ -300,14 +293,14 @@ TEST(SurgicalScene, BadSpecsAndInputsAreRefusedWithTheField) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("dt"), std::string::npos) << e.what();
   }
-  spec = block({tool(ToolKind::probe, -1)});
+  spec = block({make_tool(ToolKind::probe, -1)});
   try {
     SurgicalScene scene(spec);
     FAIL() << "device -1 accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("tools[0].device"), std::string::npos) << e.what();
   }
-  SurgicalScene scene(block({tool(ToolKind::probe)}));
+  SurgicalScene scene(block({make_tool(ToolKind::probe)}));
   ToolInput bad = at(Vec3(0, 0, std::nan("")));
   EXPECT_THROW(scene.step(std::span(&bad, 1)), std::invalid_argument);
   EXPECT_TRUE(scene.state_finite());
@@ -317,7 +310,7 @@ TEST(SurgicalScene, BadSpecsAndInputsAreRefusedWithTheField) {
 // rigidly has no internal force, so each step divides its velocity by exactly 1 + a dt, and it
 // travels sum_k v0 / (1 + a dt)^k; its momentum decays alike and its shape stays.
 TEST(SurgicalScene, AmbientDampingSlowsAFreeBlockByItsClosedForm) {
-  SurgicalSceneSpec spec = block({tool(ToolKind::probe)});
+  SurgicalSceneSpec spec = block({make_tool(ToolKind::probe)});
   std::fill(spec.fixed.begin(), spec.fixed.end(), 0);
   spec.ambient_damping = 20;
   const Vec3 v0(0.3, -0.1, 0.2);
@@ -345,9 +338,10 @@ TEST(SurgicalScene, AmbientDampingSlowsAFreeBlockByItsClosedForm) {
 // A short random sequence of probe, grasp, pull, cut and violent jerks: no throw, no NaN, and
 // no inversion left once the tools are lifted away.
 TEST(SurgicalScene, RandomToolSequenceStaysFinite) {
-  ToolSpec scalpel = tool(ToolKind::scalpel, 2);
+  ToolSpec scalpel = make_tool(ToolKind::scalpel, 2);
   scalpel.blade_length = 0.02;
-  SurgicalSceneSpec spec = block({tool(ToolKind::probe, 0), tool(ToolKind::grasper, 1), scalpel});
+  SurgicalSceneSpec spec =
+      block({make_tool(ToolKind::probe, 0), make_tool(ToolKind::grasper, 1), scalpel});
   // The scalpel cuts small pieces off; with nothing around them they would fly on for ever, as
   // physics says (a 5-node piece leaves at 1 m/s with this seed). The scenes' surroundings stop
   // them.
