@@ -93,25 +93,15 @@ void read_constants(const JsonObjectReader& object, Material& material) {
 Material read_material(const json& value) {
   const JsonObjectReader object(value, "material",
                                 {"model", "E", "nu", "density", "damping", "volume_stiffness"});
-  static const std::pair<const char*, MaterialModel> models[] = {
-      {"mss", MaterialModel::mass_spring},
-      {"linear", MaterialModel::linear},
-      {"corotational", MaterialModel::corotational},
-      {"corotational_polar", MaterialModel::corotational_polar},
-      {"stvk", MaterialModel::stvk},
-      {"neohookean", MaterialModel::neohookean},
-  };
   Material material;
-  const std::string model = object.string("model");
-  const auto* found = std::find_if(std::begin(models), std::end(models),
-                                   [&](const auto& m) { return model == m.first; });
-  if (found == std::end(models)) {
-    throw SceneError(object.path("model"),
-                     "unknown model " + describe(json(model)) +
-                         " (expected: mss, linear, corotational, corotational_polar, stvk, "
-                         "neohookean)");
+  const std::string name = object.string("model");
+  const std::optional<MaterialModel> model = material_model_named(name);
+  if (!model) {
+    throw SceneError(object.path("model"), "unknown model " + describe(json(name)) +
+                                               " (expected: " + std::string(kMaterialModelNames) +
+                                               ")");
   }
-  material.model = found->second;
+  material.model = *model;
   read_constants(object, material);
   if (object.has("volume_stiffness")) {
     if (material.model != MaterialModel::mass_spring) {

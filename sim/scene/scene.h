@@ -5,6 +5,8 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "sim/core/types.h"
@@ -51,6 +53,26 @@ enum class MaterialModel {
   stvk,                // "stvk": St Venant-Kirchhoff
   neohookean,          // "neohookean": compressible Neo-Hookean (seed 003, eq. 4)
 };
+
+// The scene files' names of the material models, as error messages list them.
+inline constexpr std::string_view kMaterialModelNames =
+    "mss, linear, corotational, corotational_polar, stvk, neohookean";
+
+// The material model a scene file names `name`, or nullopt (every scene format reads it so).
+inline std::optional<MaterialModel> material_model_named(std::string_view name) {
+  static constexpr std::pair<std::string_view, MaterialModel> models[] = {
+      {"mss", MaterialModel::mass_spring},
+      {"linear", MaterialModel::linear},
+      {"corotational", MaterialModel::corotational},
+      {"corotational_polar", MaterialModel::corotational_polar},
+      {"stvk", MaterialModel::stvk},
+      {"neohookean", MaterialModel::neohookean},
+  };
+  for (const auto& [named, model] : models) {
+    if (named == name) return model;
+  }
+  return std::nullopt;
+}
 
 struct Material {
   MaterialModel model = MaterialModel::mass_spring;  // "model"

@@ -109,24 +109,14 @@ KneeOptions read_knee_options(const json& value, KneeOptions options) {
 
 void read_material(const json& value, const std::string& path, Material& material) {
   const JsonObjectReader o(value, path, {"model", "E", "nu", "density", "damping"});
-  static const std::pair<const char*, MaterialModel> models[] = {
-      {"mss", MaterialModel::mass_spring},
-      {"linear", MaterialModel::linear},
-      {"corotational", MaterialModel::corotational},
-      {"corotational_polar", MaterialModel::corotational_polar},
-      {"stvk", MaterialModel::stvk},
-      {"neohookean", MaterialModel::neohookean},
-  };
   if (o.has("model")) {
     const std::string name = o.string("model");
-    const auto* found = std::find_if(std::begin(models), std::end(models),
-                                     [&](const auto& m) { return name == m.first; });
-    if (found == std::end(models)) {
-      throw SceneError(o.path("model"), describe(json(name)) +
-                                            " is not one of mss, linear, corotational, " +
-                                            "corotational_polar, stvk, neohookean");
+    const std::optional<MaterialModel> model = material_model_named(name);
+    if (!model) {
+      throw SceneError(o.path("model"),
+                       describe(json(name)) + " is not one of " + std::string(kMaterialModelNames));
     }
-    material.model = found->second;
+    material.model = *model;
   }
   if (o.has("E")) material.youngs_modulus = o.number("E");
   if (o.has("nu")) material.poisson_ratio = o.number("nu");
