@@ -63,6 +63,14 @@ std::int64_t JsonObjectReader::integer(std::string_view key) const {
   return read_integer(required(key), path(key));
 }
 
+bool JsonObjectReader::boolean(std::string_view key) const {
+  const json& value = required(key);
+  if (!value.is_boolean()) {
+    throw SceneError(path(key), "must be true or false (got " + describe(value) + ")");
+  }
+  return value.get<bool>();
+}
+
 std::string JsonObjectReader::string(std::string_view key) const {
   const json& value = required(key);
   if (!value.is_string()) {

@@ -46,6 +46,7 @@ class JsonObjectReader {
   Real number(std::string_view key) const;
   std::int64_t integer(std::string_view key) const;
   std::string string(std::string_view key) const;
+  bool boolean(std::string_view key) const;  // true or false, nothing else
   Vec3 vec3(std::string_view key) const;
   Vec3i ivec3(std::string_view key) const;
 

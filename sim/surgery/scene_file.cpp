@@ -238,6 +238,21 @@ void read_damage(const json& value, Real& strain_threshold, Real& target_half_wi
   check_range(o.path("target_half_width"), target_half_width, 0, false, kInfinity, false);
 }
 
+void read_adaptivity(const json& value, AdaptivitySpec& a) {
+  const JsonObjectReader o(value, "adaptivity",
+                           {"enabled", "edge_length", "radius", "coarsen_after", "max_splits"});
+  if (o.has("enabled")) a.enabled = o.boolean("enabled");
+  if (o.has("edge_length")) a.edge_length = o.number("edge_length");
+  if (o.has("radius")) a.radius = o.number("radius");
+  if (o.has("coarsen_after")) a.coarsen_after = o.number("coarsen_after");
+  if (o.has("max_splits")) {
+    a.max_splits = read_count(o, "max_splits", 1, std::numeric_limits<int>::max());
+  }
+  check_range(o.path("edge_length"), a.edge_length, 0, false, kInfinity, false);
+  check_range(o.path("radius"), a.radius, 0, false, kInfinity, false);
+  check_range(o.path("coarsen_after"), a.coarsen_after, 0, true, kInfinity, false);
+}
+
 // The scene-kind specific members, read into options (LiverSceneOptions or KneeSceneOptions).
 template <typename SceneOptions>
 void read_common(const JsonObjectReader& root, SceneOptions& options) {
@@ -246,6 +261,7 @@ void read_common(const JsonObjectReader& root, SceneOptions& options) {
     options.ambient_damping = root.number("ambient_damping");
     check_range(root.path("ambient_damping"), options.ambient_damping, 0, true, kInfinity, false);
   }
+  if (root.has("adaptivity")) read_adaptivity(root.required("adaptivity"), options.adaptivity);
   if (root.has("damage")) {
     read_damage(root.required("damage"), options.strain_threshold, options.target_half_width);
   }
@@ -259,7 +275,7 @@ SurgicalSceneFile parse_surgical_scene_file(const json& value) {
   }
   const JsonObjectReader root(value, "",
                               {"description", "anatomy", "anatomy_options", "materials",
-                               "ambient_damping", "tools", "damage", "solver"});
+                               "ambient_damping", "adaptivity", "tools", "damage", "solver"});
   if (root.has("description")) (void)root.string("description");
   SurgicalSceneFile file;
   const std::string anatomy = root.string("anatomy");

@@ -81,6 +81,7 @@ SurgicalSceneSetup make_liver_surgery(const LiverSceneOptions& options) {
   spec.model = model_of(materials);
   set_step(spec, materials);
   spec.ambient_damping = options.ambient_damping;
+  spec.adaptivity = options.adaptivity;
   spec.tools = options.tools;
   spec.damage.strain_thresholds = {{kLiverLabel, options.strain_threshold},
                                    {kGallbladderBedLabel, options.strain_threshold}};
@@ -104,6 +105,7 @@ SurgicalSceneSetup make_knee_surgery(const KneeSceneOptions& options) {
   spec.model = model_of(materials);
   set_step(spec, materials);
   spec.ambient_damping = options.ambient_damping;
+  spec.adaptivity = options.adaptivity;
   spec.tools = options.tools;
   spec.bones = {{"femur", knee.femur.vertices, knee.femur.triangles},
                 {"tibia", knee.tibia.vertices, knee.tibia.triangles}};

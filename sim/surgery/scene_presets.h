@@ -41,6 +41,9 @@ struct LiverSceneOptions {
   // What surrounds the tissue, as mass-proportional damping [1/s] (SurgicalSceneSpec): a time
   // constant of 50 ms, about critical for the organ's lowest mode.
   Real ambient_damping = 20;
+  // Refinement around the probe's contact and the grasper's jaws: the 8 mm cells down to 4 mm
+  // edges within 12 mm (SurgicalSceneSpec::adaptivity).
+  AdaptivitySpec adaptivity{true, 0.004, 0.012, 0.1, 2000};
   std::vector<ToolSpec> tools = default_tools();
   static std::vector<ToolSpec> default_tools();  // a probe on device 0, a grasper on device 1
 };
@@ -57,6 +60,9 @@ struct KneeSceneOptions {
   // mass-proportional damping [1/s]: a time constant of 10 ms (the menisci's lowest modes are near
   // 65 Hz; at 20/s a jerked meniscus was still tangled after the suite's 60 ms settle).
   Real ambient_damping = 100;
+  // Refinement around the probe's contact: the 3 mm cells down to 1.5 mm edges within 5 mm, as far
+  // as the step allows (the generated mesh's slivers set dt, so most splits are refused).
+  AdaptivitySpec adaptivity{true, 0.0015, 0.005, 0.1, 2000};
   std::vector<ToolSpec> tools = default_tools();
   static std::vector<ToolSpec> default_tools();  // a scope on device 0, a probe on device 1
 };

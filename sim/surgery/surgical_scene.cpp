@@ -77,6 +77,12 @@ void validate(const SurgicalSceneSpec& spec) {
           "ambient_damping must be >= 0");
   require(spec.cut_every >= 1, "cut_every must be >= 1");
   require(spec.damage_every >= 1, "damage_every must be >= 1");
+  const AdaptivitySpec& a = spec.adaptivity;
+  require(a.edge_length > 0 && std::isfinite(a.edge_length), "adaptivity.edge_length must be > 0");
+  require(a.radius > 0 && std::isfinite(a.radius), "adaptivity.radius must be > 0");
+  require(a.coarsen_after >= 0 && std::isfinite(a.coarsen_after),
+          "adaptivity.coarsen_after must be >= 0");
+  require(a.max_splits >= 1, "adaptivity.max_splits must be >= 1");
   for (std::size_t k = 0; k < spec.tools.size(); ++k) {
     const ToolSpec& t = spec.tools[k];
     require(t.device >= 0, field(k, "device") + " must be >= 0");
@@ -167,6 +173,10 @@ void SurgicalScene::step(std::span<const ToolInput> inputs) {
     tool.direction = tool.rotation.col(2);
     tool.tip = tool.input.tip;
   }
+  for (std::size_t k = 0; k < tools_.size(); ++k) {
+    if (tools_[k].grasper && tools_[k].has_input) set_jaws(tools_[k], static_cast<int>(k));
+  }
+  if (spec_.adaptivity.enabled) adapt();
   // Cuts first, so that this step's forces are those of the new topology.
   if (steps_ % spec_.cut_every == 0) {
     for (std::size_t k = 0; k < tools_.size(); ++k) {
@@ -222,20 +232,23 @@ void SurgicalScene::step(std::span<const ToolInput> inputs) {
   }
 }
 
-void SurgicalScene::grasp(Tool& tool, int index) {
-  tools::Grasper& grasper = *tool.grasper;
-  TetMesh& mesh = tissue_->mesh();
+void SurgicalScene::set_jaws(Tool& tool, int index) {
   tools::JawPose pose;
   pose.pivot = tool.tip;
   pose.direction = tool.direction;
   pose.opening_normal = tool.rotation.col(0);
   pose.opening_angle = std::clamp(tool.input.jaw, 0.0, 1.0) * tool.spec.max_jaw_angle;
-  if (const auto released = grasper.set_jaws(pose)) {
+  if (const auto released = tool.grasper->set_jaws(pose)) {
     char text[64];
     std::snprintf(text, sizeof text, "%s, %d vertices",
                   std::string(to_string(released->reason)).c_str(), released->released_vertices);
     event(EventKind::release, index, text);
   }
+}
+
+void SurgicalScene::grasp(Tool& tool, int index) {
+  tools::Grasper& grasper = *tool.grasper;
+  TetMesh& mesh = tissue_->mesh();
   if (grasper.phase() == tools::GraspPhase::closing) {
     // Only committed nodes: a scalpel's temporary nodes are renumbered every cut frame.
     const int stable = stable_nodes();
@@ -376,10 +389,22 @@ void SurgicalScene::simplify_after_stroke(Tool& tool) {
   const cut::SimplifyReport report = tissue_->simplify(region, spec_.simplify);
   collapses_ += report.collapses;
   if (report.collapses == 0) return;
+  after_compaction(report.tet_map, slots_before);
+}
+
+void SurgicalScene::after_compaction(std::span<const int> tet_map, int slots_before) {
   // Every cutter's numbering is stale (none has an open stroke): a new one is made at the next
   // stroke.
-  for (Tool& t : tools_)
+  for (Tool& t : tools_) {
     t.cutter.reset();
+    std::vector<int> slots;
+    for (const int s : t.stroke_slots) {
+      const int to =
+          s < static_cast<int>(tet_map.size()) ? tet_map[static_cast<std::size_t>(s)] : -1;
+      if (to >= 0) slots.push_back(to);
+    }
+    t.stroke_slots = std::move(slots);
+  }
   // The damage tracker's slots follow the compaction: a kept tet inherits its old slot's state.
   const TetMesh& mesh = tissue_->mesh();
   const int slots = std::max(slots_before, mesh.num_tets());
@@ -397,14 +422,138 @@ void SurgicalScene::simplify_after_stroke(Tool& tool) {
     view.labels(s) = mesh.labels(alive ? s : 0);
     damage_alive_[static_cast<std::size_t>(s)] = alive ? 1 : 0;
   }
-  for (std::size_t old = 0; old < report.tet_map.size(); ++old) {
-    const int to = report.tet_map[old];
+  for (std::size_t old = 0; old < tet_map.size(); ++old) {
+    const int to = tet_map[old];
     if (to >= 0 && static_cast<int>(old) < damage_->num_slots()) {
       parents[static_cast<std::size_t>(to)] = static_cast<int>(old);
     }
   }
   damage_->update_elements(view, damage_alive_, all, parents);
   follow_node_count();
+}
+
+void SurgicalScene::update_damage(int tets_before, std::span<const int> changed,
+                                  std::span<const int> parents) {
+  const TetMesh& mesh = tissue_->mesh();
+  // The damage tracker's slots never shrink: slots beyond the mesh's tets are dead.
+  const int slots = std::max(damage_->num_slots(), mesh.num_tets());
+  TetMesh view;
+  view.rest = mesh.rest;
+  view.tets.resize(slots, 4);
+  view.labels.resize(slots);
+  damage_alive_.assign(static_cast<std::size_t>(slots), 0);
+  std::vector<std::pair<int, int>> all;  // slot, parent
+  for (std::size_t k = 0; k < changed.size(); ++k) {
+    all.emplace_back(changed[k], parents.empty() ? -1 : parents[k]);
+  }
+  for (int s = 0; s < slots; ++s) {
+    if (s < mesh.num_tets()) {
+      view.tets.row(s) = mesh.tets.row(s);
+      view.labels(s) = mesh.labels(s);
+      damage_alive_[static_cast<std::size_t>(s)] = 1;
+    } else {
+      view.tets.row(s) = mesh.tets.row(0);  // dead: any valid row
+      view.labels(s) = mesh.labels(0);
+      if (s < tets_before || s < damage_->num_slots()) all.emplace_back(s, -1);
+    }
+  }
+  std::sort(all.begin(), all.end());
+  all.erase(std::unique(all.begin(), all.end(),
+                        [](const auto& p, const auto& q) { return p.first == q.first; }),
+            all.end());
+  std::vector<int> slots_changed, slot_parents;
+  for (const auto& [slot, parent] : all) {
+    slots_changed.push_back(slot);
+    slot_parents.push_back(parent < damage_->num_slots() ? parent : -1);
+  }
+  damage_->update_elements(view, damage_alive_, slots_changed, slot_parents);
+}
+
+void SurgicalScene::adapt() {
+  const AdaptivitySpec& a = spec_.adaptivity;
+  for (const Tool& t : tools_) {
+    if (t.stroke) return;  // the cutter's temporary nodes would go stale
+  }
+  const TetMesh& mesh = tissue_->mesh();
+  bool grasping = false;
+  for (std::size_t k = 0; k < tools_.size(); ++k) {
+    Tool& tool = tools_[k];
+    if (!tool.has_input) continue;
+    const int index = static_cast<int>(k);
+    if (tool.spec.kind == ToolKind::probe && tool.probe) {
+      // Where the probe touched at the last step: refined once, kept while it touches nearby.
+      const tools::ContactRegion touch = tool.probe->contact_region(mesh.rest);
+      if (!touch.touching) continue;
+      bool known = false;
+      for (Region& r : regions_) {
+        if (r.tool == index && (r.centre - touch.centre).norm() < 0.5 * r.radius) {
+          r.last_used = time_;
+          known = true;
+        }
+      }
+      if (!known) refine(index, touch.centre, std::max(a.radius, touch.radius + a.edge_length));
+    } else if (tool.grasper) {
+      const tools::GraspPhase phase = tool.grasper->phase();
+      if (phase == tools::GraspPhase::closing) {
+        grasping = true;
+        std::vector<int> candidates;
+        const int stable = stable_nodes();
+        for (const int v : surface_nodes_) {
+          if (v < stable) candidates.push_back(v);
+        }
+        if (const auto request = tool.grasper->refine_request(
+                mesh.rest, mesh.x, tissue_->inverse_masses(), candidates)) {
+          refine(index, request->centre, request->radius + a.edge_length);
+        }
+      } else if (phase == tools::GraspPhase::holding) {
+        grasping = true;
+        for (Region& r : regions_) {
+          if (r.tool == index) r.last_used = time_;
+        }
+      }
+    }
+  }
+  // Coarsening renumbers nodes: not while a grasper holds (or is about to).
+  if (grasping || tissue_->bisections().empty()) return;
+  const auto expired = std::erase_if(
+      regions_, [&](const Region& r) { return time_ - r.last_used > a.coarsen_after; });
+  if (expired > 0) coarsen();
+}
+
+void SurgicalScene::refine(int tool, const Vec3& centre, Real radius) {
+  const AdaptivitySpec& a = spec_.adaptivity;
+  regions_.push_back({centre, radius, time_, tool});
+  const BisectionReport report = tissue_->refine(centre, radius, a.edge_length, a.max_splits);
+  splits_ += report.splits;
+  splits_refused_ += report.refused;
+  if (report.splits == 0) return;
+  for (Tool& t : tools_)
+    t.cutter.reset();  // its node and tet counts are stale; none has an open stroke
+  update_damage(report.tets_before, report.changed, report.parents);
+  follow_node_count();
+}
+
+void SurgicalScene::coarsen() {
+  const Real margin = spec_.adaptivity.edge_length;
+  const auto keep = [&](const Vec3& rest) {
+    for (const Region& r : regions_) {
+      if ((rest - r.centre).norm() <= r.radius + margin) return true;
+    }
+    return false;
+  };
+  bool any = false;
+  const TetMesh& mesh = tissue_->mesh();
+  for (const Bisection& s : tissue_->bisections()) {
+    if (!keep(row3(mesh.rest, s.mid))) {
+      any = true;
+      break;
+    }
+  }
+  if (!any) return;
+  const int slots_before = std::max(damage_->num_slots(), mesh.num_tets());
+  const CoarsenReport report = tissue_->coarsen(keep);
+  splits_undone_ += report.undone;
+  if (report.undone > 0) after_compaction(report.tet_map, slots_before);
 }
 
 void SurgicalScene::follow_node_count() {
@@ -417,33 +566,11 @@ void SurgicalScene::follow_node_count() {
 
 void SurgicalScene::after_topology_change(int tets_before, std::span<const int> changed) {
   tissue_->topology_changed(tets_before, changed);
-  const TetMesh& mesh = tissue_->mesh();
-  // The damage tracker's slots never shrink: slots beyond the mesh's tets are dead.
-  const int slots = std::max(damage_->num_slots(), mesh.num_tets());
-  TetMesh view;
-  view.rest = mesh.rest;
-  view.tets.resize(slots, 4);
-  view.labels.resize(slots);
-  damage_alive_.assign(static_cast<std::size_t>(slots), 0);
-  std::vector<int> all(changed.begin(), changed.end());
-  for (int s = 0; s < slots; ++s) {
-    if (s < mesh.num_tets()) {
-      view.tets.row(s) = mesh.tets.row(s);
-      view.labels(s) = mesh.labels(s);
-      damage_alive_[static_cast<std::size_t>(s)] = 1;
-    } else {
-      view.tets.row(s) = mesh.tets.row(0);  // dead: any valid row
-      view.labels(s) = mesh.labels(0);
-      if (s < tets_before || s < damage_->num_slots()) all.push_back(s);
-    }
-  }
-  std::sort(all.begin(), all.end());
-  all.erase(std::unique(all.begin(), all.end()), all.end());
-  // New pieces start undamaged (-1): a parent search per cut frame would cost O(#changed x
-  // #tets); the damage of a cut piece is the cut's own record.
-  const std::vector<int> parents(all.size(), -1);
-  damage_->update_elements(view, damage_alive_, all, parents);
+  // New pieces start undamaged: a parent search per cut frame would cost O(#changed x #tets);
+  // the damage of a cut piece is the cut's own record.
+  update_damage(tets_before, changed, {});
   follow_node_count();
+  const TetMesh& mesh = tissue_->mesh();
   const int n = mesh.num_nodes();
   const int stable = stable_nodes();
   for (Tool& tool : tools_) {

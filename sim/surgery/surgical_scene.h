@@ -81,6 +81,19 @@ struct BoneSpec {
   Triangles triangles;
 };
 
+// Local refinement around the tools (issue 6 items 3 and 4; TissueBody::refine, bisection.h):
+// the tissue is refined to edge_length within radius of a probe's contact and around a grasper's
+// jaws as they close, and coarsened again (the splits undone) once no tool has used the region for
+// coarsen_after. A split that would make an element need a shorter step than dt is refused, so
+// the scene's dt holds.
+struct AdaptivitySpec {
+  bool enabled = false;
+  Real edge_length = 0.004;  // [m], > 0
+  Real radius = 0.012;       // [m], > 0
+  Real coarsen_after = 0.1;  // [s], >= 0
+  int max_splits = 2000;     // per refinement, >= 1
+};
+
 struct SurgicalSceneSpec {
   TetMesh tissue;           // rest, tets, labels (x, v: the start state, or empty for rest)
   std::vector<char> fixed;  // per tissue node: held (attachments)
@@ -109,6 +122,7 @@ struct SurgicalSceneSpec {
   // The slivers a stroke's cuts leave are collapsed once the stroke ends (seed 001 VII.C), with
   // these settings; min_quality 0 turns it off.
   cut::SimplifyOptions simplify;
+  AdaptivitySpec adaptivity;
 };
 
 enum class EventKind { grab, release, cut, collision, never_event };
@@ -177,6 +191,13 @@ class SurgicalScene {
   int strain_records_skipped() const { return strain_records_skipped_; }
   // Edge collapses made by the simplification after strokes (spec.simplify).
   int collapses() const { return collapses_; }
+  // Adaptivity (spec.adaptivity): edges split, splits refused (an edge left long because a split
+  // would have made a sliver or needed a shorter step), splits undone by coarsening, and the
+  // regions kept refined now.
+  int splits() const { return splits_; }
+  int splits_refused() const { return splits_refused_; }
+  int splits_undone() const { return splits_undone_; }
+  int refined_regions() const { return static_cast<int>(regions_.size()); }
 
  private:
   struct Tool;
@@ -185,7 +206,21 @@ class SurgicalScene {
   // After a stroke: the slivers among the tets its complete cuts changed are collapsed
   // (TissueBody::simplify), unless another stroke is open or a grasper holds.
   void simplify_after_stroke(Tool& tool);
+  // The jaws' pose for this step (Grasper::set_jaws, first in a step): release events.
+  void set_jaws(Tool& tool, int index);
   void grasp(Tool& tool, int index);
+  // Refines around touching probes and closing graspers, coarsens regions no tool has used for
+  // spec.adaptivity.coarsen_after (nothing while a stroke is open; no coarsening while a
+  // grasper holds or closes: node numbers change).
+  void adapt();
+  void refine(int tool, const Vec3& centre, Real radius);
+  void coarsen();
+  // The damage tracker's slots after the tissue's tets changed (slots `changed`, each inheriting
+  // the state of parents[k], or none if parents is empty).
+  void update_damage(int tets_before, std::span<const int> changed, std::span<const int> parents);
+  // The damage tracker's slots, the cutters and the pending stroke regions after a compaction
+  // (tet_map: old slot -> new or -1).
+  void after_compaction(std::span<const int> tet_map, int slots_before);
   void bones(Tool& tool, int index);
   void after_topology_change(int tets_before, std::span<const int> changed);
   // The per-node arrays (prescribed rows, surface nodes) follow the tissue's node count.
@@ -212,6 +247,16 @@ class SurgicalScene {
   int cuts_refused_ = 0;
   int strain_records_skipped_ = 0;
   int collapses_ = 0;
+  struct Region {
+    Vec3 centre = Vec3::Zero();  // rest [m]
+    Real radius = 0;
+    Real last_used = 0;  // [s]
+    int tool = -1;
+  };
+  std::vector<Region> regions_;
+  int splits_ = 0;
+  int splits_refused_ = 0;
+  int splits_undone_ = 0;
 };
 
 }  // namespace incise::sim::surgery

@@ -127,19 +127,65 @@ void TissueBody::end_step(Real dt, const Vec3& gravity, const Prescribed& prescr
 cut::SimplifyReport TissueBody::simplify(std::span<const int> region,
                                          const cut::SimplifyOptions& options) {
   cut::SimplifyReport report = cut::simplify_cut_region(mesh_, region, options);
-  if (report.collapses == 0) return report;
+  if (report.collapses > 0) after_compaction(report.node_map);
+  return report;
+}
+
+void TissueBody::after_compaction(std::span<const int> node_map) {
   std::vector<char> fixed(static_cast<std::size_t>(mesh_.num_nodes()), 0);
-  for (std::size_t i = 0; i < report.node_map.size(); ++i) {
-    const int to = report.node_map[i];
+  for (std::size_t i = 0; i < node_map.size(); ++i) {
+    const int to = node_map[i];
     if (to >= 0) fixed[static_cast<std::size_t>(to)] = fixed_[i];
   }
   fixed_ = std::move(fixed);
+  remap_bisections(bisections_, node_map);
   model_->update_topology(mesh_);
   ++full_updates_;
   update_inverse_masses();
   rebuild_surface();
   internal_.setZero(mesh_.num_nodes(), 3);
   forces_.setZero(mesh_.num_nodes(), 3);
+}
+
+Real TissueBody::altitude_floor() const {
+  return wave_speed_ * std::sqrt(dt_ * dt_ + 2 * damping_time_ * dt_) / kExplicitSafety;
+}
+
+BisectionReport TissueBody::refine(const Vec3& centre, Real radius, Real edge_length,
+                                   int max_splits) {
+  BisectionSettings settings;
+  settings.edge_length = edge_length;
+  settings.max_splits = max_splits;
+  // A little above the floor: the guard compares squares of a computed step.
+  settings.min_altitude = 1.01 * altitude_floor();
+  BisectionReport report = refine_ball(mesh_, centre, radius, settings);
+  if (report.splits == 0) return report;
+  fixed_.resize(static_cast<std::size_t>(mesh_.num_nodes()), 0);
+  for (const Bisection& s : report.bisections) {
+    fixed_[static_cast<std::size_t>(s.mid)] =
+        fixed_[static_cast<std::size_t>(s.a)] != 0 && fixed_[static_cast<std::size_t>(s.b)] != 0
+            ? 1
+            : 0;
+  }
+  bisections_.insert(bisections_.end(), report.bisections.begin(), report.bisections.end());
+  alive_.assign(static_cast<std::size_t>(mesh_.num_tets()), 1);
+  model_->update_elements(mesh_, alive_, report.changed);
+  ++local_updates_;
+  update_inverse_masses();
+  rebuild_surface();
+  internal_.setZero(mesh_.num_nodes(), 3);
+  forces_.setZero(mesh_.num_nodes(), 3);
+  return report;
+}
+
+CoarsenReport TissueBody::coarsen(const std::function<bool(const Vec3& rest)>& keep) {
+  CoarsenReport report = undo_bisections(mesh_, bisections_, keep);
+  if (report.undone == 0) return report;
+  // undo_bisections renumbered the remaining splits already; the held flags follow here.
+  std::vector<Bisection> kept;
+  kept.swap(bisections_);
+  after_compaction(report.node_map);
+  bisections_ = std::move(kept);
   return report;
 }
 

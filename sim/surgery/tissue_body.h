@@ -23,6 +23,7 @@
 #include "sim/mesh/tet_mesh.h"
 #include "sim/models/model.h"
 #include "sim/solve/symplectic_euler.h"
+#include "sim/surgery/bisection.h"
 
 namespace incise::sim::surgery {
 
@@ -97,6 +98,20 @@ class TissueBody {
   // The report's tet_map and node_map say where each old slot and node went (-1: removed).
   cut::SimplifyReport simplify(std::span<const int> region, const cut::SimplifyOptions& options);
 
+  // Refines around centre (rest [m]) by edge bisection (bisection.h) to edges of at most
+  // edge_length, refusing any split that would make an element need softening (altitude_floor)
+  // or a sliver. New nodes are held if both ends of their edge are; the model follows locally
+  // (the mesh only grew), the masses, surface and tree are rebuilt. The splits are kept
+  // (bisections()) so that coarsen can undo them.
+  BisectionReport refine(const Vec3& centre, Real radius, Real edge_length, int max_splits);
+  // Undoes the kept splits whose node's rest point keep() rejects (undo_bisections) and compacts
+  // the mesh; the model is rebuilt (Model::update_topology), held flags follow the nodes.
+  CoarsenReport coarsen(const std::function<bool(const Vec3& rest)>& keep);
+  const std::vector<Bisection>& bisections() const { return bisections_; }
+  // The smallest rest altitude an element may have without the stability guard softening it [m]:
+  // wave_speed sqrt(dt^2 + 2 beta dt) / kExplicitSafety.
+  Real altitude_floor() const;
+
   // Counts of topology_changed calls: whether the model could follow locally.
   int local_updates() const { return local_updates_; }
   int full_updates() const { return full_updates_; }
@@ -110,6 +125,9 @@ class TissueBody {
  private:
   void rebuild_surface();
   void update_inverse_masses();
+  // After a compaction (node_map: old node -> new or -1): held flags and kept splits follow,
+  // the model is rebuilt.
+  void after_compaction(std::span<const int> node_map);
 
   TetMesh mesh_;
   std::unique_ptr<Model> model_;
@@ -121,6 +139,7 @@ class TissueBody {
   collide::SurfaceBvh bvh_;
   Points internal_, forces_;
   std::vector<char> alive_;
+  std::vector<Bisection> bisections_;
   int local_updates_ = 0;
   int full_updates_ = 0;
   Real dt_;

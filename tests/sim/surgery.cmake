@@ -1,5 +1,6 @@
 # The surgical scene runtime (sim/surgery/): tools on a tissue block, bones, events, damage.
 add_executable(sim_surgery_tests
+  surgery/bisection_test.cpp
   surgery/surgical_scene_test.cpp
 )
 target_link_libraries(sim_surgery_tests PRIVATE incise_sim_surgery GTest::gtest_main)

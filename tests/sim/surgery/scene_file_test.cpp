@@ -74,6 +74,11 @@ void expect_same_setup(const SurgicalSceneSetup& a, const SurgicalSceneSetup& b)
   EXPECT_EQ(s.wave_speed, t.wave_speed);
   EXPECT_EQ(s.damping_time, t.damping_time);
   EXPECT_EQ(s.ambient_damping, t.ambient_damping);
+  EXPECT_EQ(s.adaptivity.enabled, t.adaptivity.enabled);
+  EXPECT_EQ(s.adaptivity.edge_length, t.adaptivity.edge_length);
+  EXPECT_EQ(s.adaptivity.radius, t.adaptivity.radius);
+  EXPECT_EQ(s.adaptivity.coarsen_after, t.adaptivity.coarsen_after);
+  EXPECT_EQ(s.adaptivity.max_splits, t.adaptivity.max_splits);
   EXPECT_EQ(s.cut_every, t.cut_every);
   EXPECT_EQ(s.damage_every, t.damage_every);
   ASSERT_EQ(s.bones.size(), t.bones.size());
@@ -149,7 +154,8 @@ TEST(SceneFile, DefaultsAreThePresets) {
     "anatomy": "knee", "anatomy_options": {"flexion_deg": 30},
     "materials": {"ligament": {"E": 80000}},
     "tools": [{"kind": "probe", "device": 1}, {"kind": "grasper", "device": 0, "tear_force": 2}],
-    "ambient_damping": 0, "solver": {"cut_every": 5}})"));
+    "ambient_damping": 0, "solver": {"cut_every": 5},
+    "adaptivity": {"enabled": false, "radius": 0.02}})"));
   const KneeSceneOptions knee_preset;
   EXPECT_EQ(knee.knee.anatomy.flexion_deg, 30);
   EXPECT_EQ(knee.knee.anatomy.voxel_size, knee_preset.anatomy.voxel_size);
@@ -166,6 +172,11 @@ TEST(SceneFile, DefaultsAreThePresets) {
   EXPECT_EQ(build_surgical_scene(knee).spec.ambient_damping, 0);
   EXPECT_EQ(liver.liver.ambient_damping, preset.ambient_damping);
   EXPECT_GT(preset.ambient_damping, 0);
+  // Adaptivity: each member on its own over the preset's.
+  EXPECT_FALSE(build_surgical_scene(knee).spec.adaptivity.enabled);
+  EXPECT_EQ(knee.knee.adaptivity.radius, 0.02);
+  EXPECT_EQ(knee.knee.adaptivity.edge_length, knee_preset.adaptivity.edge_length);
+  EXPECT_TRUE(build_surgical_scene(liver).spec.adaptivity.enabled);
 }
 
 struct BadCase {
@@ -180,7 +191,17 @@ TEST(SceneFile, EveryBadInputNamesItsPath) {
       {R"({"anatomy": "spleen"})", R"(anatomy: "spleen" is not one of liver, knee)"},
       {R"({"anatomy": "liver", "tool": []})",
        "tool: unknown key (expected one of: description, anatomy, anatomy_options, materials, "
-       "ambient_damping, tools, damage, solver)"},
+       "ambient_damping, adaptivity, tools, damage, solver)"},
+      {R"({"anatomy": "liver", "adaptivity": {"enabled": 1}})",
+       "adaptivity.enabled: must be true or false (got 1)"},
+      {R"({"anatomy": "liver", "adaptivity": {"edge_length": 0}})",
+       "adaptivity.edge_length: must be > 0 (got 0)"},
+      {R"({"anatomy": "knee", "adaptivity": {"max_splits": 0}})",
+       "adaptivity.max_splits: must be in [1, 2147483647] (got 0)"},
+      {R"({"anatomy": "knee", "adaptivity": {"radius": 0.01, "size": 2}})",
+       "adaptivity.size: unknown key (expected one of: enabled, edge_length, radius, "
+       "coarsen_after, "
+       "max_splits)"},
       {R"({"anatomy": "liver", "ambient_damping": -1})", "ambient_damping: must be >= 0 (got -1)"},
       {R"({"anatomy": "knee", "ambient_damping": "20"})",
        R"(ambient_damping: must be a number (got "20"))"},

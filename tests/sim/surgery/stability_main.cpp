@@ -4,6 +4,7 @@
 //
 //   surgery_stability [--sequences N] [--steps M] [--seed S] [--scene liver|knee|both]
 //                     [--seconds T] [--verbose] [--no-simplify]
+//                     [--no-adaptivity]
 // Steps default to 1500 (liver) and 6000 (knee). Sequence k of a scene has seed S + k; --seconds
 // stops each scene after T / #scenes seconds (whatever --sequences says). Replay a failure: --scene
 // <it> --seed <its seed> --sequences 1.
@@ -29,15 +30,17 @@ struct Options {
   int steps = 0;  // 0: the scene's default (default_generator)
   std::uint64_t seed = 1;
   std::vector<std::string> scenes = {"liver", "knee"};
-  double seconds = 0;    // 0: no time limit
-  bool verbose = false;  // a line per sequence
-  bool simplify = true;  // --no-simplify: no sliver collapses after strokes (for comparison)
+  double seconds = 0;      // 0: no time limit
+  bool verbose = false;    // a line per sequence
+  bool simplify = true;    // --no-simplify: no sliver collapses after strokes (for comparison)
+  bool adaptivity = true;  // --no-adaptivity: no refinement around the tools (for comparison)
 };
 
 [[noreturn]] void usage(const std::string& why) {
   std::fprintf(stderr,
                "surgery_stability: %s\nusage: surgery_stability [--sequences N] [--steps M] "
-               "[--seed S] [--scene liver|knee|both] [--seconds T] [--verbose] [--no-simplify]\n",
+               "[--seed S] [--scene liver|knee|both] [--seconds T] [--verbose] [--no-simplify] "
+               "[--no-adaptivity]\n",
                why.c_str());
   std::exit(2);
 }
@@ -48,6 +51,10 @@ Options parse(int argc, char** argv) {
     const std::string arg = argv[i];
     if (arg == "--verbose") {
       o.verbose = true;
+      continue;
+    }
+    if (arg == "--no-adaptivity") {
+      o.adaptivity = false;
       continue;
     }
     if (arg == "--no-simplify") {
@@ -113,6 +120,7 @@ int run_scene(const std::string& name, const Options& o, double budget) {
   const auto built = Clock::now();
   incise::sim::surgery::SurgicalSceneSetup setup = stab::stability_scene(name);
   if (!o.simplify) setup.spec.simplify.min_quality = 0;
+  if (!o.adaptivity) setup.spec.adaptivity.enabled = false;
   const stab::SceneGeometry geometry = stab::geometry_of(setup);
   const double build_seconds = std::chrono::duration<double>(Clock::now() - built).count();
   stab::GeneratorSettings generator = stab::default_generator(name);
@@ -200,6 +208,8 @@ int run_scene(const std::string& name, const Options& o, double budget) {
   print_worst(results, "max mass scale", [](const R& r) { return r.max_mass_scale; });
   print_worst(results, "mass scale at end", [](const R& r) { return r.mass_scale_at_end; });
   print_worst(results, "edge collapses", [](const R& r) { return r.collapses; });
+  print_worst(results, "edge splits", [](const R& r) { return r.splits; });
+  print_worst(results, "splits not undone", [](const R& r) { return r.splits - r.splits_undone; });
   print_worst(results, "wall time [s]", [](const R& r) { return r.seconds; });
   for (const R& r : results) {
     if (!r.passed) {

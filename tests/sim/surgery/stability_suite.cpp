@@ -565,6 +565,8 @@ SequenceResult run_sequence(const SurgicalSceneSpec& spec, const std::string& sc
     r.final_tets = tissue.mesh().num_tets();
     r.mass_scale_at_end = tissue.max_mass_scale();
     r.collapses = s.collapses();
+    r.splits = s.splits();
+    r.splits_undone = s.splits_undone();
     r.cuts_refused = s.cuts_refused();
     if (ok && r.inverted_at_end > 0) {
       fail(r, std::to_string(r.inverted_at_end) + " elements still inverted after " +

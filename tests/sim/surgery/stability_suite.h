@@ -151,6 +151,8 @@ struct SequenceResult {
   Real max_mass_scale = 1;     // the largest at any step (slivers of an open stroke included)
   Real mass_scale_at_end = 1;  // after the strokes' simplification and the settle
   int collapses = 0;           // edge collapses of the simplification after strokes
+  int splits = 0;              // edge bisections of the refinement around tools
+  int splits_undone = 0;       // ... undone by coarsening
   std::array<int, kEventKinds> events{};
   std::array<int, kSegmentKinds> segments{};
   double seconds = 0;  // wall time

@@ -149,6 +149,103 @@ TEST(SurgicalScene, GrasperGrabsLiftsAndTearsAtItsThreshold) {
   EXPECT_LE(last_force, 1.05 * grasper.grasp.tear_force);
 }
 
+AdaptivitySpec adaptive() {
+  AdaptivitySpec a;
+  a.enabled = true;
+  a.edge_length = 0.005;  // half the block's 1 cm cells
+  a.radius = 0.01;
+  a.coarsen_after = 0.05;
+  return a;
+}
+
+int nodes_within(const TetMesh& mesh, const Vec3& rest_point, Real radius) {
+  int count = 0;
+  for (int i = 0; i < mesh.num_nodes(); ++i)
+    count += (row3(mesh.rest, i) - rest_point).norm() <= radius ? 1 : 0;
+  return count;
+}
+
+TEST(SurgicalScene, AProbeRefinesWhereItTouchesAndTheTissueCoarsensOnceItLeaves) {
+  SurgicalSceneSpec spec = block({make_tool(ToolKind::probe)});
+  spec.adaptivity = adaptive();
+  const TetMesh original = spec.tissue;
+  const Real volume = total_volume(original.rest, original.tets);
+  SurgicalScene scene(std::move(spec));
+  const Real radius = tools::ProbeSettings{}.radius;
+  const Vec3 under(0.031, 0.029, kSize.z());
+  const Vec3 above = under + Vec3(0, 0, radius);
+  for (int n = 0; n < 5000; ++n) {
+    const Real s = std::min(1.0, n / 1000.0);
+    const ToolInput in = at(above - Vec3(0, 0, 0.003 * s));
+    scene.step(std::span(&in, 1));
+  }
+  ASSERT_TRUE(scene.state_finite());
+  const TissueBody& tissue = scene.tissue();
+  EXPECT_GT(scene.splits(), 0);
+  EXPECT_EQ(scene.refined_regions(), 1);  // one press, one region
+  EXPECT_GT(nodes_within(tissue.mesh(), under, 0.008), 2 * nodes_within(original, under, 0.008));
+  EXPECT_NEAR(total_volume(tissue.mesh().rest, tissue.mesh().tets), volume, 1e-12 * volume);
+  EXPECT_EQ(tissue.softened_elements(), 0);  // no split made an element too small for dt
+  // The refined block at rest still carries the push on its support.
+  const Vec3 push = column_sum(tissue.external());
+  Vec3 support = Vec3::Zero();
+  for (int i = 0; i < tissue.mesh().num_nodes(); ++i) {
+    if (tissue.is_fixed(i)) support += tissue.internal().row(i).transpose();
+  }
+  EXPECT_LT(push.z(), -0.01);
+  EXPECT_NEAR(support.z(), push.z(), 0.02 * std::abs(push.z()));
+  // Lift off: once the region has been left for coarsen_after, every split is undone.
+  for (int n = 0; n < 3000; ++n) {
+    const ToolInput in = at(above + Vec3(0, 0, 0.02));
+    scene.step(std::span(&in, 1));
+  }
+  ASSERT_TRUE(scene.state_finite());
+  EXPECT_EQ(scene.splits_undone(), scene.splits());
+  EXPECT_EQ(scene.refined_regions(), 0);
+  EXPECT_EQ(tissue.mesh().rest, original.rest);
+  EXPECT_EQ(tissue.mesh().num_tets(), original.num_tets());
+  EXPECT_GT(tet_volumes(tissue.mesh().x, tissue.mesh().tets).minCoeff(), 0);
+  EXPECT_GE(scene.damage_tracker().num_slots(), original.num_tets());
+}
+
+TEST(SurgicalScene, AClosingGrasperRefinesUnderItsJawsAndGrabsMore) {
+  ToolSpec grasper = make_tool(ToolKind::grasper);
+  grasper.grasp.reach = 0.006;
+  const auto grabbed = [&](bool adaptive_tissue, int& splits, int& undone) {
+    SurgicalSceneSpec spec = block({grasper});
+    if (adaptive_tissue) spec.adaptivity = adaptive();
+    const int nodes = spec.tissue.num_nodes();
+    SurgicalScene scene(std::move(spec));
+    // The jaws lie along the top surface (the tool axis along +x, the hinge 0.5 mm above it):
+    // the grab region is a 1.5 mm band along 1 cm of surface, which the 1 cm cells meet at one
+    // node.
+    int count = 0;
+    for (int n = 0; n < 2000; ++n) {
+      ToolInput in;
+      in.tip = Vec3(0.025, 0.03, kSize.z() + 0.0005);
+      in.orientation =
+          Eigen::Quaternion<Real>(Eigen::AngleAxis<Real>(std::numbers::pi / 2, Vec3::UnitY()));
+      in.jaw = n < 500 || n >= 1000 ? 1.0 : 0.0;  // close, hold, open
+      scene.step(std::span(&in, 1));
+      for (const SceneEvent& e : scene.take_events()) {
+        if (e.kind == EventKind::grab) count = std::stoi(e.detail);
+      }
+    }
+    EXPECT_TRUE(scene.state_finite());
+    splits = scene.splits();
+    undone = scene.splits_undone();
+    EXPECT_EQ(scene.tissue().mesh().num_nodes(), nodes);  // coarsened back after the release
+    return count;
+  };
+  int splits = 0, undone = 0;
+  const int coarse = grabbed(false, splits, undone);
+  const int fine = grabbed(true, splits, undone);
+  EXPECT_GT(coarse, 0);
+  EXPECT_GT(fine, coarse);
+  EXPECT_GT(splits, 0);
+  EXPECT_EQ(undone, splits);
+}
+
 TEST(SurgicalScene, ScalpelThroughTheBlockPartsItAndKeepsTheVolume) {
   ToolSpec scalpel = make_tool(ToolKind::scalpel);
   scalpel.blade_length = 0.05;  // longer than the block is thick
@@ -337,7 +434,7 @@ TEST(SurgicalScene, AmbientDampingSlowsAFreeBlockByItsClosedForm) {
 
 // A short random sequence of probe, grasp, pull, cut and violent jerks: no throw, no NaN, and
 // no inversion left once the tools are lifted away.
-TEST(SurgicalScene, RandomToolSequenceStaysFinite) {
+void random_tool_sequence(bool adaptive_tissue) {
   ToolSpec scalpel = make_tool(ToolKind::scalpel, 2);
   scalpel.blade_length = 0.02;
   SurgicalSceneSpec spec =
@@ -346,6 +443,7 @@ TEST(SurgicalScene, RandomToolSequenceStaysFinite) {
   // physics says (a 5-node piece leaves at 1 m/s with this seed). The scenes' surroundings stop
   // them.
   spec.ambient_damping = 20;
+  if (adaptive_tissue) spec.adaptivity = adaptive();
   SurgicalScene scene(std::move(spec));
   std::mt19937 rng(7);
   std::uniform_real_distribution<Real> u(0, 1);
@@ -378,6 +476,22 @@ TEST(SurgicalScene, RandomToolSequenceStaysFinite) {
   ASSERT_TRUE(scene.state_finite());
   EXPECT_EQ(scene.tissue().model().health().inverted_elements, 0);
   EXPECT_LT(scene.tissue().mesh().v.rowwise().norm().maxCoeff(), 0.1);
+  if (adaptive_tissue) {
+    // Refined under the tools, coarsened where it could be (a cut through a split's tets keeps
+    // it), every tet still positive at rest.
+    EXPECT_GT(scene.splits(), 0);
+    EXPECT_GT(scene.splits_undone(), 0);
+    EXPECT_EQ(scene.refined_regions(), 0);
+    EXPECT_GT(tet_volumes(scene.tissue().mesh().rest, scene.tissue().mesh().tets).minCoeff(), 0);
+  }
+}
+
+TEST(SurgicalScene, RandomToolSequenceStaysFinite) {
+  random_tool_sequence(false);
+}
+
+TEST(SurgicalScene, RandomToolSequenceOnAnAdaptiveTissueStaysFinite) {
+  random_tool_sequence(true);
 }
 
 }  // namespace
