@@ -173,8 +173,12 @@ bool link_condition_holds(const Tets& tets, int a, int b) {
 }
 
 SimplifyReport simplify_cut_region(TetMesh& mesh, std::span<const int> region,
-                                   const SimplifyOptions& options) {
+                                   const SimplifyOptions& options, std::span<const char> pinned) {
   const int num_tets = mesh.num_tets();
+  if (!pinned.empty() && static_cast<int>(pinned.size()) != mesh.num_nodes()) {
+    throw std::invalid_argument("simplify_cut_region: pinned has " + std::to_string(pinned.size()) +
+                                " entries for " + std::to_string(mesh.num_nodes()) + " nodes");
+  }
   for (int t : region) {
     if (t < 0 || t >= num_tets) {
       throw std::invalid_argument("simplify_cut_region: slot " + std::to_string(t) +
@@ -211,6 +215,10 @@ SimplifyReport simplify_cut_region(TetMesh& mesh, std::span<const int> region,
 
   // Tries to move node b onto a; returns whether it did.
   const auto try_collapse = [&](int a, int b) {
+    if (!pinned.empty() && pinned[static_cast<std::size_t>(b)] != 0) {
+      ++report.rejected_pinned;
+      return false;
+    }
     const auto& sb = star[static_cast<std::size_t>(b)];
     const auto& sa = star[static_cast<std::size_t>(a)];
     // Boundary error.

@@ -42,6 +42,7 @@ struct SimplifyReport {
   int rejected_topology = 0;
   int rejected_boundary = 0;
   int rejected_quality = 0;     // no progress
+  int rejected_pinned = 0;      // the node to remove is pinned
   Real min_quality_before = 0;  // over the region's tets
   Real min_quality_after = 0;
   int slivers_left = 0;  // region tets still below min_quality
@@ -60,8 +61,11 @@ bool link_condition_holds(const Tets& tets, int a, int b);
 // Removes the slivers among the region's tets (slots, e.g. CutReport::changed_tets) and the tets
 // sharing a node with them, by checked half-edge collapses. The mesh is then compacted (removed
 // tets and nodes erased, order kept; see the report's maps): a model should call
-// update_topology. Throws std::invalid_argument if a region slot is out of range.
+// update_topology. Nodes with pinned[i] != 0 are never removed (e.g. a condensed far field's
+// nodes, whose tets must not change); empty: none. Throws std::invalid_argument if a region slot
+// is out of range or pinned is neither empty nor #nodes long.
 SimplifyReport simplify_cut_region(TetMesh& mesh, std::span<const int> region,
-                                   const SimplifyOptions& options = {});
+                                   const SimplifyOptions& options = {},
+                                   std::span<const char> pinned = {});
 
 }  // namespace incise::sim::cut

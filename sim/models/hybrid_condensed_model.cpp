@@ -466,6 +466,15 @@ void HybridCondensedModel::update_elements(const TetMesh& mesh, const std::vecto
   topology_changed();
 }
 
+bool HybridCondensedModel::soften_element(int t, Real factor) {
+  if (t < 0 || static_cast<std::size_t>(t) >= slot_operational_.size()) {
+    throw std::invalid_argument(where("soften_element: slot ") + std::to_string(t) +
+                                " is out of range");
+  }
+  if (slot_operational_[static_cast<std::size_t>(t)] == 0) return false;
+  return operational_->soften_element(operational_slot_[static_cast<std::size_t>(t)], factor);
+}
+
 Eigen::MatrixXd HybridCondensedModel::condensed_damping() const {
   if (far_beta_ > 0) return far_beta_ * k_star_;
   return d_star_;

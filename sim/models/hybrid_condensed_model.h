@@ -90,6 +90,9 @@ class HybridCondensedModel final : public Model {
                        std::span<const int> changed) override;
 
   ModelHealth health() const override { return operational_->health(); }
+  // An operational slot is softened by the operational model; a far-field one is not (its
+  // stiffness is condensed into K*): false. Throws std::invalid_argument for t out of range.
+  bool soften_element(int t, Real factor) override;
 
   // Displacements of the condensed interior nodes, u_i = -Kii^-1 Kis (x_s - X_s), written into
   // x's interior rows as X_i + u_i (e.g. for rendering); other rows are untouched.

@@ -273,9 +273,10 @@ SurgicalSceneFile parse_surgical_scene_file(const json& value) {
   if (!value.is_object()) {
     throw SceneError("", "the scene must be a JSON object (got " + describe(value) + ")");
   }
-  const JsonObjectReader root(value, "",
-                              {"description", "anatomy", "anatomy_options", "materials",
-                               "ambient_damping", "adaptivity", "tools", "damage", "solver"});
+  const JsonObjectReader root(
+      value, "",
+      {"description", "anatomy", "anatomy_options", "materials", "ambient_damping", "adaptivity",
+       "operational_radius", "tools", "damage", "solver"});
   if (root.has("description")) (void)root.string("description");
   SurgicalSceneFile file;
   const std::string anatomy = root.string("anatomy");
@@ -296,6 +297,10 @@ SurgicalSceneFile parse_surgical_scene_file(const json& value) {
       if (m.has("liver")) read_material(m.required("liver"), m.path("liver"), o.liver);
     }
     read_common(root, o);
+    if (root.has("operational_radius")) {
+      o.operational_radius = root.number("operational_radius");
+      check_range(root.path("operational_radius"), o.operational_radius, 0, true, kInfinity, false);
+    }
   } else {
     KneeSceneOptions& o = file.knee;
     if (root.has("anatomy_options")) {
@@ -305,6 +310,9 @@ SurgicalSceneFile parse_surgical_scene_file(const json& value) {
       const JsonObjectReader m(root.required("materials"), "materials", {"meniscus", "ligament"});
       if (m.has("meniscus")) read_material(m.required("meniscus"), m.path("meniscus"), o.meniscus);
       if (m.has("ligament")) read_material(m.required("ligament"), m.path("ligament"), o.ligament);
+    }
+    if (root.has("operational_radius")) {
+      throw SceneError("operational_radius", "is a setting of the liver, not of the knee");
     }
     read_common(root, o);
   }

@@ -14,11 +14,15 @@ namespace {
 
 // The model of a scene whose tissue labels carry the given materials (every label listed; the
 // model kind is the first one's: a scene has one model).
-ModelFactory model_of(const std::map<int, Material>& materials) {
+Scene scene_of(const std::map<int, Material>& materials) {
   Scene scene;
   scene.material = materials.begin()->second;
   scene.materials_by_label = materials;
-  return [scene](const TetMesh& mesh) { return make_model(scene, mesh); };
+  return scene;
+}
+
+ModelFactory model_of(const std::map<int, Material>& materials) {
+  return [scene = scene_of(materials)](const TetMesh& mesh) { return make_model(scene, mesh); };
 }
 
 // dt, wave speed and damping time of a tissue mesh with these materials: the stable step of the
@@ -87,6 +91,12 @@ SurgicalSceneSetup make_liver_surgery(const LiverSceneOptions& options) {
                                    {kGallbladderBedLabel, options.strain_threshold}};
   spec.damage.protected_labels = liver.protected_labels;
   spec.damage.target = target_of(liver.cut_line, options.target_half_width);
+  if (options.operational_radius > 0) {
+    spec.far_field.enabled = true;
+    spec.far_field.centre = 0.5 * (liver.cut_line.front() + liver.cut_line.back());
+    spec.far_field.radius = options.operational_radius;
+    spec.far_field.materials = element_materials(scene_of(materials), spec.tissue);
+  }
   setup.landmarks = std::move(liver.landmarks);
   setup.cut_target = std::move(liver.cut_line);
   return setup;

@@ -44,6 +44,12 @@ struct LiverSceneOptions {
   // Refinement around the probe's contact and the grasper's jaws: the 8 mm cells down to 4 mm
   // edges within 12 mm (SurgicalSceneSpec::adaptivity).
   AdaptivitySpec adaptivity{true, 0.004, 0.012, 0.1, 2000};
+  // Where the surgery happens: a ball of this radius [m] around the marked line's middle; the
+  // rest of the organ is a condensed linear far field (SurgicalSceneSpec::far_field). 0: none,
+  // the whole organ nonlinear (the default: on this thin organ most far-field nodes are surface
+  // nodes, which the condensed model keeps, and its dense K* costs about what the nonlinear
+  // elements it replaces do; docs/surgical_scenes.md has the figures).
+  Real operational_radius = 0;
   std::vector<ToolSpec> tools = default_tools();
   static std::vector<ToolSpec> default_tools();  // a probe on device 0, a grasper on device 1
 };

@@ -7,6 +7,9 @@
 #include <stdexcept>
 #include <utility>
 
+#include "sim/cut/material_map.h"
+#include "sim/models/hybrid_condensed_model.h"
+
 namespace incise::sim::surgery {
 
 std::string_view to_string(ToolKind kind) {
@@ -83,6 +86,11 @@ void validate(const SurgicalSceneSpec& spec) {
   require(a.coarsen_after >= 0 && std::isfinite(a.coarsen_after),
           "adaptivity.coarsen_after must be >= 0");
   require(a.max_splits >= 1, "adaptivity.max_splits must be >= 1");
+  if (spec.far_field.enabled) {
+    require(spec.far_field.centre.allFinite(), "far_field.centre must be finite");
+    require(spec.far_field.radius > 0 && std::isfinite(spec.far_field.radius),
+            "far_field.radius must be > 0");
+  }
   for (std::size_t k = 0; k < spec.tools.size(); ++k) {
     const ToolSpec& t = spec.tools[k];
     require(t.device >= 0, field(k, "device") + " must be >= 0");
@@ -107,12 +115,116 @@ const collide::Contact* deepest(const std::vector<collide::Contact>& contacts) {
   return best;
 }
 
+// The far field's tets: no node within the region (rest).
+std::vector<char> far_field_tets(const TetMesh& mesh, const FarFieldSpec& region) {
+  std::vector<char> far(static_cast<std::size_t>(mesh.num_tets()), 1);
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    for (int k = 0; k < 4; ++k) {
+      if ((row3(mesh.rest, mesh.tets(t, k)) - region.centre).norm() < region.radius) {
+        far[static_cast<std::size_t>(t)] = 0;
+      }
+    }
+  }
+  return far;
+}
+
+// Renumbers the nodes so that the far field's come first, in their order, then the others: a
+// compaction (sliver collapses, coarsening) removes operational nodes only and keeps the order,
+// so the far field's tets keep their node numbers, which the condensed model holds them by.
+void far_field_nodes_first(TetMesh& mesh, std::vector<char>& fixed, const std::vector<char>& far) {
+  const int n = mesh.num_nodes();
+  std::vector<char> in_far(static_cast<std::size_t>(n), 0);
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    if (far[static_cast<std::size_t>(t)] == 0) continue;
+    for (int k = 0; k < 4; ++k)
+      in_far[static_cast<std::size_t>(mesh.tets(t, k))] = 1;
+  }
+  std::vector<int> order;  // new -> old
+  for (int pass = 1; pass >= 0; --pass) {
+    for (int i = 0; i < n; ++i) {
+      if (in_far[static_cast<std::size_t>(i)] == pass) order.push_back(i);
+    }
+  }
+  std::vector<int> new_of(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k)
+    new_of[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] = k;
+  const auto permute = [&](Points& p) {
+    if (p.rows() != n) return;
+    Points q(n, 3);
+    for (int k = 0; k < n; ++k)
+      q.row(k) = p.row(order[static_cast<std::size_t>(k)]);
+    p = std::move(q);
+  };
+  permute(mesh.rest);
+  permute(mesh.x);
+  permute(mesh.v);
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    for (int k = 0; k < 4; ++k)
+      mesh.tets(t, k) = new_of[static_cast<std::size_t>(mesh.tets(t, k))];
+  }
+  std::vector<char> f(fixed.size(), 0);
+  for (int k = 0; k < n && static_cast<std::size_t>(k) < fixed.size(); ++k)
+    f[static_cast<std::size_t>(k)] =
+        fixed[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])];
+  fixed = std::move(f);
+}
+
 }  // namespace
 
 SurgicalScene::SurgicalScene(SurgicalSceneSpec spec) : spec_(std::move(spec)) {
   validate(spec_);
-  tissue_ = std::make_unique<TissueBody>(spec_.tissue, spec_.model, spec_.fixed, spec_.dt,
-                                         spec_.wave_speed, spec_.damping_time);
+  std::vector<char> far;
+  ModelFactory model = spec_.model;
+  if (spec_.far_field.enabled) {
+    far = far_field_tets(spec_.tissue, spec_.far_field);
+    const auto far_count = std::count(far.begin(), far.end(), 1);
+    require(far_count > 0, "far_field: no tet lies outside the region (radius too large)");
+    require(far_count < static_cast<long>(far.size()), "far_field: no tet lies inside the region");
+    require(spec_.fixed.size() == static_cast<std::size_t>(spec_.tissue.num_nodes()),
+            "fixed must have one entry per tissue node");
+    far_field_nodes_first(spec_.tissue, spec_.fixed, far);
+    // The guard: the longest edge of the operational tets that share a node with the far field.
+    // A tet the blade passes through at a point more than that inside the region cannot hold a
+    // far-field node (every one is outside the region), so neither it nor a tet sharing one of
+    // its edges or faces (which holds that edge's or face's nodes) is a far-field tet: the cut
+    // leaves the far field alone. The region less the guard is a ball, so the blade's ends
+    // suffice.
+    std::vector<char> far_node(static_cast<std::size_t>(spec_.tissue.num_nodes()), 0);
+    for (int t = 0; t < spec_.tissue.num_tets(); ++t) {
+      if (far[static_cast<std::size_t>(t)] == 0) continue;
+      for (int k = 0; k < 4; ++k)
+        far_node[static_cast<std::size_t>(spec_.tissue.tets(t, k))] = 1;
+    }
+    Real longest = 0;
+    for (int t = 0; t < spec_.tissue.num_tets(); ++t) {
+      bool interface = false;
+      for (int k = 0; k < 4; ++k)
+        interface = interface || far_node[static_cast<std::size_t>(spec_.tissue.tets(t, k))] != 0;
+      if (far[static_cast<std::size_t>(t)] != 0 || !interface) continue;
+      for (int i = 0; i < 4; ++i) {
+        for (int j = i + 1; j < 4; ++j) {
+          longest = std::max(longest, (row3(spec_.tissue.rest, spec_.tissue.tets(t, i)) -
+                                       row3(spec_.tissue.rest, spec_.tissue.tets(t, j)))
+                                          .norm());
+        }
+      }
+    }
+    far_guard_ = 1.1 * longest;  // a margin for the blade's material map
+    const ModelFactory operational = spec_.model;
+    require(static_cast<bool>(operational), "model: no factory");
+    model = [operational, far, materials = spec_.far_field.materials](const TetMesh& mesh) {
+      std::vector<char> flags(far.size());
+      for (std::size_t t = 0; t < far.size(); ++t)
+        flags[t] = far[t] != 0 ? 0 : 1;
+      return std::make_unique<HybridCondensedModel>(
+          mesh, flags, materials,
+          [operational](const TetMesh& m, const std::vector<ElementMaterial>&) {
+            return operational(m);
+          });
+    };
+  }
+  tissue_ = std::make_unique<TissueBody>(spec_.tissue, model, spec_.fixed, spec_.dt,
+                                         spec_.wave_speed, spec_.damping_time, far);
   tissue_->set_ambient_damping(spec_.ambient_damping);
   for (std::size_t b = 0; b < spec_.bones.size(); ++b) {
     try {
@@ -223,6 +335,7 @@ void SurgicalScene::step(std::span<const ToolInput> inputs) {
   ++steps_;
   time_ += spec_.dt;
   if (steps_ % spec_.damage_every == 0 && state_finite()) {
+    tissue_->recover_far_field();  // the far field's interior, for its strains
     try {
       damage_->record_strain(mesh.x, strain_time_);
     } catch (const std::invalid_argument&) {
@@ -312,6 +425,10 @@ void SurgicalScene::cut(Tool& tool, int index) {
   std::vector<int> near;
   tissue_->bvh().overlapping_triangles(mesh.x, collide::Capsule{a, b, 1e-4}, near);
   if (!tool.stroke && near.empty()) return;
+  // A blade reaching the condensed far field (which cannot change) ends its stroke there.
+  const bool outside = far_guard_ > 0 && blade_outside_region(a, b);
+  if (outside) ++cuts_outside_region_;
+  if (!tool.stroke && outside) return;
   // The blade cuts the material it passes through: the cutter maps it into the rest
   // configuration through the tet its tip is in, so tissue moving under the blade is not cut
   // again (progressive_cutter.h). Where that tet is squashed or inverted (a violent push has
@@ -321,16 +438,24 @@ void SurgicalScene::cut(Tool& tool, int index) {
     tool.cutter = std::make_unique<cut::ProgressiveCutter>(mesh, cut::CutOptions{}, 0,
                                                            cut::BladeSpace::material);
   }
-  const cut::FrameReport& report = tool.cutter->update(a, b);
-  const int tets_before = report.tets_before;
-  std::vector<int> changed = report.changed_tets;
-  Triangles committed = report.committed_crack_face_nodes;
-  std::vector<int> labels = report.committed_crack_face_labels;
-  if (report.blade_unmapped && !near.empty()) ++cuts_refused_;
-  tool.stroke = !near.empty() || report.front_tets > 0;
-  if (report.committed_new_tets > 0 || report.committed_crack_faces > 0) {
-    for (const int s : changed) {
-      if (s < tool.cutter->committed_tets()) tool.stroke_slots.push_back(s);
+  int tets_before = mesh.num_tets();
+  std::vector<int> changed;
+  Triangles committed;
+  std::vector<int> labels;
+  if (outside) {
+    tool.stroke = false;
+  } else {
+    const cut::FrameReport& report = tool.cutter->update(a, b);
+    tets_before = report.tets_before;
+    changed = report.changed_tets;
+    committed = report.committed_crack_face_nodes;
+    labels = report.committed_crack_face_labels;
+    if (report.blade_unmapped && !near.empty()) ++cuts_refused_;
+    tool.stroke = !near.empty() || report.front_tets > 0;
+    if (report.committed_new_tets > 0 || report.committed_crack_faces > 0) {
+      for (const int s : changed) {
+        if (s < tool.cutter->committed_tets()) tool.stroke_slots.push_back(s);
+      }
     }
   }
   if (!tool.stroke) {
@@ -366,6 +491,19 @@ void SurgicalScene::cut(Tool& tool, int index) {
     if (cut.never_event) event(EventKind::never_event, index, "a protected tissue was cut");
   }
   if (!tool.stroke) simplify_after_stroke(tool);
+}
+
+bool SurgicalScene::blade_outside_region(const Vec3& a, const Vec3& b) const {
+  const TetMesh& mesh = tissue_->mesh();
+  const FarFieldSpec& region = spec_.far_field;
+  for (const Vec3& p : {a, b}) {
+    // Where the blade's end is in the material; where it cannot be mapped (in the air beyond
+    // reach), its position stands for it.
+    const auto map = cut::material_map_at(mesh, p, 2 * far_guard_);
+    const Vec3 rest = map ? map->rest_of(p) : p;
+    if ((rest - region.centre).norm() > region.radius - far_guard_) return true;
+  }
+  return false;
 }
 
 void SurgicalScene::simplify_after_stroke(Tool& tool) {

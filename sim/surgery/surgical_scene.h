@@ -94,6 +94,22 @@ struct AdaptivitySpec {
   int max_splits = 2000;     // per refinement, >= 1
 };
 
+// A condensed far field (issue 6 item 6; seed 001 section VI; sim/models/
+// hybrid_condensed_model.h): the scene declares where the surgery happens, a ball (rest) around
+// centre; the tets with no node inside it are the far field, linear and condensed to their
+// surface and interface nodes, and `model` makes the operational region's model. materials[l] is
+// tissue label l's material in the far field (damping: the Kelvin-Voigt time beta [s]). Cuts stay
+// inside the ball: a blade whose ends map (rest) to within a guard of its surface ends its stroke
+// (cuts_outside_region(); the guard is the longest edge of the operational tets that touch the
+// far field, plus 10%). Refinement leaves the far field alone. The nodes are renumbered, the far
+// field's first (compactions then keep their numbers, which the condensed model needs).
+struct FarFieldSpec {
+  bool enabled = false;
+  Vec3 centre = Vec3::Zero();  // [m]
+  Real radius = 0;             // [m], > 0
+  std::vector<ElementMaterial> materials;
+};
+
 struct SurgicalSceneSpec {
   TetMesh tissue;           // rest, tets, labels (x, v: the start state, or empty for rest)
   std::vector<char> fixed;  // per tissue node: held (attachments)
@@ -123,6 +139,7 @@ struct SurgicalSceneSpec {
   // these settings; min_quality 0 turns it off.
   cut::SimplifyOptions simplify;
   AdaptivitySpec adaptivity;
+  FarFieldSpec far_field;
 };
 
 enum class EventKind { grab, release, cut, collision, never_event };
@@ -198,11 +215,15 @@ class SurgicalScene {
   int splits_refused() const { return splits_refused_; }
   int splits_undone() const { return splits_undone_; }
   int refined_regions() const { return static_cast<int>(regions_.size()); }
+  // Scalpel updates refused because the blade reached the condensed far field (spec.far_field).
+  int cuts_outside_region() const { return cuts_outside_region_; }
 
  private:
   struct Tool;
 
   void cut(Tool& tool, int index);
+  // Whether the blade (a, b) reaches within far_guard_ of the far field (rest configuration).
+  bool blade_outside_region(const Vec3& a, const Vec3& b) const;
   // After a stroke: the slivers among the tets its complete cuts changed are collapsed
   // (TissueBody::simplify), unless another stroke is open or a grasper holds.
   void simplify_after_stroke(Tool& tool);
@@ -257,6 +278,8 @@ class SurgicalScene {
   int splits_ = 0;
   int splits_refused_ = 0;
   int splits_undone_ = 0;
+  Real far_guard_ = 0;  // > 0 with a far field (FarFieldSpec)
+  int cuts_outside_region_ = 0;
 };
 
 }  // namespace incise::sim::surgery

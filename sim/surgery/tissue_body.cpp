@@ -20,9 +20,10 @@ std::array<Real, 3> key_of(const Points& rest, int node) {
 }  // namespace
 
 TissueBody::TissueBody(TetMesh mesh, const ModelFactory& make_model, std::vector<char> fixed,
-                       Real dt, Real wave_speed, Real damping_time)
+                       Real dt, Real wave_speed, Real damping_time, std::vector<char> far_field)
     : mesh_(std::move(mesh)),
       fixed_(std::move(fixed)),
+      far_(std::move(far_field)),
       dt_(dt),
       wave_speed_(wave_speed),
       damping_time_(damping_time) {
@@ -41,7 +42,24 @@ TissueBody::TissueBody(TetMesh mesh, const ModelFactory& make_model, std::vector
   if (!make_model) throw std::invalid_argument("tissue: no model factory");
   if (mesh_.x.rows() != mesh_.rest.rows()) mesh_.x = mesh_.rest;
   if (mesh_.v.rows() != mesh_.rest.rows()) mesh_.v = Points::Zero(mesh_.rest.rows(), 3);
+  if (!far_.empty() && static_cast<int>(far_.size()) != mesh_.num_tets()) {
+    throw std::invalid_argument("tissue: far_field has " + std::to_string(far_.size()) +
+                                " entries for " + std::to_string(mesh_.num_tets()) + " tets");
+  }
   model_ = make_model(mesh_);
+  if (!model_) throw std::invalid_argument("tissue: the model factory made no model");
+  if (!far_.empty()) {
+    condensed_ = dynamic_cast<HybridCondensedModel*>(model_.get());
+    if (condensed_ == nullptr) {
+      throw std::invalid_argument("tissue: a far field needs the hybrid condensed model");
+    }
+    pinned_.assign(static_cast<std::size_t>(mesh_.num_nodes()), 0);
+    for (int t = 0; t < mesh_.num_tets(); ++t) {
+      if (far_[static_cast<std::size_t>(t)] == 0) continue;
+      for (int k = 0; k < 4; ++k)
+        pinned_[static_cast<std::size_t>(mesh_.tets(t, k))] = 1;
+    }
+  }
   for (int i = 0; i < mesh_.num_nodes(); ++i) {
     if (fixed_[static_cast<std::size_t>(i)] != 0) fixed_rest_.push_back(key_of(mesh_.rest, i));
   }
@@ -126,12 +144,35 @@ void TissueBody::end_step(Real dt, const Vec3& gravity, const Prescribed& prescr
 
 cut::SimplifyReport TissueBody::simplify(std::span<const int> region,
                                          const cut::SimplifyOptions& options) {
-  cut::SimplifyReport report = cut::simplify_cut_region(mesh_, region, options);
-  if (report.collapses > 0) after_compaction(report.node_map);
+  cut::SimplifyReport report = cut::simplify_cut_region(mesh_, region, options, pinned_);
+  if (report.collapses > 0) after_compaction(report.node_map, report.tet_map);
   return report;
 }
 
-void TissueBody::after_compaction(std::span<const int> node_map) {
+void TissueBody::recover_far_field() {
+  if (condensed_ != nullptr) condensed_->recover_interior(mesh_.x);
+}
+
+void TissueBody::grow_far_field() {
+  if (far_.empty()) return;
+  far_.resize(static_cast<std::size_t>(mesh_.num_tets()), 0);
+  pinned_.resize(static_cast<std::size_t>(mesh_.num_nodes()), 0);
+}
+
+void TissueBody::after_compaction(std::span<const int> node_map, std::span<const int> tet_map) {
+  if (!far_.empty()) {
+    // Far-field tets and nodes are never removed; the order is kept.
+    std::vector<char> far(static_cast<std::size_t>(mesh_.num_tets()), 0);
+    for (std::size_t t = 0; t < tet_map.size() && t < far_.size(); ++t) {
+      if (tet_map[t] >= 0) far[static_cast<std::size_t>(tet_map[t])] = far_[t];
+    }
+    far_ = std::move(far);
+    std::vector<char> pinned(static_cast<std::size_t>(mesh_.num_nodes()), 0);
+    for (std::size_t i = 0; i < node_map.size() && i < pinned_.size(); ++i) {
+      if (node_map[i] >= 0) pinned[static_cast<std::size_t>(node_map[i])] = pinned_[i];
+    }
+    pinned_ = std::move(pinned);
+  }
   std::vector<char> fixed(static_cast<std::size_t>(mesh_.num_nodes()), 0);
   for (std::size_t i = 0; i < node_map.size(); ++i) {
     const int to = node_map[i];
@@ -158,7 +199,8 @@ BisectionReport TissueBody::refine(const Vec3& centre, Real radius, Real edge_le
   settings.max_splits = max_splits;
   // A little above the floor: the guard compares squares of a computed step.
   settings.min_altitude = 1.01 * altitude_floor();
-  BisectionReport report = refine_ball(mesh_, centre, radius, settings);
+  BisectionReport report = refine_ball(mesh_, centre, radius, settings, far_);
+  grow_far_field();
   if (report.splits == 0) return report;
   fixed_.resize(static_cast<std::size_t>(mesh_.num_nodes()), 0);
   for (const Bisection& s : report.bisections) {
@@ -184,13 +226,14 @@ CoarsenReport TissueBody::coarsen(const std::function<bool(const Vec3& rest)>& k
   // undo_bisections renumbered the remaining splits already; the held flags follow here.
   std::vector<Bisection> kept;
   kept.swap(bisections_);
-  after_compaction(report.node_map);
+  after_compaction(report.node_map, report.tet_map);
   bisections_ = std::move(kept);
   return report;
 }
 
 void TissueBody::topology_changed(int tets_before, std::span<const int> changed) {
   const int n = mesh_.num_nodes();
+  grow_far_field();
   const std::size_t old_nodes = fixed_.size();
   fixed_.resize(static_cast<std::size_t>(n), 0);
   for (std::size_t i = old_nodes; i < fixed_.size(); ++i) {

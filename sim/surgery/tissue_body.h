@@ -21,6 +21,7 @@
 #include "sim/cut/simplify_cut.h"
 #include "sim/mesh/boundary_surface.h"
 #include "sim/mesh/tet_mesh.h"
+#include "sim/models/hybrid_condensed_model.h"
 #include "sim/models/model.h"
 #include "sim/solve/symplectic_euler.h"
 #include "sim/surgery/bisection.h"
@@ -48,8 +49,14 @@ class TissueBody {
   // body's motion (an inverted sliver around one stayed inverted for seconds). softened_elements()
   // and mass_scaled_nodes() say how many: metrics, the price of not blowing up (a softened sliver
   // is a tiny volume of softer tissue).
+  //
+  // far_field: per tet, non-zero for a tet of a condensed far field (empty: none). The model must
+  // then be a HybridCondensedModel with these tets as its far field. They never change: refinement
+  // leaves them alone, the sliver simplification never removes one of their nodes (pinned), and
+  // cuts must stay out of them (SurgicalScene's guard); their condensed interior nodes are
+  // recovered by recover_far_field.
   TissueBody(TetMesh mesh, const ModelFactory& make_model, std::vector<char> fixed, Real dt,
-             Real wave_speed, Real damping_time);
+             Real wave_speed, Real damping_time, std::vector<char> far_field = {});
 
   TissueBody(const TissueBody&) = delete;  // tools keep references to the mesh
   TissueBody& operator=(const TissueBody&) = delete;
@@ -112,6 +119,16 @@ class TissueBody {
   // wave_speed sqrt(dt^2 + 2 beta dt) / kExplicitSafety.
   Real altitude_floor() const;
 
+  // The condensed far field: per tet slot (empty without one), and whether a node is one of its.
+  const std::vector<char>& far_field() const { return far_; }
+  bool far_field_node(int node) const {
+    return !pinned_.empty() && pinned_[static_cast<std::size_t>(node)] != 0;
+  }
+  // Writes the far field's condensed interior nodes' positions (HybridCondensedModel::
+  // recover_interior) into the mesh's x, for strain records and rendering; nothing without a
+  // far field. They are not simulated: between calls they stay where the last call put them.
+  void recover_far_field();
+
   // Counts of topology_changed calls: whether the model could follow locally.
   int local_updates() const { return local_updates_; }
   int full_updates() const { return full_updates_; }
@@ -127,7 +144,9 @@ class TissueBody {
   void update_inverse_masses();
   // After a compaction (node_map: old node -> new or -1): held flags and kept splits follow,
   // the model is rebuilt.
-  void after_compaction(std::span<const int> node_map);
+  void after_compaction(std::span<const int> node_map, std::span<const int> tet_map);
+  // The far-field flags follow the tet and node counts (new tets and nodes are operational).
+  void grow_far_field();
 
   TetMesh mesh_;
   std::unique_ptr<Model> model_;
@@ -140,6 +159,9 @@ class TissueBody {
   Points internal_, forces_;
   std::vector<char> alive_;
   std::vector<Bisection> bisections_;
+  std::vector<char> far_;     // per tet slot, or empty
+  std::vector<char> pinned_;  // per node: a far-field tet's node, or empty
+  HybridCondensedModel* condensed_ = nullptr;
   int local_updates_ = 0;
   int full_updates_ = 0;
   Real dt_;

@@ -9,10 +9,12 @@
 //   collision the probing state's surface tree (a copy of tissue().bvh()): refit to x, the probe
 //             tip's sphere contacts and its shaft capsule's overlapping triangles, per step;
 //   force     SurgicalScene::force_model(device) calls per second while the probe is in contact
-//             (timed in batches of 1000 calls: one takes tens of nanoseconds).
+//             (timed in batches of 1000 calls: one takes tens of nanoseconds);
+//   adapt     the steps that refine around the probe as it lands and coarsen once it has left
+//             (the scene's adaptivity; --no-adaptivity turns it off for comparison).
 // Times are wall clock (steady_clock) on one thread; medians and 99th percentiles per step.
 //
-//   bench_surgery [--scene liver|knee|both] [--steps N]
+//   bench_surgery [--scene liver|knee|both] [--steps N] [--no-adaptivity]
 
 #include <algorithm>
 #include <chrono>
@@ -67,8 +69,9 @@ void row(const char* what, std::vector<double> seconds) {
               1e6 * p99, 1e6 * m, m > 0 ? 1 / m : 0);
 }
 
-void bench(const std::string& name, int steps) {
-  const SurgicalSceneSetup setup = stability::stability_scene(name);
+void bench(const std::string& name, int steps, bool adaptivity) {
+  SurgicalSceneSetup setup = stability::stability_scene(name);
+  setup.spec.adaptivity.enabled = setup.spec.adaptivity.enabled && adaptivity;
   const stability::SceneGeometry g = stability::geometry_of(setup);
   SurgicalScene scene(setup.spec);
   const int probe_device = name == "liver" ? 0 : 1;
@@ -79,12 +82,15 @@ void bench(const std::string& name, int steps) {
   std::vector<ToolInput> inputs;
   for (const stability::DeviceScript& d : rest.devices)
     inputs.push_back(d.start);
-  std::printf("\n== %s: %d tets, %d nodes, dt %.3g s, cut every %d steps (%.3g ms)\n", name.c_str(),
-              scene.tissue().mesh().num_tets(), scene.tissue().mesh().num_nodes(), setup.spec.dt,
-              setup.spec.cut_every, 1e3 * setup.spec.cut_every * setup.spec.dt);
+  std::printf(
+      "\n== %s: %d tets, %d nodes, dt %.3g s, cut every %d steps (%.3g ms), adaptivity %s\n",
+      name.c_str(), scene.tissue().mesh().num_tets(), scene.tissue().mesh().num_nodes(),
+      setup.spec.dt, setup.spec.cut_every, 1e3 * setup.spec.cut_every * setup.spec.dt,
+      setup.spec.adaptivity.enabled ? "on" : "off");
   std::printf("  %-40s %8s %10s %10s %10s %10s\n", "[per call]", "calls", "median us", "p99 us",
               "mean us", "per s");
   std::vector<double> idle, probing, refit, query, cut_steps, other_steps, cut_update, force;
+  std::vector<double> refining, coarsening;  // the steps that split or undid edges
   auto timed_step = [&](std::vector<double>& out) {
     const auto t = Clock::now();
     scene.step(inputs);
@@ -102,11 +108,16 @@ void bench(const std::string& name, int steps) {
   const Vec3 a =
       name == "liver" ? Vec3(-Vec3::UnitZ()) : (target - g.entries[1].position).normalized();
   const Vec3 entry = target - 0.02 * a;
+  const int tets_idle = scene.tissue().mesh().num_tets();
   for (int n = 0; n < 400; ++n) {
     const Real s = std::min(1.0, n / 300.0);
     inputs[probe] = at(entry + s * 0.026 * a, a);
+    const int splits = scene.splits();
+    const auto t = Clock::now();
     scene.step(inputs);
+    if (scene.splits() != splits) refining.push_back(since(t));
   }
+  const int tets_pressed = scene.tissue().mesh().num_tets();
   incise::sim::collide::SurfaceBvh bvh = scene.tissue().bvh();
   std::vector<incise::sim::collide::Contact> contacts;
   std::vector<int> overlaps;
@@ -135,6 +146,9 @@ void bench(const std::string& name, int steps) {
     if (!std::isfinite(sum)) std::abort();
   }
   row("step, probing", probing);
+  row("adapt: step that refines (probe lands)", refining);
+  std::printf("  adapt: %d splits (%d refused), tets %d -> %d under the probe\n", scene.splits(),
+              scene.splits_refused(), tets_idle, tets_pressed);
   row("collision: bvh refit", refit);
   row("collision: tip + shaft queries", query);
   row(in_contact != 0 ? "force_model (probe in contact)" : "force_model (probe NOT touching)",
@@ -149,7 +163,10 @@ void bench(const std::string& name, int steps) {
        ++settle) {
     const Real s = std::min(1.0, settle / 500.0);
     inputs[probe] = at(pressed + s * (home - pressed), a);
+    const int undone = scene.splits_undone();
+    const auto t = Clock::now();
     scene.step(inputs);
+    if (scene.splits_undone() != undone) coarsening.push_back(since(t));
   }
   std::printf("  probe lifted: %d steps until no inverted element (%d now)\n", settle,
               scene.tissue().model().health().inverted_elements);
@@ -159,8 +176,14 @@ void bench(const std::string& name, int steps) {
   for (int n = 0; n < 600; ++n) {
     const Real s = std::min(1.0, n / 400.0);
     inputs[scalpel] = at(p0 - 0.02 * down + s * 0.025 * down, down);
+    const int undone = scene.splits_undone();
+    const auto t = Clock::now();
     scene.step(inputs);
+    if (scene.splits_undone() != undone) coarsening.push_back(since(t));
   }
+  row("adapt: step that coarsens (probe gone)", coarsening);
+  std::printf("  adapt: %d of %d splits undone, tets %d\n", scene.splits_undone(), scene.splits(),
+              scene.tissue().mesh().num_tets());
   const Real speed = 0.05;
   const int stroke =
       std::max(1, static_cast<int>(std::ceil((p1 - p0).norm() / (speed * setup.spec.dt))));
@@ -211,8 +234,20 @@ void bench(const std::string& name, int steps) {
 int main(int argc, char** argv) {
   std::vector<std::string> scenes = {"liver", "knee"};
   int steps = 2000;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string arg = argv[i], value = argv[i + 1];
+  bool adaptivity = true;
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (const auto no = std::find(args.begin(), args.end(), "--no-adaptivity"); no != args.end()) {
+    adaptivity = false;
+    args.erase(no);
+  }
+  const auto usage = [] {
+    std::fprintf(stderr,
+                 "usage: bench_surgery [--scene liver|knee|both] [--steps N] [--no-adaptivity]\n");
+    return 2;
+  };
+  if (args.size() % 2 != 0) return usage();
+  for (std::size_t i = 0; i + 1 < args.size(); i += 2) {
+    const std::string arg = args[i], value = args[i + 1];
     if (arg == "--scene" && (value == "liver" || value == "knee")) {
       scenes = {value};
     } else if (arg == "--scene" && value == "both") {
@@ -220,17 +255,12 @@ int main(int argc, char** argv) {
     } else if (arg == "--steps" && std::atoi(value.c_str()) > 0) {
       steps = std::atoi(value.c_str());
     } else {
-      std::fprintf(stderr, "usage: bench_surgery [--scene liver|knee|both] [--steps N]\n");
-      return 2;
+      return usage();
     }
-  }
-  if (argc % 2 == 0) {
-    std::fprintf(stderr, "usage: bench_surgery [--scene liver|knee|both] [--steps N]\n");
-    return 2;
   }
   try {
     for (const std::string& scene : scenes)
-      bench(scene, steps);
+      bench(scene, steps, adaptivity);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_surgery: %s\n", e.what());
     return 1;

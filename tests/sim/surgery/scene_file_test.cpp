@@ -79,6 +79,14 @@ void expect_same_setup(const SurgicalSceneSetup& a, const SurgicalSceneSetup& b)
   EXPECT_EQ(s.adaptivity.radius, t.adaptivity.radius);
   EXPECT_EQ(s.adaptivity.coarsen_after, t.adaptivity.coarsen_after);
   EXPECT_EQ(s.adaptivity.max_splits, t.adaptivity.max_splits);
+  EXPECT_EQ(s.far_field.enabled, t.far_field.enabled);
+  EXPECT_EQ(s.far_field.centre, t.far_field.centre);
+  EXPECT_EQ(s.far_field.radius, t.far_field.radius);
+  ASSERT_EQ(s.far_field.materials.size(), t.far_field.materials.size());
+  for (std::size_t k = 0; k < s.far_field.materials.size(); ++k) {
+    EXPECT_EQ(s.far_field.materials[k].youngs_modulus, t.far_field.materials[k].youngs_modulus);
+    EXPECT_EQ(s.far_field.materials[k].damping, t.far_field.materials[k].damping);
+  }
   EXPECT_EQ(s.cut_every, t.cut_every);
   EXPECT_EQ(s.damage_every, t.damage_every);
   ASSERT_EQ(s.bones.size(), t.bones.size());
@@ -177,6 +185,13 @@ TEST(SceneFile, DefaultsAreThePresets) {
   EXPECT_EQ(knee.knee.adaptivity.radius, 0.02);
   EXPECT_EQ(knee.knee.adaptivity.edge_length, knee_preset.adaptivity.edge_length);
   EXPECT_TRUE(build_surgical_scene(liver).spec.adaptivity.enabled);
+  EXPECT_FALSE(build_surgical_scene(liver).spec.far_field.enabled);  // the preset: none
+  const SurgicalSceneSetup condensed = build_surgical_scene(
+      parse_surgical_scene_file(json{{"anatomy", "liver"}, {"operational_radius", 0.05}}));
+  EXPECT_TRUE(condensed.spec.far_field.enabled);
+  EXPECT_EQ(condensed.spec.far_field.radius, 0.05);
+  EXPECT_EQ(condensed.spec.far_field.centre,
+            0.5 * (condensed.cut_target.front() + condensed.cut_target.back()));
 }
 
 struct BadCase {
@@ -191,7 +206,11 @@ TEST(SceneFile, EveryBadInputNamesItsPath) {
       {R"({"anatomy": "spleen"})", R"(anatomy: "spleen" is not one of liver, knee)"},
       {R"({"anatomy": "liver", "tool": []})",
        "tool: unknown key (expected one of: description, anatomy, anatomy_options, materials, "
-       "ambient_damping, adaptivity, tools, damage, solver)"},
+       "ambient_damping, adaptivity, operational_radius, tools, damage, solver)"},
+      {R"({"anatomy": "liver", "operational_radius": -0.01})",
+       "operational_radius: must be >= 0 (got -0.01)"},
+      {R"({"anatomy": "knee", "operational_radius": 0.03})",
+       "operational_radius: is a setting of the liver, not of the knee"},
       {R"({"anatomy": "liver", "adaptivity": {"enabled": 1}})",
        "adaptivity.enabled: must be true or false (got 1)"},
       {R"({"anatomy": "liver", "adaptivity": {"edge_length": 0}})",

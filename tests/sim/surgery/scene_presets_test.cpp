@@ -104,6 +104,69 @@ TEST(LiverScene, ProbedGraspedAndCutAlongTheMarkedLine) {
   (void)rest_mesh;
 }
 
+// A condensed far field (operational_radius; FarFieldSpec): under a probe pressed into the
+// operational region the organ pushes back as the fully nonlinear one does (the far field's strains
+// are small, where linear elasticity holds); a cut along the marked line works, and a stroke that
+// runs out of the region ends at its edge, the far field untouched.
+TEST(LiverScene, ACondensedFarFieldPushesBackLikeTheFullOrganAndKeepsCutsInside) {
+  const auto setup_with = [](Real operational_radius) {
+    LiverSceneOptions options;
+    options.anatomy.cell_size = 0.01;
+    options.operational_radius = operational_radius;
+    // The two models compared on the same mesh: no refinement (the far field is never refined).
+    options.adaptivity.enabled = false;
+    ToolSpec scalpel = make_tool(ToolKind::scalpel, 1);
+    scalpel.blade_length = 0.012;
+    options.tools = {make_tool(ToolKind::probe, 0), scalpel};
+    return make_liver_surgery(options);
+  };
+  SurgicalSceneSetup full_setup = setup_with(0);
+  SurgicalSceneSetup condensed_setup = setup_with(0.05);
+  ASSERT_TRUE(condensed_setup.spec.far_field.enabled);
+  const Vec3 start = condensed_setup.cut_target.front(), end = condensed_setup.cut_target.back();
+  const Vec3 down = -Vec3::UnitZ();
+  const Vec3 away(0, 0, 0.3);
+  const auto press = [&](Real s) {
+    const Vec3 tip = start + Vec3(0, 0, 0.02 - 0.025 * std::min(1.0, 4 * s));
+    return std::vector<ToolInput>{at(tip, down), at(away, down)};
+  };
+  SurgicalScene full(std::move(full_setup.spec));
+  SurgicalScene condensed(std::move(condensed_setup.spec));
+  const int far_tets = static_cast<int>(
+      std::count(condensed.tissue().far_field().begin(), condensed.tissue().far_field().end(), 1));
+  EXPECT_GT(far_tets, condensed.tissue().mesh().num_tets() / 4);
+  // 5 mm in over 0.25 s, then 0.75 s for the organ to settle (ambient damping 20/s).
+  const int steps = static_cast<int>(1.0 / condensed_setup.spec.dt);
+  run(full, steps, press);
+  run(condensed, steps, press);
+  ASSERT_TRUE(full.state_finite() && condensed.state_finite());
+  const Vec3 f_full = full.force_model(0).force, f_condensed = condensed.force_model(0).force;
+  EXPECT_GT(f_full.z(), 0.05);
+  EXPECT_LT((f_condensed - f_full).norm(), 0.05 * f_full.norm())
+      << "full " << f_full.transpose() << ", condensed " << f_condensed.transpose();
+
+  // The scalpel along the marked line, 6 mm deep: inside the region, it cuts.
+  std::vector<SceneEvent> events = run(condensed, 800, [&](Real s) {
+    const Vec3 tip = start + s * (end - start) - Vec3(0, 0, 0.006);
+    return std::vector<ToolInput>{at(away, down), at(tip, down)};
+  });
+  EXPECT_GT(count(events, EventKind::cut), 0);
+  EXPECT_EQ(condensed.cuts_outside_region(), 0);
+  // On past the line's end, 6 cm further: the stroke ends at the region's edge.
+  const Vec3 beyond = end + 0.06 * (end - start).normalized();
+  events = run(condensed, 1200, [&](Real s) {
+    const Vec3 tip = end + s * (beyond - end) - Vec3(0, 0, 0.006);
+    return std::vector<ToolInput>{at(away, down), at(tip, down)};
+  });
+  run(condensed, 50, [&](Real) { return std::vector<ToolInput>{at(away, down), at(away, down)}; });
+  ASSERT_TRUE(condensed.state_finite());
+  EXPECT_GT(condensed.cuts_outside_region(), 0);
+  EXPECT_EQ(static_cast<int>(std::count(condensed.tissue().far_field().begin(),
+                                        condensed.tissue().far_field().end(), 1)),
+            far_tets);
+  EXPECT_EQ(condensed.tissue().model().name(), "hybrid_condensed");
+}
+
 TEST(KneeScene, ScopeAndProbeThroughThePortalsAndTheLigamentIsProtected) {
   KneeSceneOptions options;
   ToolSpec scalpel = make_tool(ToolKind::scalpel, 2);
