@@ -5,6 +5,9 @@
 #include <stdexcept>
 #include <string>
 
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+
 #include "sim/tools/swept_tool_motion.h"
 #include "sim/tools/tool_checks.h"
 
@@ -22,13 +25,13 @@ const ProbeSettings& checked(const ProbeSettings& settings) {
         "Probe: allowed_penetration must be in (0, radius = " + std::to_string(settings.radius) +
         "), got " + std::to_string(settings.allowed_penetration));
   }
-  if (!(settings.coupling_damping_ratio >= 0) || !std::isfinite(settings.coupling_damping_ratio)) {
-    throw std::invalid_argument("Probe: coupling_damping_ratio must be finite and >= 0, got " +
-                                std::to_string(settings.coupling_damping_ratio));
-  }
   if (!(settings.max_force > 0) || !std::isfinite(settings.max_force)) {
     throw std::invalid_argument("Probe: max_force must be finite and > 0, got " +
                                 std::to_string(settings.max_force));
+  }
+  if (!(settings.contact_stiffness_ratio > 0) || !std::isfinite(settings.contact_stiffness_ratio)) {
+    throw std::invalid_argument("Probe: contact_stiffness_ratio must be finite and > 0, got " +
+                                std::to_string(settings.contact_stiffness_ratio));
   }
   return settings;
 }
@@ -58,130 +61,142 @@ void Probe::step(const Vec3& device_position, const collide::SurfaceBvh& bvh, co
     throw std::invalid_argument("Probe::step: x has " + std::to_string(x.rows()) +
                                 " rows but node_forces " + std::to_string(node_forces.rows()));
   }
-  const Vec3 start = proxy_;
-  const Vec3 device_velocity = (device_position - device_) / settings_.contact.time_step;
   device_ = device_position;
   // 1. Towards the device without tunnelling.
-  ToolMotion motion = motion_.move(bvh, x, proxy_, device_);
+  const ToolMotion motion = motion_.move(bvh, x, proxy_, device_);
   proxy_ = motion.centre;
   blocked_ = motion.blocked;
-  // 2. The nearest free position to the device among the contacts found there, reached through
-  //    the swept check again (it stays inside the contacts' pocket).
+  // 2. The contacts there, and the balance of the proxy between the coupling and the tissue.
+  //    Once: a second balance from where the first put the proxy (with the contacts there) was
+  //    tried, and from inside the surface it found the dimple's walls from behind and threw the
+  //    proxy out, then through (the liver pressed 5 mm in: 3 N spikes).
   response_.evaluate(bvh, x, v, masses, tip(), Vec3::Zero());
-  if (!response_.contacts().empty()) {
-    const Vec3 target = nearest_free_position();
-    motion = motion_.move(bvh, x, proxy_, target);
-    proxy_ = motion.centre;
-    blocked_ = blocked_ || motion.blocked;
-  }
-  const Vec3 velocity = (proxy_ - start) / settings_.contact.time_step;
-  const ToolReaction& reaction = response_.evaluate(bvh, x, v, masses, tip(), velocity);
-
-  // 3. The push, and the hand's model.
+  const Mat3 m = balance(v, masses, node_forces);
+  // 3. The push.
   const Real kv = settings_.coupling_stiffness;
+  transmitted_.setZero();
+  const std::vector<ContactForce>& contacts = response_.contacts();
+  for (std::size_t c = 0; c < contacts.size(); ++c) {
+    if (!(multipliers_[c] > 0)) continue;
+    const Vec3 push = -multipliers_[c] * contacts[c].contact.normal;
+    transmitted_ += push;
+    for (int k = 0; k < 3; ++k) {
+      node_forces.row(contacts[c].nodes[k]) +=
+          contacts[c].contact.barycentric[k] * push.transpose();
+    }
+  }
+  blocked_ = blocked_ || transmitted_.squaredNorm() > 0;
   hand_force_ = saturated(kv * (proxy_ - device_), settings_.max_force);
   hand_model_.reference_position = device_;
   hand_model_.force = hand_force_;
-  hand_model_.stiffness.setZero();
-  transmitted_.setZero();
-  // The proxy rests on the contacts its core touches (depth = allowed_penetration): they take
-  // the push, so that the point pushed is the point that holds the proxy (the implicit push's
-  // mass is then the right one). If the tissue left them all, every contact takes it.
-  const Real resting = settings_.allowed_penetration - 1e-6 * settings_.radius;
-  Real min_depth = 0;
-  for (const ContactForce& c : response_.contacts()) {
-    if (c.contact.depth >= resting) min_depth = resting;
-  }
-  Vec3 normal = Vec3::Zero();
-  for (const ContactForce& c : response_.contacts()) {
-    if (c.contact.depth >= min_depth) normal += c.elastic_force;
-  }
-  if (reaction.contacts == 0 || !(normal.norm() > 0)) return;
-  normal.normalize();
-  // The spring pulls the proxy towards the device; the massless proxy passes the pull on to the
-  // tissue if it goes into the surface.
-  const Vec3 pull = saturated(kv * (device_ - proxy_), settings_.max_force);
-  if (!(pull.dot(normal) < 0)) return;
-  const Mat3 blocked = blocked_projector();
-  transmitted_ = saturated(implicit_push(pull, device_velocity, v, masses, node_forces, min_depth),
-                           settings_.max_force);
-  response_.distribute(transmitted_, node_forces, min_depth);
-  hand_force_ = -transmitted_;
-  hand_model_.force = hand_force_;
   // Saturated, the force no longer grows as the device goes deeper: no stiffness to render.
-  const bool saturating = (kv * (device_ - proxy_)).norm() > settings_.max_force;
-  hand_model_.stiffness = saturating ? Mat3::Zero() : Mat3(kv * blocked);
+  const bool saturating = (kv * (device_ - proxy_)).norm() > settings_.max_force * (1 + 1e-9);
+  const Mat3 series = kv * (kv * Mat3::Identity() + m).inverse() * m;
+  hand_model_.stiffness = saturating ? Mat3::Zero() : Mat3(0.5 * (series + series.transpose()));
 }
 
-Vec3 Probe::implicit_push(const Vec3& pull, const Vec3& device_velocity, const Points& v,
-                          const VecX& masses, const Points& other_forces, Real min_depth) {
-  // The pushed point u = sum_j a_j x_j (a_j the distribution weights) has the effective mass m,
-  // 1 / m = sum_j a_j^2 / m_j, velocity V0 = sum_j a_j v_j and, from the other forces g_j,
-  // acceleration A = sum_j a_j g_j / m_j. The proxy rides on the surface, so the pull drops by
-  // k_v dt V1 as the point moves in the step, and the coupling's damper b adds b (v_d - V1).
-  // Implicit Euler on u:
-  //   V1 = V0 + dt (F1 / m + A),   F1 = F0 + b v_d - (k_v dt + b) V1
-  //   => (1 + dt (k_v dt + b) / m) V1 = V0 + dt ((F0 + b v_d) / m + A).
+Mat3 Probe::balance(const Points& v, const VecX& masses, const Points& other_forces) {
+  const std::vector<ContactForce>& contacts = response_.contacts();
+  const std::size_t n = contacts.size();
+  multipliers_.assign(n, 0);
+  if (n == 0) return Mat3::Zero();
   const Real dt = settings_.contact.time_step;
   const Real kv = settings_.coupling_stiffness;
-  response_.distribution_weights(weights_, min_depth);
-  Real inverse_mass = 0;
-  Vec3 velocity = Vec3::Zero(), acceleration = Vec3::Zero();
-  for (const ToolContactResponse::NodeWeight& w : weights_) {
-    const Real m = masses[w.node];
-    inverse_mass += w.weight * w.weight / m;
-    velocity += w.weight * row3(v, w.node);
-    acceleration += (w.weight / m) * row3(other_forces, w.node);
-  }
-  const Real damping = 2 * settings_.coupling_damping_ratio * std::sqrt(kv / inverse_mass);
-  const Vec3 driven = pull + damping * device_velocity;
-  const Vec3 end_velocity = (velocity + dt * (inverse_mass * driven + acceleration)) /
-                            (1 + dt * (kv * dt + damping) * inverse_mass);
-  return driven - (kv * dt + damping) * end_velocity;
-}
-
-Vec3 Probe::nearest_free_position() {
-  // Dykstra's alternating projections onto the half-spaces (p - q_c) . n_c >= core: they converge
-  // to the point of the intersection nearest to the device (Boyle and Dykstra 1986), not just any
-  // point of it as plain alternating projections would.
-  const std::vector<ContactForce>& contacts = response_.contacts();
-  const Real core = settings_.radius - settings_.allowed_penetration;
-  corrections_.assign(contacts.size(), Vec3::Zero());
-  Vec3 p = device_;
-  for (int sweep = 0; sweep < kProjectionSweeps; ++sweep) {
-    Real change = 0;
-    for (std::size_t c = 0; c < contacts.size(); ++c) {
-      const Vec3 z = p + corrections_[c];
-      const Vec3& n = contacts[c].contact.normal;
-      const Real gap = (z - contacts[c].contact.point).dot(n) - core;
-      const Vec3 projected = gap < 0 ? Vec3(z - gap * n) : z;
-      corrections_[c] = z - projected;
-      change = std::max(change, (projected - p).norm());
-      p = projected;
+  const Real k = settings_.contact_stiffness_ratio * kv;
+  const auto inverse_mass = [&](int node) {
+    const Real m = masses[node];
+    return m > 0 ? 1 / m : Real(0);
+  };
+  // The contacts' inverse mass G, and their depth at the end of the step without contact forces.
+  const Eigen::Index count = static_cast<Eigen::Index>(n);
+  gram_.resize(count, count);
+  excess_.resize(count);
+  normals_.resize(count, 3);
+  for (std::size_t c = 0; c < n; ++c) {
+    const ContactForce& cc = contacts[c];
+    const Eigen::Index ci = static_cast<Eigen::Index>(c);
+    normals_.row(ci) = cc.contact.normal.transpose();
+    Vec3 drift = Vec3::Zero();
+    for (int a = 0; a < 3; ++a) {
+      const int node = cc.nodes[a];
+      drift += cc.contact.barycentric[a] *
+               (dt * row3(v, node) + dt * dt * inverse_mass(node) * row3(other_forces, node));
     }
-    if (change <= 1e-12 * settings_.radius) break;
+    excess_(ci) = cc.contact.depth + cc.contact.normal.dot(drift);
+    for (std::size_t d = 0; d <= c; ++d) {
+      const ContactForce& dd = contacts[d];
+      Real g = 0;
+      for (int a = 0; a < 3; ++a) {
+        for (int b = 0; b < 3; ++b) {
+          if (cc.nodes[a] == dd.nodes[b]) {
+            g += cc.contact.barycentric[a] * dd.contact.barycentric[b] * inverse_mass(cc.nodes[a]);
+          }
+        }
+      }
+      g *= cc.contact.normal.dot(dd.contact.normal);
+      gram_(ci, static_cast<Eigen::Index>(d)) = g;
+      gram_(static_cast<Eigen::Index>(d), ci) = g;
+    }
   }
-  return p;
-}
-
-Mat3 Probe::blocked_projector() const {
-  // The normals of the contacts the proxy rests on (its core touching their plane): within the
-  // step the proxy follows the hand in every other direction, so the hand feels k_v along these.
-  const Real core = settings_.radius - settings_.allowed_penetration;
-  Vec3 basis[3];
-  int count = 0;
-  for (const ContactForce& c : response_.contacts()) {
-    const Vec3& n = c.contact.normal;
-    if ((proxy_ - c.contact.point).dot(n) > core + 1e-6 * settings_.radius) continue;
-    Vec3 rest = n;
-    for (int i = 0; i < count; ++i)
-      rest -= rest.dot(basis[i]) * basis[i];
-    if (rest.norm() > 0.05 && count < 3) basis[count++] = rest.normalized();
+  // Active set: every contact at first; one that would pull leaves, and the rest is solved again.
+  active_.assign(n, 1);
+  const Vec3 from = proxy_;
+  Mat3 m = Mat3::Zero();
+  for (int pass = 0; pass < kBalancePasses; ++pass) {
+    // A = I + dt^2 K G over the active contacts (an inactive one: identity row, no load).
+    system_.setIdentity(count, count);
+    Eigen::Matrix<Real, Eigen::Dynamic, 3> kn = k * normals_;
+    Eigen::VectorXd ke = k * excess_;
+    for (Eigen::Index c = 0; c < count; ++c) {
+      if (active_[static_cast<std::size_t>(c)] == 0) {
+        kn.row(c).setZero();
+        ke(c) = 0;
+        continue;
+      }
+      for (Eigen::Index d = 0; d < count; ++d) {
+        if (active_[static_cast<std::size_t>(d)] != 0) system_(c, d) += dt * dt * k * gram_(c, d);
+      }
+    }
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(system_);
+    const Eigen::Matrix<Real, Eigen::Dynamic, 3> a_kn = lu.solve(kn);
+    const Eigen::VectorXd a_ke = lu.solve(ke);
+    m = normals_.transpose() * a_kn;
+    m = 0.5 * (m + m.transpose());
+    const Vec3 pushed_out = normals_.transpose() * a_ke;
+    // The coupling: a spring, or max_force along it once saturated (a fixed point in its
+    // direction; a tiny k_v keeps the directions no contact holds determined).
+    Vec3 shift = (kv * Mat3::Identity() + m).ldlt().solve(kv * (device_ - from) + pushed_out);
+    if ((kv * (device_ - from - shift)).norm() > settings_.max_force) {
+      for (int iteration = 0; iteration < 4; ++iteration) {
+        const Vec3 pull = saturated(kv * (device_ - from - shift), settings_.max_force);
+        shift = (1e-6 * kv * Mat3::Identity() + m).ldlt().solve(pull + pushed_out);
+      }
+    }
+    const Eigen::VectorXd lambda = a_ke - a_kn * shift;
+    bool changed = false;
+    for (std::size_t c = 0; c < n; ++c) {
+      if (active_[c] != 0 && lambda(static_cast<Eigen::Index>(c)) < 0) {
+        active_[c] = 0;
+        changed = true;
+      }
+    }
+    proxy_ = from + shift;
+    for (std::size_t c = 0; c < n; ++c) {
+      multipliers_[c] =
+          active_[c] != 0 ? std::max(Real(0), lambda(static_cast<Eigen::Index>(c))) : Real(0);
+    }
+    if (!changed) break;
   }
-  Mat3 projector = Mat3::Zero();
-  for (int i = 0; i < count; ++i)
-    projector += basis[i] * basis[i].transpose();
-  return projector;
+  // Saturated, the push is max_force (the fixed point above reaches it to rounding).
+  Vec3 push = Vec3::Zero();
+  for (std::size_t c = 0; c < n; ++c)
+    push += multipliers_[c] * contacts[c].contact.normal;
+  if (push.norm() > settings_.max_force) {
+    const Real scale = settings_.max_force / push.norm();
+    for (Real& l : multipliers_)
+      l *= scale;
+  }
+  return m;
 }
 
 ContactRegion Probe::contact_region(const Points& rest) const {

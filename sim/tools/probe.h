@@ -4,41 +4,39 @@
 // device through a virtual coupling and stops at the tissue surface.
 //
 // Virtual coupling (Colgate, Stanley, Brown 1995, "Issues in the haptic display of tool use")
-// with a god-object proxy (Zilles and Salisbury 1995): a spring k_v joins the device position d
-// to a massless proxy p; only the proxy touches the tissue. Each step, against the tissue as it
-// is at the start of the step:
+// with a massless proxy (after Zilles and Salisbury 1995's god-object): a spring k_v joins the
+// device position d to the proxy p; only the proxy touches the tissue. Each step, against the
+// tissue as it is at the start of the step:
 //  1. the proxy moves towards d through SweptToolMotion (swept_tool_motion.h): it never tunnels,
 //     enters the tissue by at most allowed_penetration, slides along the surface, and is pushed
-//     out when the tissue moves into it;
-//  2. from the contacts found there (ToolContactResponse::evaluate), the point nearest to d with
-//     the tip's core outside every contact's plane, (p - q_c) . n_c >= r - allowed_penetration,
-//     is found (Dykstra's projections) and reached through the swept check again: on a flat
-//     surface the proxy sits right above the hand, in the dimple a pressed tip makes it settles
-//     where the walls hold it, rather than wedging against one wall;
-//  3. being massless, the proxy passes the coupling's pull on to the tissue when it goes into
-//     the surface (pull . n < 0, n the mean normal of the contacts the proxy rests on: the sum
-//     of their elastic forces, normalised), spread over those contacts
-//     (ToolContactResponse::distribute); nothing when it pulls out (no adhesion). At the nearest
-//     free point the pull is balanced by the contact planes' normals (the projection's
-//     optimality), so its side part, in a dimple, is the walls' reaction.
-//     The pull is a spring k_v (d - p) from the device to the surface (the proxy rides on it),
-//     far stiffer than an explicit step can carry on soft tissue (k_v dt^2 / m reaches ~5 for a
-//     500 N/m device on a 3 kPa block with 4 mm cells: the tissue blows up), plus a damper b.
-//     Both are integrated implicitly on the pushed point u (implicit_push in probe.cpp: effective
-//     mass m, end-of-step velocity V1, device velocity v_d):
-//       F = k_v (d - p) + b v_d - (k_v dt + b) V1,   b = 2 coupling_damping_ratio sqrt(k_v m),
-//     unconditionally stable for that point and equal to k_v (d - p) at rest. V1 needs the other
-//     forces on the nodes: node_forces must hold them (internal, external) when step is called.
-// The hand feels what the proxy passes on, H = -F (k_v (p - d) when not pushing: 0 in free
-// space). At rest the tissue carries exactly what the hand pushes with (the support reactions
-// equal H), whatever the tissue's stiffness or the penalty's, and |H| stays near k_v |p - d|:
-// choose k_v within what the device renders.
-// Local force model for the station agent (force_model.h's LocalForceModel, at d): F0 = H and,
-// while the proxy pushes, K = k_v P, P the projector onto the normals of the contacts the proxy
-// rests on (core on their plane). That is the exact derivative of the spring force k_v (p - d)
-// for the tissue held: moving the hand along those normals leaves the proxy in place, moving it
-// along the others moves the proxy with it. On a flat surface K = k_v n n^T; in a coarse dimple
-// whose walls block every direction, k_v I; free, K = 0. Symmetric PSD, never stiffer than k_v.
+//     out when the tissue moves into it; call that point p0;
+//  2. the contacts there (ToolContactResponse::evaluate: normal n_c from the tissue to the tool,
+//     triangle nodes j with barycentric weights b_cj) push the proxy out with lambda_c n_c and the
+//     tissue in with -lambda_c n_c, solved implicitly for the end of the step: the nodes move by
+//     dt v_j + dt^2 (g_j + f_j) / m_j in the step (symplectic Euler; g_j the other forces on the
+//     node, f_j the contacts'), so contact c's depth at the end of the step is
+//       depth_c = e_c - n_c . (p - p0) - dt^2 sum_d G_cd lambda_d,
+//       e_c = its depth now + n_c . sum_j b_cj (dt v_j + dt^2 g_j / m_j),
+//       G_cd = sum_j b_cj b_dj (n_c . n_d) / m_j   (the contacts' inverse mass),
+//     the penalty is lambda_c = k_c depth_c (k_c = contact_stiffness_ratio k_v), and the massless
+//     proxy balances, k_v (d - p) + sum_c lambda_c n_c = 0. That is linear in (p, lambda):
+//       A = I + dt^2 K G,  M = N^T A^-1 K N,  (k_v I + M) (p - p0) = k_v (d - p0) + N^T A^-1 K e,
+//       lambda = A^-1 K (e - N (p - p0));
+//     a contact with lambda_c < 0 would pull (adhesion): it leaves and the rest is solved again;
+//  3. the tissue gets -lambda_c n_c at each contact, spread by the barycentric weights.
+// Implicit in the contacts, the push is stable however stiff the contact and however light the
+// nodes, and it is a function of the state (no contact set picked by a threshold). Two earlier
+// designs: an explicit penalty (scaled by the node masses to stay stable, so on light nodes a
+// 500 N/m device sank millimetres in), then the pull spread over the contacts the proxy's core
+// rested on (where the triangles were smaller than the tip, a refined region or an 8 mm tip on
+// the liver's 10 mm cells, that set switched from step to step and the nodes under a held tip
+// chattered at up to 1 m/s).
+// The hand feels the coupling, H = k_v (p - d), saturated at max_force (the spring is then a
+// constant force in the balance). At rest the tissue carries exactly what the hand pushes with.
+// Local force model for the station agent (force_model.h's LocalForceModel, at d): F0 = H and
+// K_h = k_v (k_v I + M)^-1 M, the derivative of H in d through the balance (the coupling in
+// series with the contacts over one step): nearly k_v along the contact normals, 0 free, never
+// stiffer than k_v; symmetric PSD (M and k_v I + M commute). Saturated, K_h = 0.
 //
 // Refinement hook: contact_region() says where the probe touches, in the rest configuration
 // (each contact's barycentric point mapped through the rest positions of its triangle), so an
@@ -57,8 +55,10 @@ namespace incise::sim::tools {
 struct ProbeSettings {
   Real radius = 0.004;                // tip radius [m], > 0
   Real coupling_stiffness = 500;      // k_v [N/m], > 0
-  Real coupling_damping_ratio = 1;    // zeta of the coupling's damper on the pushed tissue, >= 0
   Real allowed_penetration = 0.0005;  // per step [m], in (0, radius)
+  // The contacts' stiffness k_c over the coupling's k_v, > 0: stiff, so that the hand feels the
+  // coupling and the tissue, not the contact (the implicit solve keeps any value stable).
+  Real contact_stiffness_ratio = 20;
   // The coupling saturates here [N], > 0: a desktop haptic device renders a few newtons, and a
   // device driven deep into the tissue (a violent hand) must not pull it apart with the spring's
   // unbounded force. Both the push on the tissue and the hand's force are capped.
@@ -118,20 +118,22 @@ class Probe {
   SweptToolMotion motion_;
   Vec3 proxy_;
   Vec3 device_;
-  // Dykstra sweeps for nearest_free_position (a pocket has a handful of active contacts; the
-  // iteration stops early once nothing moves).
-  static constexpr int kProjectionSweeps = 50;
-  Vec3 nearest_free_position();
-  Vec3 implicit_push(const Vec3& pull, const Vec3& device_velocity, const Points& v,
-                     const VecX& masses, const Points& other_forces, Real min_depth);
-  Mat3 blocked_projector() const;
+  // Active-set passes of the balance (a contact pulling would be adhesion: it leaves).
+  static constexpr int kBalancePasses = 6;
+  // Step 2 above on the contacts of response_ at proxy_ (p0): moves proxy_ to p, fills
+  // multipliers_ (lambda per contact, 0 for the ones that left) and returns K_h's M.
+  Mat3 balance(const Points& v, const VecX& masses, const Points& other_forces);
 
   LocalForceModel hand_model_;
-  std::vector<Vec3> corrections_;
-  std::vector<ToolContactResponse::NodeWeight> weights_;
   Vec3 transmitted_ = Vec3::Zero();
   Vec3 hand_force_ = Vec3::Zero();
   bool blocked_ = false;
+  // Scratch of the balance, per contact (resized, not reallocated, while the count is steady).
+  std::vector<Real> multipliers_;
+  std::vector<char> active_;
+  Eigen::MatrixXd gram_, system_;
+  Eigen::VectorXd excess_, rhs_;
+  Eigen::Matrix<Real, Eigen::Dynamic, 3> normals_;
 };
 
 }  // namespace incise::sim::tools

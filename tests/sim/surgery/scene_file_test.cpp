@@ -34,7 +34,6 @@ void expect_same_tool(const ToolSpec& a, const ToolSpec& b, std::size_t k) {
   EXPECT_EQ(a.shaft_radius, b.shaft_radius);
   EXPECT_EQ(a.probe.radius, b.probe.radius);
   EXPECT_EQ(a.probe.coupling_stiffness, b.probe.coupling_stiffness);
-  EXPECT_EQ(a.probe.coupling_damping_ratio, b.probe.coupling_damping_ratio);
   EXPECT_EQ(a.probe.allowed_penetration, b.probe.allowed_penetration);
   EXPECT_EQ(a.probe.max_force, b.probe.max_force);
   EXPECT_EQ(a.grasp.jaw_length, b.grasp.jaw_length);

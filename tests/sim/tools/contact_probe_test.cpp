@@ -142,18 +142,23 @@ TEST(Probe, HandModelPredictsTheNextStep) {
   EXPECT_LT((model.stiffness - model.stiffness.transpose()).norm(), 1e-12 * kv);
   const Eigen::SelfAdjointEigenSolver<Mat3> eigen(model.stiffness);
   EXPECT_GE(eigen.eigenvalues().minCoeff(), -1e-9 * kv);
-  // k_v in the blocked directions: at least down (in the coarse dimple the proxy rests on walls
-  // that block every direction, K = k_v I; on a flat surface K = k_v n n^T).
-  EXPECT_NEAR(eigen.eigenvalues()[2], kv, 1e-9 * kv);
-  EXPECT_NEAR(model.stiffness(2, 2), kv, 1e-6 * kv);
-  // Pressing the hand 0.1 mm deeper, the tissue held: the proxy stays on the surface along the
-  // blocked directions, so the coupling spring's force k_v (p - d) changes as the model says.
+  // The coupling in series with the contacts over a step: below k_v, near it down (the contacts
+  // are 20 times stiffer than the coupling, the light nodes give a little within the step).
+  EXPECT_LE(eigen.eigenvalues()[2], kv * (1 + 1e-9));
+  EXPECT_GT(eigen.eigenvalues()[2], 0.5 * kv);
+  EXPECT_GT(model.stiffness(2, 2), 0.5 * kv);
+  // Pressing the hand 0.1 mm deeper, the tissue held: the coupling spring's force k_v (p - d)
+  // changes as the model says along the press to 5% of k_v |press|; sideways the proxy re-seats
+  // in the coarse dimple (the contacts' normals turn as it moves), which a linear model cannot
+  // say: 15% in all.
   const Vec3 press(0, 0, -0.0001);
   pressed.step_held(pressed.device + press);
   const Vec3 predicted = model.force_at(pressed.device + press);
   const Vec3 spring = kv * (pressed.probe.proxy() - pressed.probe.device());
   const Vec3 before = kv * (probe_proxy - pressed.device);
-  EXPECT_LT((spring - predicted - (before - model.force)).norm(), 1e-3 * kv * press.norm())
+  const Vec3 error = spring - predicted - (before - model.force);
+  EXPECT_LT(std::abs(error.z()), 0.05 * kv * press.norm());
+  EXPECT_LT(error.norm(), 0.15 * kv * press.norm())
       << spring.transpose() << " vs " << predicted.transpose();
 }
 
