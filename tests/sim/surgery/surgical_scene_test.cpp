@@ -208,6 +208,31 @@ TEST(SurgicalScene, AProbeRefinesWhereItTouchesAndTheTissueCoarsensOnceItLeaves)
   EXPECT_GE(scene.damage_tracker().num_slots(), original.num_tets());
 }
 
+// A probe held pressed into tissue refined under it (triangles smaller than its tip) comes to
+// rest: the contact set must not switch from step to step (the first probe's did, and the
+// nodes under a held tip chattered at up to 1 m/s).
+TEST(SurgicalScene, AProbeHeldOnTrianglesSmallerThanItsTipComesToRest) {
+  ToolSpec probe = make_tool(ToolKind::probe);
+  probe.probe.radius = 0.006;
+  SurgicalSceneSpec spec = block({probe});
+  spec.adaptivity = adaptive();
+  spec.adaptivity.edge_length = 0.003;
+  spec.ambient_damping = 20;
+  SurgicalScene scene(std::move(spec));
+  const Vec3 above(0.031, 0.029, kSize.z() + probe.probe.radius);
+  for (int n = 0; n < 8000; ++n) {
+    const Real s = std::min(1.0, n / 1000.0);
+    const ToolInput in = at(above - Vec3(0, 0, 0.004 * s));
+    scene.step(std::span(&in, 1));
+  }
+  ASSERT_TRUE(scene.state_finite());
+  EXPECT_GT(scene.splits(), 0);
+  EXPECT_LT(scene.tissue().mesh().v.rowwise().norm().maxCoeff(), 1e-3);
+  // At rest the tissue carries what the hand pushes with.
+  EXPECT_LT((column_sum(scene.tissue().external()) + scene.force_model(0).force).norm(),
+            1e-6 * scene.force_model(0).force.norm());
+}
+
 TEST(SurgicalScene, AClosingGrasperRefinesUnderItsJawsAndGrabsMore) {
   ToolSpec grasper = make_tool(ToolKind::grasper);
   grasper.grasp.reach = 0.006;
