@@ -613,7 +613,7 @@ void SurgicalScene::adapt() {
     if (t.stroke) return;  // the cutter's temporary nodes would go stale
   }
   const TetMesh& mesh = tissue_->mesh();
-  bool grasping = false;
+  bool grasping = false;  // or touching: no coarsening now (below)
   for (std::size_t k = 0; k < tools_.size(); ++k) {
     Tool& tool = tools_[k];
     if (!tool.has_input) continue;
@@ -651,7 +651,13 @@ void SurgicalScene::adapt() {
       }
     }
   }
-  // Coarsening renumbers nodes: not while a grasper holds (or is about to).
+  // Coarsening renumbers nodes: not while a grasper holds (or is about to). Nor while a probe or
+  // scope touches the tissue: undoing a split moves the surface (a displaced midpoint's triangles
+  // become the flat coarse one), which can close over a tip resting in a dimple and trap it
+  // inside (liver seeds 184 and 209 ended with the probe's proxy inside the organ).
+  for (const Tool& t : tools_) {
+    if (t.probe && !t.probe->contacts().empty()) grasping = true;
+  }
   if (grasping || tissue_->bisections().empty()) return;
   const auto expired = std::erase_if(
       regions_, [&](const Region& r) { return time_ - r.last_used > a.coarsen_after; });

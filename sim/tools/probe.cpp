@@ -71,7 +71,7 @@ void Probe::step(const Vec3& device_position, const collide::SurfaceBvh& bvh, co
   //    tried, and from inside the surface it found the dimple's walls from behind and threw the
   //    proxy out, then through (the liver pressed 5 mm in: 3 N spikes).
   response_.evaluate(bvh, x, v, masses, tip(), Vec3::Zero());
-  const Mat3 m = balance(v, masses, node_forces);
+  const Mat3 m = balance(bvh, x, v, masses, node_forces);
   // 3. The push.
   const Real kv = settings_.coupling_stiffness;
   transmitted_.setZero();
@@ -95,7 +95,8 @@ void Probe::step(const Vec3& device_position, const collide::SurfaceBvh& bvh, co
   hand_model_.stiffness = saturating ? Mat3::Zero() : Mat3(0.5 * (series + series.transpose()));
 }
 
-Mat3 Probe::balance(const Points& v, const VecX& masses, const Points& other_forces) {
+Mat3 Probe::balance(const collide::SurfaceBvh& bvh, const Points& x, const Points& v,
+                    const VecX& masses, const Points& other_forces) {
   const std::vector<ContactForce>& contacts = response_.contacts();
   const std::size_t n = contacts.size();
   multipliers_.assign(n, 0);
@@ -163,15 +164,17 @@ Mat3 Probe::balance(const Points& v, const VecX& masses, const Points& other_for
     m = normals_.transpose() * a_kn;
     m = 0.5 * (m + m.transpose());
     const Vec3 pushed_out = normals_.transpose() * a_ke;
-    // The coupling: a spring, or max_force along it once saturated (a fixed point in its
-    // direction; a tiny k_v keeps the directions no contact holds determined).
-    Vec3 shift = (kv * Mat3::Identity() + m).ldlt().solve(kv * (device_ - from) + pushed_out);
-    if ((kv * (device_ - from - shift)).norm() > settings_.max_force) {
-      for (int iteration = 0; iteration < 4; ++iteration) {
-        const Vec3 pull = saturated(kv * (device_ - from - shift), settings_.max_force);
-        shift = (1e-6 * kv * Mat3::Identity() + m).ldlt().solve(pull + pushed_out);
-      }
-    }
+    // The coupling: a spring; saturated, its force at p0 is capped at max_force (the spring's
+    // stiffness stays in the solve, so that the proxy moves a bounded distance).
+    const Vec3 pull = kv * (device_ - from);
+    Vec3 shift = (kv * Mat3::Identity() + m)
+                     .ldlt()
+                     .solve(pull.norm() > settings_.max_force
+                                ? Vec3(saturated(pull, settings_.max_force) + pushed_out)
+                                : Vec3(pull + pushed_out));
+    // Through the swept check, so that the proxy never tunnels into the tissue; the contacts'
+    // forces follow where it actually went.
+    shift = motion_.move(bvh, x, from, from + shift).centre - from;
     const Eigen::VectorXd lambda = a_ke - a_kn * shift;
     bool changed = false;
     for (std::size_t c = 0; c < n; ++c) {

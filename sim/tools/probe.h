@@ -31,8 +31,10 @@
 // rested on (where the triangles were smaller than the tip, a refined region or an 8 mm tip on
 // the liver's 10 mm cells, that set switched from step to step and the nodes under a held tip
 // chattered at up to 1 m/s).
-// The hand feels the coupling, H = k_v (p - d), saturated at max_force (the spring is then a
-// constant force in the balance). At rest the tissue carries exactly what the hand pushes with.
+// The hand feels the coupling, H = k_v (p - d), saturated at max_force (the balance then caps the
+// spring's force at p0). The proxy reaches p through the swept check (no tunnelling), and
+// the contacts' forces follow where it actually went. At rest the tissue carries exactly what the
+// hand pushes with.
 // Local force model for the station agent (force_model.h's LocalForceModel, at d): F0 = H and
 // K_h = k_v (k_v I + M)^-1 M, the derivative of H in d through the balance (the coupling in
 // series with the contacts over one step): nearly k_v along the contact normals, 0 free, never
@@ -122,7 +124,8 @@ class Probe {
   static constexpr int kBalancePasses = 6;
   // Step 2 above on the contacts of response_ at proxy_ (p0): moves proxy_ to p, fills
   // multipliers_ (lambda per contact, 0 for the ones that left) and returns K_h's M.
-  Mat3 balance(const Points& v, const VecX& masses, const Points& other_forces);
+  Mat3 balance(const collide::SurfaceBvh& bvh, const Points& x, const Points& v, const VecX& masses,
+               const Points& other_forces);
 
   LocalForceModel hand_model_;
   Vec3 transmitted_ = Vec3::Zero();
