@@ -62,10 +62,35 @@ void Probe::step(const Vec3& device_position, const collide::SurfaceBvh& bvh, co
                                 " rows but node_forces " + std::to_string(node_forces.rows()));
   }
   device_ = device_position;
-  // 1. Towards the device without tunnelling.
-  const ToolMotion motion = motion_.move(bvh, x, proxy_, device_);
+  // 1. Towards the device without tunnelling, then to the point nearest the device with the tip's
+  //    core outside every contact's plane, through the sweep again: the proxy seats on the
+  //    surface (in a dimple, where its walls hold it) and never stays behind it.
+  ToolMotion motion = motion_.move(bvh, x, proxy_, device_);
   proxy_ = motion.centre;
   blocked_ = motion.blocked;
+  // A proxy the hand has pulled on at max_force for kTrappedSteps steps while the device is clear
+  // of the tissue is trapped (the tissue closed over it: a flap, a crack that shut): it slips
+  // out to the device, as a real tip would tear free. Counted in slips().
+  const Real kv = settings_.coupling_stiffness;
+  if ((kv * (device_ - proxy_)).norm() > settings_.max_force) {
+    ++saturated_steps_;
+  } else {
+    saturated_steps_ = 0;
+  }
+  if (saturated_steps_ >= kTrappedSteps) {
+    response_.evaluate(bvh, x, v, masses, collide::Sphere{device_, settings_.radius}, Vec3::Zero());
+    if (response_.contacts().empty()) {
+      proxy_ = device_;
+      ++slips_;
+    }
+    saturated_steps_ = 0;
+  }
+  response_.evaluate(bvh, x, v, masses, tip(), Vec3::Zero());
+  if (!response_.contacts().empty()) {
+    motion = motion_.move(bvh, x, proxy_, nearest_free_position());
+    proxy_ = motion.centre;
+    blocked_ = blocked_ || motion.blocked;
+  }
   // 2. The contacts there, and the balance of the proxy between the coupling and the tissue.
   //    Once: a second balance from where the first put the proxy (with the contacts there) was
   //    tried, and from inside the surface it found the dimple's walls from behind and threw the
@@ -73,7 +98,6 @@ void Probe::step(const Vec3& device_position, const collide::SurfaceBvh& bvh, co
   response_.evaluate(bvh, x, v, masses, tip(), Vec3::Zero());
   const Mat3 m = balance(bvh, x, v, masses, node_forces);
   // 3. The push.
-  const Real kv = settings_.coupling_stiffness;
   transmitted_.setZero();
   const std::vector<ContactForce>& contacts = response_.contacts();
   for (std::size_t c = 0; c < contacts.size(); ++c) {
@@ -200,6 +224,30 @@ Mat3 Probe::balance(const collide::SurfaceBvh& bvh, const Points& x, const Point
       l *= scale;
   }
   return m;
+}
+
+Vec3 Probe::nearest_free_position() {
+  // Dykstra's alternating projections onto the half-spaces (p - q_c) . n_c >= core: they converge
+  // to the point of the intersection nearest to the device (Boyle and Dykstra 1986), not just any
+  // point of it as plain alternating projections would.
+  const std::vector<ContactForce>& contacts = response_.contacts();
+  const Real core = settings_.radius - settings_.allowed_penetration;
+  corrections_.assign(contacts.size(), Vec3::Zero());
+  Vec3 p = device_;
+  for (int sweep = 0; sweep < kProjectionSweeps; ++sweep) {
+    Real change = 0;
+    for (std::size_t c = 0; c < contacts.size(); ++c) {
+      const Vec3 z = p + corrections_[c];
+      const Vec3& n = contacts[c].contact.normal;
+      const Real gap = (z - contacts[c].contact.point).dot(n) - core;
+      const Vec3 projected = gap < 0 ? Vec3(z - gap * n) : z;
+      corrections_[c] = z - projected;
+      change = std::max(change, (projected - p).norm());
+      p = projected;
+    }
+    if (change <= 1e-12 * settings_.radius) break;
+  }
+  return p;
 }
 
 ContactRegion Probe::contact_region(const Points& rest) const {

@@ -9,7 +9,11 @@
 // tissue as it is at the start of the step:
 //  1. the proxy moves towards d through SweptToolMotion (swept_tool_motion.h): it never tunnels,
 //     enters the tissue by at most allowed_penetration, slides along the surface, and is pushed
-//     out when the tissue moves into it; call that point p0;
+//     out when the tissue moves into it; then to the point nearest d with the tip's core outside
+//     every contact's plane, (p - q_c) . n_c >= r - allowed_penetration (Dykstra's projections),
+//     through the sweep again: it seats on the surface, in a dimple where the walls hold it, and
+//     never stays behind the surface (without this seat, a proxy the tissue had engulfed in a
+//     jerk stayed trapped inside, agitating it); call that point p0;
 //  2. the contacts there (ToolContactResponse::evaluate: normal n_c from the tissue to the tool,
 //     triangle nodes j with barycentric weights b_cj) push the proxy out with lambda_c n_c and the
 //     tissue in with -lambda_c n_c, solved implicitly for the end of the step: the nodes move by
@@ -107,6 +111,10 @@ class Probe {
   const LocalForceModel& hand_force_model() const { return hand_model_; }
   // Whether the last step's motion was stopped by the surface.
   bool blocked() const { return blocked_; }
+  // Times the proxy slipped out to the device: pulled on at max_force for kTrappedSteps steps with
+  // the device clear of the tissue (it was trapped, the tissue closed over it).
+  int slips() const { return slips_; }
+  static constexpr int kTrappedSteps = 100;
 
   // The contact region of the last step. rest: #nodes by 3 rest positions [m] (the mesh's rest).
   // Throws std::invalid_argument if rest has too few rows.
@@ -120,6 +128,13 @@ class Probe {
   SweptToolMotion motion_;
   Vec3 proxy_;
   Vec3 device_;
+  // Dykstra sweeps for nearest_free_position (a pocket has a handful of active contacts; the
+  // iteration stops early once nothing moves).
+  static constexpr int kProjectionSweeps = 50;
+  Vec3 nearest_free_position();
+  std::vector<Vec3> corrections_;
+  int saturated_steps_ = 0;
+  int slips_ = 0;
   // Active-set passes of the balance (a contact pulling would be adhesion: it leaves).
   static constexpr int kBalancePasses = 6;
   // Step 2 above on the contacts of response_ at proxy_ (p0): moves proxy_ to p, fills

@@ -132,6 +132,32 @@ TEST(Probe, CouplingSaturatesAtItsMaximumForce) {
   EXPECT_GT(saturated_steps, 0);
 }
 
+// A proxy the tissue has closed over (here it starts inside the block, as after a flap or a
+// crack shut over it) cannot sweep out; pulled on at max_force with the device clear of the
+// tissue for kTrappedSteps steps, it slips out to the device.
+TEST(Probe, ATrappedProxySlipsOutToTheDevice) {
+  ContactBlock block{Vec3(0.02, 0.02, kTop), Vec3i(6, 6, 3), contact_testing::kSoft,
+                     ContactBlock::Clamp::base};
+  ProbeSettings settings = probe_settings(block);
+  settings.radius = 0.003;
+  settings.max_force = 0.2;
+  Probe probe(settings, Vec3(0.01, 0.01, 0.006));  // inside, 4 mm under the top
+  const Vec3 away(0.01, 0.01, kTop + 0.03);
+  int steps = 0;
+  for (; steps < 3 * Probe::kTrappedSteps && probe.slips() == 0; ++steps) {
+    block.prepare();
+    probe.step(away, block.bvh, block.mesh.x, block.mesh.v, block.model->masses(), block.forces);
+    block.integrate();
+    ASSERT_TRUE(block.mesh.x.allFinite());
+  }
+  EXPECT_EQ(probe.slips(), 1);
+  EXPECT_EQ(steps, Probe::kTrappedSteps);
+  EXPECT_EQ(probe.proxy(), away);
+  block.prepare();
+  probe.step(away, block.bvh, block.mesh.x, block.mesh.v, block.model->masses(), block.forces);
+  EXPECT_EQ(probe.hand_force(), Vec3::Zero());
+}
+
 TEST(Probe, HandModelPredictsTheNextStep) {
   PressedProbe pressed;
   const LocalForceModel model = pressed.probe.hand_force_model();
