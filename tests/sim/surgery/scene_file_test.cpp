@@ -162,7 +162,7 @@ TEST(SceneFile, DefaultsAreThePresets) {
     "materials": {"ligament": {"E": 80000}},
     "tools": [{"kind": "probe", "device": 1}, {"kind": "grasper", "device": 0, "tear_force": 2}],
     "ambient_damping": 0, "solver": {"cut_every": 5},
-    "adaptivity": {"enabled": false, "radius": 0.02}})"));
+    "adaptivity": {"enabled": true, "radius": 0.02}})"));
   const KneeSceneOptions knee_preset;
   EXPECT_EQ(knee.knee.anatomy.flexion_deg, 30);
   EXPECT_EQ(knee.knee.anatomy.voxel_size, knee_preset.anatomy.voxel_size);
@@ -180,7 +180,8 @@ TEST(SceneFile, DefaultsAreThePresets) {
   EXPECT_EQ(liver.liver.ambient_damping, preset.ambient_damping);
   EXPECT_GT(preset.ambient_damping, 0);
   // Adaptivity: each member on its own over the preset's.
-  EXPECT_FALSE(build_surgical_scene(knee).spec.adaptivity.enabled);
+  EXPECT_TRUE(build_surgical_scene(knee).spec.adaptivity.enabled);  // the preset: off
+  EXPECT_FALSE(knee_preset.adaptivity.enabled);
   EXPECT_EQ(knee.knee.adaptivity.radius, 0.02);
   EXPECT_EQ(knee.knee.adaptivity.edge_length, knee_preset.adaptivity.edge_length);
   EXPECT_TRUE(build_surgical_scene(liver).spec.adaptivity.enabled);
