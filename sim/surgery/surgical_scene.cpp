@@ -613,7 +613,7 @@ void SurgicalScene::adapt() {
     if (t.stroke) return;  // the cutter's temporary nodes would go stale
   }
   const TetMesh& mesh = tissue_->mesh();
-  bool grasping = false;  // or touching: no coarsening now (below)
+  bool hold_off = false;  // no coarsening now: a grasper holds or closes, a probe touches
   for (std::size_t k = 0; k < tools_.size(); ++k) {
     Tool& tool = tools_[k];
     if (!tool.has_input) continue;
@@ -633,7 +633,7 @@ void SurgicalScene::adapt() {
     } else if (tool.grasper) {
       const tools::GraspPhase phase = tool.grasper->phase();
       if (phase == tools::GraspPhase::closing) {
-        grasping = true;
+        hold_off = true;
         std::vector<int> candidates;
         const int stable = stable_nodes();
         for (const int v : surface_nodes_) {
@@ -644,7 +644,7 @@ void SurgicalScene::adapt() {
           refine(index, request->centre, request->radius + a.edge_length);
         }
       } else if (phase == tools::GraspPhase::holding) {
-        grasping = true;
+        hold_off = true;
         for (Region& r : regions_) {
           if (r.tool == index) r.last_used = time_;
         }
@@ -656,9 +656,9 @@ void SurgicalScene::adapt() {
   // become the flat coarse one), which can close over a tip resting in a dimple and trap it
   // inside (liver seeds 184 and 209 ended with the probe's proxy inside the organ).
   for (const Tool& t : tools_) {
-    if (t.probe && !t.probe->contacts().empty()) grasping = true;
+    if (t.probe && !t.probe->contacts().empty()) hold_off = true;
   }
-  if (grasping || tissue_->bisections().empty()) return;
+  if (hold_off || tissue_->bisections().empty()) return;
   const auto expired = std::erase_if(
       regions_, [&](const Region& r) { return time_ - r.last_used > a.coarsen_after; });
   if (expired > 0) coarsen();
