@@ -9,14 +9,13 @@
 #include <string>
 #include <utility>
 
+#include "sim/mesh/tet_adjacency.h"
+
 namespace incise::sim::surgery {
 
 namespace {
 
 using Tet = std::array<int, 4>;
-
-constexpr std::array<std::array<int, 2>, 6> kEdges = {
-    {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
 
 struct Shape {
   Real altitude = 0;  // smallest: 3 V / the largest face
@@ -30,7 +29,7 @@ Shape shape_of(const std::array<Vec3, 4>& p) {
       std::max({(p[1] - p[0]).cross(p[2] - p[0]).norm(), (p[1] - p[0]).cross(p[3] - p[0]).norm(),
                 (p[2] - p[0]).cross(p[3] - p[0]).norm(), (p[2] - p[1]).cross(p[3] - p[1]).norm()});
   Real longest = 0;
-  for (const auto& e : kEdges) {
+  for (const auto& e : kTetEdges) {
     longest = std::max(
         longest, (p[static_cast<std::size_t>(e[0])] - p[static_cast<std::size_t>(e[1])]).norm());
   }
@@ -92,7 +91,7 @@ class Refiner {
   std::vector<std::pair<int, int>> candidates(const Vec3& centre, Real radius) const {
     std::vector<std::pair<int, int>> edges;
     for (const Tet& tet : tets_) {
-      for (const auto& e : kEdges) {
+      for (const auto& e : kTetEdges) {
         int a = tet[static_cast<std::size_t>(e[0])], b = tet[static_cast<std::size_t>(e[1])];
         if (a > b) std::swap(a, b);
         if (length(a, b) <= settings_.edge_length) continue;
@@ -129,7 +128,7 @@ class Refiner {
       std::pair<int, int> longer{-1, -1};
       for (const int t : ring_) {
         const Tet& tet = tets_[static_cast<std::size_t>(t)];
-        for (const auto& e : kEdges) {
+        for (const auto& e : kTetEdges) {
           const int u = tet[static_cast<std::size_t>(e[0])],
                     w = tet[static_cast<std::size_t>(e[1])];
           const Real l = length(u, w);

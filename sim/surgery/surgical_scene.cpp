@@ -311,7 +311,7 @@ void SurgicalScene::step(std::span<const ToolInput> inputs) {
       case ToolKind::scope:
         if (!tool.probe) tool.probe.emplace(tool.spec.probe, tool.tip);
         tool.probe->step(tool.tip, tissue_->bvh(), mesh.x, mesh.v, tissue_->masses(),
-                         tissue_->forces());
+                         tissue_->forces(), &tissue_->inverse_masses());
         break;
       case ToolKind::grasper:
         grasp(tool, static_cast<int>(k));
@@ -658,10 +658,12 @@ void SurgicalScene::adapt() {
   for (const Tool& t : tools_) {
     if (t.probe && !t.probe->contacts().empty()) hold_off = true;
   }
-  if (hold_off || tissue_->bisections().empty()) return;
+  if (hold_off) return;
+  // Regions expire even where nothing was split (the knee refuses most splits): they would pile
+  // up, and a known region is never refined again.
   const auto expired = std::erase_if(
       regions_, [&](const Region& r) { return time_ - r.last_used > a.coarsen_after; });
-  if (expired > 0) coarsen();
+  if (expired > 0 && !tissue_->bisections().empty()) coarsen();
 }
 
 void SurgicalScene::refine(int tool, const Vec3& centre, Real radius) {

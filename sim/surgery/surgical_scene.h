@@ -232,7 +232,7 @@ class SurgicalScene {
   void grasp(Tool& tool, int index);
   // Refines around touching probes and closing graspers, coarsens regions no tool has used for
   // spec.adaptivity.coarsen_after (nothing while a stroke is open; no coarsening while a
-  // grasper holds or closes: node numbers change).
+  // grasper holds or closes, node numbers change, nor while a probe or scope touches).
   void adapt();
   void refine(int tool, const Vec3& centre, Real radius);
   void coarsen();

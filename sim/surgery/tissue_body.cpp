@@ -203,12 +203,18 @@ BisectionReport TissueBody::refine(const Vec3& centre, Real radius, Real edge_le
   grow_far_field();
   if (report.splits == 0) return report;
   fixed_.resize(static_cast<std::size_t>(mesh_.num_nodes()), 0);
+  bool held_added = false;
   for (const Bisection& s : report.bisections) {
-    fixed_[static_cast<std::size_t>(s.mid)] =
-        fixed_[static_cast<std::size_t>(s.a)] != 0 && fixed_[static_cast<std::size_t>(s.b)] != 0
-            ? 1
-            : 0;
+    const bool held =
+        fixed_[static_cast<std::size_t>(s.a)] != 0 && fixed_[static_cast<std::size_t>(s.b)] != 0;
+    fixed_[static_cast<std::size_t>(s.mid)] = held ? 1 : 0;
+    // A cut's copy of a held new node is held too (topology_changed looks it up by rest point).
+    if (held) {
+      fixed_rest_.push_back(key_of(mesh_.rest, s.mid));
+      held_added = true;
+    }
   }
+  if (held_added) std::sort(fixed_rest_.begin(), fixed_rest_.end());
   bisections_.insert(bisections_.end(), report.bisections.begin(), report.bisections.end());
   alive_.assign(static_cast<std::size_t>(mesh_.num_tets()), 1);
   model_->update_elements(mesh_, alive_, report.changed);

@@ -55,7 +55,8 @@ Probe::Probe(ProbeSettings settings, const Vec3& position)
 }
 
 void Probe::step(const Vec3& device_position, const collide::SurfaceBvh& bvh, const Points& x,
-                 const Points& v, const VecX& masses, Points& node_forces) {
+                 const Points& v, const VecX& masses, Points& node_forces,
+                 const VecX* inverse_masses) {
   checks::check_vector(device_position, "Probe::step", "device_position");
   if (node_forces.rows() != x.rows()) {
     throw std::invalid_argument("Probe::step: x has " + std::to_string(x.rows()) +
@@ -68,9 +69,11 @@ void Probe::step(const Vec3& device_position, const collide::SurfaceBvh& bvh, co
   ToolMotion motion = motion_.move(bvh, x, proxy_, device_);
   proxy_ = motion.centre;
   blocked_ = motion.blocked;
-  // A proxy the hand has pulled on at max_force for kTrappedSteps steps while the device is clear
-  // of the tissue is trapped (the tissue closed over it: a flap, a crack that shut): it slips
-  // out to the device, as a real tip would tear free. Counted in slips().
+  // A proxy enclosed by the tissue (inside it, or between faces that face each other: a flap, a
+  // crack that shut over it) that the hand has pulled on at max_force for kTrappedSteps steps
+  // from outside the tissue is trapped: it slips out to the device, as a real tip would tear
+  // free. Counted in slips(). A proxy on the surface never slips: a hand pressing at max_force,
+  // even through to the far side of a thin part, keeps it there (no tunnelling).
   const Real kv = settings_.coupling_stiffness;
   if ((kv * (device_ - proxy_)).norm() > settings_.max_force) {
     ++saturated_steps_;
@@ -78,8 +81,7 @@ void Probe::step(const Vec3& device_position, const collide::SurfaceBvh& bvh, co
     saturated_steps_ = 0;
   }
   if (saturated_steps_ >= kTrappedSteps) {
-    response_.evaluate(bvh, x, v, masses, collide::Sphere{device_, settings_.radius}, Vec3::Zero());
-    if (response_.contacts().empty()) {
+    if (enclosed(bvh, x, v, masses) && !inside(bvh, x, device_)) {
       proxy_ = device_;
       ++slips_;
     }
@@ -96,7 +98,7 @@ void Probe::step(const Vec3& device_position, const collide::SurfaceBvh& bvh, co
   //    tried, and from inside the surface it found the dimple's walls from behind and threw the
   //    proxy out, then through (the liver pressed 5 mm in: 3 N spikes).
   response_.evaluate(bvh, x, v, masses, tip(), Vec3::Zero());
-  const Mat3 m = balance(bvh, x, v, masses, node_forces);
+  const Mat3 m = balance(bvh, x, v, masses, inverse_masses, node_forces);
   // 3. The push.
   transmitted_.setZero();
   const std::vector<ContactForce>& contacts = response_.contacts();
@@ -120,7 +122,7 @@ void Probe::step(const Vec3& device_position, const collide::SurfaceBvh& bvh, co
 }
 
 Mat3 Probe::balance(const collide::SurfaceBvh& bvh, const Points& x, const Points& v,
-                    const VecX& masses, const Points& other_forces) {
+                    const VecX& masses, const VecX* inverse_masses, const Points& other_forces) {
   const std::vector<ContactForce>& contacts = response_.contacts();
   const std::size_t n = contacts.size();
   multipliers_.assign(n, 0);
@@ -128,7 +130,9 @@ Mat3 Probe::balance(const collide::SurfaceBvh& bvh, const Points& x, const Point
   const Real dt = settings_.contact.time_step;
   const Real kv = settings_.coupling_stiffness;
   const Real k = settings_.contact_stiffness_ratio * kv;
+  // How the integrator moves the node: a held node not at all.
   const auto inverse_mass = [&](int node) {
+    if (inverse_masses != nullptr) return (*inverse_masses)[node];
     const Real m = masses[node];
     return m > 0 ? 1 / m : Real(0);
   };
@@ -224,6 +228,42 @@ Mat3 Probe::balance(const collide::SurfaceBvh& bvh, const Points& x, const Point
       l *= scale;
   }
   return m;
+}
+
+bool Probe::enclosed(const collide::SurfaceBvh& bvh, const Points& x, const Points& v,
+                     const VecX& masses) {
+  if (inside(bvh, x, proxy_)) return true;
+  response_.evaluate(bvh, x, v, masses, tip(), Vec3::Zero());
+  const std::vector<ContactForce>& contacts = response_.contacts();
+  for (std::size_t c = 0; c < contacts.size(); ++c) {
+    for (std::size_t d = c + 1; d < contacts.size(); ++d) {
+      if (contacts[c].contact.normal.dot(contacts[d].contact.normal) < -0.5) return true;
+    }
+  }
+  return false;
+}
+
+bool Probe::inside(const collide::SurfaceBvh& bvh, const Points& x, const Vec3& p) {
+  // A ray in a fixed, skew direction (no axis-aligned mesh edge or face lies along it), long
+  // enough to leave any organ; the crossings by Moller-Trumbore, counted once per triangle.
+  const Vec3 direction = Vec3(0.5773, 0.6123, 0.5402).normalized();
+  const Vec3 far = p + 10.0 * direction;
+  bvh.overlapping_triangles(x, collide::Capsule{p, far, 1e-9}, ray_triangles_);
+  int crossings = 0;
+  for (const int t : ray_triangles_) {
+    const Vec3i& tri = bvh.triangle(t);
+    const Vec3 a = row3(x, tri[0]), e1 = row3(x, tri[1]) - a, e2 = row3(x, tri[2]) - a;
+    const Vec3 h = direction.cross(e2);
+    const Real det = e1.dot(h);
+    if (std::abs(det) < 1e-300) continue;
+    const Vec3 s = p - a;
+    const Real u = s.dot(h) / det;
+    const Vec3 q = s.cross(e1);
+    const Real w = direction.dot(q) / det;
+    const Real t_hit = e2.dot(q) / det;
+    if (u >= 0 && w >= 0 && u + w <= 1 && t_hit > 0) ++crossings;
+  }
+  return crossings % 2 == 1;
 }
 
 Vec3 Probe::nearest_free_position() {

@@ -88,12 +88,17 @@ class Probe {
   // One simulation step of the settings' time_step: the device is at device_position; the body's
   // surface tree is refitted to x. Moves the proxy, adds the push on the tissue to node_forces
   // (#nodes by 3 [N]; on entry it must hold the step's other forces on the nodes, the model's
-  // internal forces included, for the implicit push) and updates the force models.
-  //   x, v     #nodes by 3 positions [m] and velocities [m/s];  masses  #nodes lumped [kg]
-  // Allocates nothing once its work arrays have grown.
+  // internal forces included: the balance predicts where the nodes go) and updates the force
+  // models.
+  //   x, v            #nodes by 3 positions [m] and velocities [m/s]
+  //   masses          #nodes lumped [kg] (a triangle with a massless node takes no contact)
+  //   inverse_masses  #nodes, what the integrator moves the nodes with (0 for a held node), for
+  //                   the balance; null: 1 / masses
+  // Allocates only while the number of contacts grows past what it has seen.
   // Throws std::invalid_argument for a non-finite device position or mismatched arrays.
   void step(const Vec3& device_position, const collide::SurfaceBvh& bvh, const Points& x,
-            const Points& v, const VecX& masses, Points& node_forces);
+            const Points& v, const VecX& masses, Points& node_forces,
+            const VecX* inverse_masses = nullptr);
 
   const Vec3& proxy() const { return proxy_; }
   const Vec3& device() const { return device_; }
@@ -101,8 +106,8 @@ class Probe {
   // The force on the hand [N]: what the massless proxy passes on, i.e. minus the push on the
   // tissue while it pushes; k_v (p - d) otherwise (0 in free space, where p = d).
   const Vec3& hand_force() const { return hand_force_; }
-  // The proxy's penalty contacts at the last step (they locate the contact and weigh its
-  // distribution; their forces are not applied, see the header).
+  // The proxy's contacts at the last step, as ToolContactResponse found them at p0 (their penalty
+  // forces are not applied: the balance's are, see the header).
   const ToolReaction& reaction() const { return response_.reaction(); }
   // The force the proxy passed on to the tissue at the last step [N].
   const Vec3& transmitted_force() const { return transmitted_; }
@@ -111,8 +116,8 @@ class Probe {
   const LocalForceModel& hand_force_model() const { return hand_model_; }
   // Whether the last step's motion was stopped by the surface.
   bool blocked() const { return blocked_; }
-  // Times the proxy slipped out to the device: pulled on at max_force for kTrappedSteps steps with
-  // the device clear of the tissue (it was trapped, the tissue closed over it).
+  // Times the proxy slipped out to the device: enclosed by the tissue (inside it, or between faces
+  // facing each other), pulled on at max_force for kTrappedSteps steps from a device outside it.
   int slips() const { return slips_; }
   static constexpr int kTrappedSteps = 100;
 
@@ -140,7 +145,14 @@ class Probe {
   // Step 2 above on the contacts of response_ at proxy_ (p0): moves proxy_ to p, fills
   // multipliers_ (lambda per contact, 0 for the ones that left) and returns K_h's M.
   Mat3 balance(const collide::SurfaceBvh& bvh, const Points& x, const Points& v, const VecX& masses,
-               const Points& other_forces);
+               const VecX* inverse_masses, const Points& other_forces);
+  // Whether p lies inside the closed surface (the parity of the surface's crossings by a ray).
+  bool inside(const collide::SurfaceBvh& bvh, const Points& x, const Vec3& p);
+  // Whether the proxy is inside the tissue or touches faces that face each other (more than 120
+  // degrees apart: a flap or a shut crack over it).
+  bool enclosed(const collide::SurfaceBvh& bvh, const Points& x, const Points& v,
+                const VecX& masses);
+  std::vector<int> ray_triangles_;
 
   LocalForceModel hand_model_;
   Vec3 transmitted_ = Vec3::Zero();
@@ -150,7 +162,7 @@ class Probe {
   std::vector<Real> multipliers_;
   std::vector<char> active_;
   Eigen::MatrixXd gram_, system_;
-  Eigen::VectorXd excess_, rhs_;
+  Eigen::VectorXd excess_;
   Eigen::Matrix<Real, Eigen::Dynamic, 3> normals_;
 };
 

@@ -128,8 +128,12 @@ TEST(Probe, CouplingSaturatesAtItsMaximumForce) {
     block.integrate();
     ASSERT_TRUE(block.mesh.x.allFinite()) << "step " << s;
   }
-  // The implicit push passes on less while the tissue gives way; the cap was reached.
+  // The push passes on less while the tissue gives way; the cap was reached.
   EXPECT_GT(saturated_steps, 0);
+  // Pressed at max_force for 300 steps towards a point under the block, the proxy stays on the
+  // top: it never slips through (only a proxy inside the tissue does).
+  EXPECT_EQ(probe.slips(), 0);
+  EXPECT_GT(probe.proxy().z(), kTop);
 }
 
 // A proxy the tissue has closed over (here it starts inside the block, as after a flap or a
