@@ -1,7 +1,11 @@
 // JSON control messages of the agent <-> server protocol (hello, welcome, session); see
 // protocol.h.
 
+#include <cmath>
+#include <cstdio>
 #include <limits>
+#include <tuple>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -195,6 +199,130 @@ ParseResult<SessionNotice> parse_session_notice(std::string_view text) {
   }
   notice.session_id = none ? 0 : id.get<int64_t>();
   return Result::success(std::move(notice));
+}
+
+}  // namespace incise::devices
+
+namespace incise::devices {
+namespace {
+
+using nlohmann::json;
+
+// Reads object[key] as a finite number in [low, high].
+std::string read_number(const json& object, const char* key, double low, double high, double& out) {
+  if (!object.contains(key)) return std::string("missing key \"") + key + "\"";
+  const json& value = object[key];
+  if (!value.is_number()) {
+    return std::string("\"") + key + "\" must be a number, got " + value.type_name();
+  }
+  const double number = value.get<double>();
+  if (!std::isfinite(number) || number < low || number > high) {
+    char bounds[64];
+    std::snprintf(bounds, sizeof bounds, "[%g, %g]", low, high);
+    return std::string("\"") + key + "\" must be in " + bounds + ", got " + excerpt(value);
+  }
+  out = number;
+  return {};
+}
+
+std::string read_count(const json& object, const char* key, uint64_t& out) {
+  if (!object.contains(key)) return std::string("missing key \"") + key + "\"";
+  const json& value = object[key];
+  if (!value.is_number_unsigned() && !(value.is_number_integer() && value.get<int64_t>() >= 0)) {
+    return std::string("\"") + key + "\" must be a non-negative integer, got " + excerpt(value);
+  }
+  out = value.get<uint64_t>();
+  return {};
+}
+
+std::string read_device_report(const json& entry, DeviceLinkReport& out) {
+  if (!entry.is_object()) return std::string("expected an object, got ") + entry.type_name();
+  double index = 0;
+  if (auto error = read_number(entry, "index", 0, kMaxStationDevices - 1, index); !error.empty())
+    return error;
+  if (index != std::floor(index))
+    return "\"index\" must be an integer, got " + excerpt(entry["index"]);
+  out.index = static_cast<int>(index);
+  for (auto [key, target, high] : {std::tuple{"model_age_ms", &out.model_age_ms, 1e7},
+                                   std::tuple{"force_n", &out.force_n, 1e3},
+                                   std::tuple{"damping_ns_m", &out.damping_ns_m, 1e6},
+                                   std::tuple{"dissipated_j", &out.dissipated_j, 1e9}}) {
+    if (auto error = read_number(entry, key, 0, high, *target); !error.empty()) return error;
+  }
+  if (!entry.contains("fault") || !entry["fault"].is_string()) return "\"fault\" must be a string";
+  out.fault = entry["fault"].get<std::string>();
+  if (out.fault.size() > 64) return "\"fault\" is longer than 64 bytes";
+  return {};
+}
+
+}  // namespace
+
+std::string build_link_report(const LinkReport& report) {
+  json devices = json::array();
+  for (const DeviceLinkReport& d : report.devices) {
+    devices.push_back({{"index", d.index},
+                       {"model_age_ms", d.model_age_ms},
+                       {"fault", d.fault},
+                       {"force_n", d.force_n},
+                       {"damping_ns_m", d.damping_ns_m},
+                       {"dissipated_j", d.dissipated_j}});
+  }
+  const json message = {{"type", "link"},
+                        {"rtt_p50_ms", report.rtt_p50_ms},
+                        {"rtt_p99_ms", report.rtt_p99_ms},
+                        {"loss_down", report.loss_down},
+                        {"states_sent", report.states_sent},
+                        {"states_held", report.states_held},
+                        {"devices", std::move(devices)}};
+  return message.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+ParseResult<LinkReport> parse_link_report(std::string_view text) {
+  using Result = ParseResult<LinkReport>;
+  const std::string what = "link: ";
+  json object;
+  try {
+    object = json::parse(text);
+  } catch (const json::parse_error& e) {
+    return Result::failure(what + "not valid JSON (syntax error at byte " + std::to_string(e.byte) +
+                           ")");
+  }
+  if (!object.is_object()) {
+    return Result::failure(what + "expected a JSON object, got " + object.type_name());
+  }
+  if (message_type(text) != "link") return Result::failure(what + "\"type\" must be \"link\"");
+  LinkReport report;
+  for (auto [key, target, high] : {std::tuple{"rtt_p50_ms", &report.rtt_p50_ms, 1e7},
+                                   std::tuple{"rtt_p99_ms", &report.rtt_p99_ms, 1e7},
+                                   std::tuple{"loss_down", &report.loss_down, 1.0}}) {
+    if (auto error = read_number(object, key, 0, high, *target); !error.empty())
+      return Result::failure(clip(what + error));
+  }
+  for (auto [key, target] : {std::pair{"states_sent", &report.states_sent},
+                             std::pair{"states_held", &report.states_held}}) {
+    if (auto error = read_count(object, key, *target); !error.empty())
+      return Result::failure(clip(what + error));
+  }
+  if (!object.contains("devices") || !object["devices"].is_array())
+    return Result::failure(what + "\"devices\" must be an array");
+  const json& devices = object["devices"];
+  if (devices.size() > kMaxStationDevices) {
+    return Result::failure(what + "\"devices\" has " + std::to_string(devices.size()) +
+                           " entries, at most " + std::to_string(kMaxStationDevices));
+  }
+  for (std::size_t i = 0; i < devices.size(); ++i) {
+    DeviceLinkReport device;
+    if (auto error = read_device_report(devices[i], device); !error.empty())
+      return Result::failure(clip(what + "devices[" + std::to_string(i) + "]: " + error));
+    report.devices.push_back(std::move(device));
+  }
+  return Result::success(std::move(report));
+}
+
+std::string message_type(std::string_view text) {
+  const json object = json::parse(text, nullptr, false);
+  if (!object.is_object() || !object.contains("type") || !object["type"].is_string()) return {};
+  return object["type"].get<std::string>();
 }
 
 }  // namespace incise::devices

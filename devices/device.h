@@ -34,6 +34,10 @@ class Device {
   // Commands force_n [N] at the tool tip, station frame, until the next call. Devices without
   // force output ignore it, so the haptic loop need not ask.
   virtual void set_force(const Vec3& force_n) { (void)force_n; }
+  // Empty while the device works; else what is wrong, e.g. "evdev: device unplugged". The haptic
+  // loop's watchdog fades the force to zero while a fault is set. Called from the haptic loop
+  // after poll(), so it must not block or allocate either.
+  virtual std::string_view fault() const { return {}; }
 };
 
 }  // namespace incise::devices

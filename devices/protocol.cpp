@@ -144,6 +144,11 @@ DecodeResult decode_device_state(const FrameHeader& header, const uint8_t* paylo
   }
   DeviceState s;
   s.device_index = payload[kDeviceIndexAt];
+  if (s.device_index >= kMaxStationDevices) {
+    return DecodeResult::failure(DecodeErrc::DeviceIndexOutOfRange,
+                                 "device_index %u, a station has devices 0 and 1",
+                                 static_cast<unsigned>(s.device_index));
+  }
   s.buttons = payload[kButtonsAt];
   s.jaw = load_le_f32(payload + kJawAt);
   s.position = load_vec3(payload + kPositionAt);
@@ -206,6 +211,11 @@ ForceModelDecodeResult decode_model_payload(const FrameHeader& header, const uin
   }
   ForceModel m;
   m.device_index = payload[kModelDeviceIndexAt];
+  if (m.device_index >= kMaxStationDevices) {
+    return Result::failure(DecodeErrc::DeviceIndexOutOfRange,
+                           "device_index %u, a station has devices 0 and 1",
+                           static_cast<unsigned>(m.device_index));
+  }
   m.reference_position = load_vec3(payload + kReferenceAt);
   m.force = load_vec3(payload + kForceAt);
   for (std::size_t i = 0; i < m.stiffness.size(); ++i) {

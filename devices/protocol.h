@@ -26,7 +26,7 @@
 //                                epoch (the agent's start), so only differences are meaningful
 //
 //   offset size  DeviceState payload (62 bytes; offsets from the payload start), agent -> server
-//        0    1  device_index    u8
+//        0    1  device_index    u8, 0 or 1 (a station's two hands)
 //        1    1  buttons         u8, bit i set = button i pressed
 //        2    4  jaw             f32 in [0, 1]
 //        6   24  position        3 x f64: tool tip x, y, z [m]
@@ -57,6 +57,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "devices/device_state.h"
 #include "devices/parse_result.h"
@@ -91,7 +92,9 @@ inline constexpr std::size_t kMaxCloseReasonSize = 120;
 // Longest strings accepted in hello and welcome [bytes]: far above real use, small enough to
 // bound memory and logs.
 inline constexpr std::size_t kMaxStationTokenSize = 256;
-inline constexpr std::size_t kMaxNameSize = 128;  // hello "agent", welcome "station_name"
+inline constexpr std::size_t kMaxNameSize = 128;
+// A station has up to two devices (two hands): device_index 0 and 1.
+inline constexpr std::size_t kMaxStationDevices = 2;  // hello "agent", welcome "station_name"
 
 // How far |q| may stray from 1 before an orientation is rejected.
 inline constexpr double kUnitQuaternionTolerance = 1e-3;
@@ -130,18 +133,19 @@ struct ForceModel {
 
 enum class DecodeErrc {
   None,
-  TooShort,            // fewer bytes than the header
-  LengthMismatch,      // payload_length disagrees with the bytes that follow the header
-  UnknownType,         // a type protocol 1 does not define
-  UnsupportedType,     // a type this side does not accept: the other direction's (DeviceState
-                       // at the agent, ForceModel at the server) or a reserved one (Control)
-  BadFlags,            // a flag bit set; protocol 1 defines none
-  BadPayloadSize,      // the payload has the wrong size for its type
-  NonFinite,           // NaN or infinity in a floating-point field
-  JawOutOfRange,       // jaw outside [0, 1]
-  NotUnitQuaternion,   // | |q| - 1 | > kUnitQuaternionTolerance
-  ForceOutOfRange,     // ForceModel |force| > kMaxModelForce
-  StiffnessOutOfRange  // ForceModel |K_ij| > kMaxModelStiffness
+  TooShort,              // fewer bytes than the header
+  LengthMismatch,        // payload_length disagrees with the bytes that follow the header
+  UnknownType,           // a type protocol 1 does not define
+  UnsupportedType,       // a type this side does not accept: the other direction's (DeviceState
+                         // at the agent, ForceModel at the server) or a reserved one (Control)
+  BadFlags,              // a flag bit set; protocol 1 defines none
+  BadPayloadSize,        // the payload has the wrong size for its type
+  NonFinite,             // NaN or infinity in a floating-point field
+  JawOutOfRange,         // jaw outside [0, 1]
+  NotUnitQuaternion,     // | |q| - 1 | > kUnitQuaternionTolerance
+  ForceOutOfRange,       // ForceModel |force| > kMaxModelForce
+  StiffnessOutOfRange,   // ForceModel |K_ij| > kMaxModelStiffness
+  DeviceIndexOutOfRange  // device_index >= kMaxStationDevices
 };
 
 struct DeviceStateMessage {
@@ -213,7 +217,34 @@ struct SessionNotice {
   friend bool operator==(const SessionNotice&, const SessionNotice&) = default;
 };
 
+// The link as the agent sees it, agent -> server about once a second (text frame):
+//   {"type": "link", "rtt_p50_ms": x, "rtt_p99_ms": x, "loss_down": x, "states_sent": n,
+//    "states_held": n, "devices": [{"index": i, "model_age_ms": x, "fault": s, "force_n": x,
+//    "damping_ns_m": x, "dissipated_j": x}, ...]}
+// Round trips and loss are over the window since the previous report; loss_down is the share of
+// the server's force models that never arrived (gaps in their sequence numbers); states_held
+// counts the states the deadband held back. The server shows it in the session metrics.
+struct DeviceLinkReport {
+  int index = 0;
+  double model_age_ms = 0;  // age of the model rendered (since the state it answers)
+  std::string fault;        // the watchdog's reason the force is off, "none" if rendering
+  double force_n = 0;       // |force| commanded
+  double damping_ns_m = 0;  // damping the passivity guard injects
+  double dissipated_j = 0;  // energy the passivity guard has removed since the agent started
+  friend bool operator==(const DeviceLinkReport&, const DeviceLinkReport&) = default;
+};
+struct LinkReport {
+  double rtt_p50_ms = 0;
+  double rtt_p99_ms = 0;
+  double loss_down = 0;  // in [0, 1]
+  uint64_t states_sent = 0;
+  uint64_t states_held = 0;
+  std::vector<DeviceLinkReport> devices;  // at most 2
+  friend bool operator==(const LinkReport&, const LinkReport&) = default;
+};
+
 std::string build_hello(const Hello& hello);
+std::string build_link_report(const LinkReport& report);
 std::string build_welcome(const Welcome& welcome);
 std::string build_session_notice(const SessionNotice& notice);
 
@@ -221,6 +252,11 @@ std::string build_session_notice(const SessionNotice& notice);
 ParseResult<Hello> parse_hello(std::string_view text);
 // Agent side. A version mismatch reads `protocol 2 not supported (agent speaks 1)`.
 ParseResult<Welcome> parse_welcome(std::string_view text);
+// Server side. Errors read e.g. `link: "loss_down" must be in [0, 1], got 2`.
+ParseResult<LinkReport> parse_link_report(std::string_view text);
+// The "type" of a text message, or "" if it is not a JSON object with a string "type".
+std::string message_type(std::string_view text);
+
 // Agent side. Errors read e.g. `session: "state" is "done", expected running, paused or idle`.
 ParseResult<SessionNotice> parse_session_notice(std::string_view text);
 

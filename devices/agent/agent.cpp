@@ -17,12 +17,21 @@
 namespace incise::devices::agent {
 namespace {
 
-LinkSettings make_settings(const AgentOptions& options, const Device& device) {
+LinkSettings make_settings(const AgentOptions& options, const std::vector<Device*>& devices,
+                           StateLogWriter* recorder) {
   LinkSettings settings;
   settings.server = options.server;
   settings.hello.station_token = options.token;
-  settings.hello.agent =
-      "incise-agent/" INCISE_AGENT_VERSION " (" + std::string(device.name()) + ")";
+  std::string names;
+  for (const Device* device : devices)
+    names += (names.empty() ? "" : " + ") + std::string(device->name());
+  settings.hello.agent = "incise-agent/" INCISE_AGENT_VERSION " (" + names + ")";
+  settings.device_count = devices.size();
+  if (recorder != nullptr) {
+    settings.recorder = [recorder](const TimedState& timed) {
+      recorder->write(timed.state, timed.timestamp_us);
+    };
+  }
   // The server refuses a longer hello; the description is informative only, so cut it (on a
   // UTF-8 character boundary: continuation bytes are 10xxxxxx).
   std::string& agent = settings.hello.agent;
@@ -47,21 +56,37 @@ std::string format(const char* format, auto... values) {
   return text;
 }
 
+LoopSettings loop_settings(const AgentOptions& options) {
+  LoopSettings settings;
+  settings.send_every = send_every(options.rate_hz);
+  settings.deadband.enabled = options.deadband;
+  settings.guard = options.guard;
+  return settings;
+}
+
 }  // namespace
 
-Agent::Agent(asio::io_context& io, const AgentOptions& options, Device& device)
+Agent::Agent(asio::io_context& io, const AgentOptions& options, std::vector<Device*> devices,
+             StateLogWriter* recorder)
     : io_(io),
-      settings_(make_settings(options, device)),
-      device_(device),
-      loop_(device, channel_, send_every(options.rate_hz), settings_.epoch),
+      settings_(make_settings(options, devices, recorder)),
+      devices_(std::move(devices)),
+      loop_(devices_, channel_, loop_settings(options), settings_.epoch),
       signals_(io, SIGINT, SIGTERM),
       stats_signal_(io, SIGUSR1),
       retry_timer_(io),
-      send_rate_hz_(1000.0 / send_every(options.rate_hz)) {}
+      send_rate_hz_(1000.0 / send_every(options.rate_hz)),
+      deadband_(options.deadband) {}
 
 void Agent::start() {
-  log_line(std::string(device_.name()) + " device, haptic loop at 1000 Hz, sending its state at " +
-           format("%g Hz", send_rate_hz_) + " to " + settings_.server.url());
+  for (std::size_t i = 0; i < devices_.size(); ++i) {
+    const DeviceCapabilities caps = devices_[i]->capabilities();
+    log_line("device " + std::to_string(i) + ": " + std::string(devices_[i]->name()) +
+             (caps.has_force_output ? ", force output" : ", no force output (forces on screen)"));
+  }
+  log_line(format("haptic loop at 1000 Hz, sending states at %g Hz (deadband %s) to ",
+                  send_rate_hz_, deadband_ ? "on" : "off") +
+           settings_.server.url());
   loop_.start();
   signals_.async_wait(
       [this](beast::error_code ec, int signal_number) { on_signal(ec, signal_number); });
@@ -93,13 +118,22 @@ std::string Agent::stats_line() const {
   return format(
       "stats: loop %.1f Hz, period p50 %.0f us p99 %.0f us, max jitter %.0f us, %llu overruns; "
       "round trip p50 %.2f ms p99 %.2f ms (%llu models); states sent %llu, dropped %llu; force "
-      "models received %llu",
+      "models received %llu, lost %llu; states held by the deadband %llu",
       loop.rate_hz, loop.period_p50_us, loop.period_p99_us, loop.max_jitter_us,
       static_cast<unsigned long long>(loop.overruns), round_trip.percentile(50) / 1000.0,
       round_trip.percentile(99) / 1000.0, static_cast<unsigned long long>(round_trip.count()),
       static_cast<unsigned long long>(stats_.states_sent),
       static_cast<unsigned long long>(channel_.states.dropped()),
-      static_cast<unsigned long long>(stats_.models_received));
+      static_cast<unsigned long long>(stats_.models_received),
+      static_cast<unsigned long long>(stats_.models_lost),
+      static_cast<unsigned long long>(held_states()));
+}
+
+uint64_t Agent::held_states() const {
+  uint64_t held = 0;
+  for (const DeviceTelemetry& t : channel_.telemetry)
+    held += t.states_held.load();
+  return held;
 }
 
 void Agent::do_connect() {

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
@@ -17,6 +18,7 @@
 #include "devices/agent/options.h"
 #include "devices/agent/station_link.h"
 #include "devices/device.h"
+#include "devices/state_log.h"
 
 namespace incise::devices::agent {
 
@@ -28,8 +30,10 @@ inline constexpr int kExitRefused = 3;
 
 class Agent {
  public:
-  // device must outlive the agent. Nothing happens until start().
-  Agent(asio::io_context& io, const AgentOptions& options, Device& device);
+  // The devices (one per hand, at most kMaxDevices) and the recorder (may be null: no
+  // --record-states) must outlive the agent. Nothing happens until start().
+  Agent(asio::io_context& io, const AgentOptions& options, std::vector<Device*> devices,
+        StateLogWriter* recorder = nullptr);
 
   // Starts the haptic loop, connects and keeps connecting; the io_context runs out of work once
   // the agent has stopped.
@@ -48,6 +52,10 @@ class Agent {
   // Any thread.
   LoopSummary loop_summary() const { return loop_.summary(); }
 
+  // States the deadband held back, all devices.
+  uint64_t held_states() const;
+  // The haptic loop (the thread that runs it, or any once finished).
+  const HapticLoop& loop() const { return loop_; }
   // One line: loop rate and timing, round trip, states sent and dropped, models received.
   std::string stats_line() const;
 
@@ -64,7 +72,7 @@ class Agent {
 
   asio::io_context& io_;
   LinkSettings settings_;
-  Device& device_;
+  std::vector<Device*> devices_;
   HapticChannel channel_;
   HapticLoop loop_;
   BridgeStats stats_;
@@ -81,6 +89,7 @@ class Agent {
   uint64_t messages_sent_ = 0;
   Clock::duration connected_for_{};
   double send_rate_hz_ = 0.0;  // 1000 Hz / k
+  bool deadband_ = true;
 };
 
 }  // namespace incise::devices::agent

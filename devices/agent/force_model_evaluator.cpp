@@ -11,7 +11,7 @@ void ForceModelEvaluator::set_model(const ForceModel& model, Clock::time_point r
 }
 
 bool ForceModelEvaluator::fresh(Clock::time_point now) const {
-  return has_model_ && now - received_at_ <= kModelMaxAge;
+  return has_model_ && now - received_at_ <= kModelMaxGap;
 }
 
 Vec3 ForceModelEvaluator::force_at(const Vec3& position) const {

@@ -2,6 +2,7 @@
 // What the haptic thread and the io thread share, all lock-free: device states one way, the
 // latest force model the other, and whether a server link is up.
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cstddef>
@@ -14,10 +15,29 @@
 
 namespace incise::devices::agent {
 
+// A station has up to two devices (two hands), indexed 0 and 1 on the wire.
+inline constexpr std::size_t kMaxDevices = 2;
+
 // A device state and its sample time [us since the agent's epoch]: the frame's timestamp_us.
+// The haptic loop queues one per device at the send rate; send is false for a state the deadband
+// held back (the hand has not moved): the io thread then only records it locally, if asked to.
 struct TimedState {
   DeviceState state;
   uint64_t timestamp_us = 0;
+  bool send = true;
+};
+
+// What the haptic loop reports about one device, for the link report and the logs. Written by
+// the haptic thread, read by any (relaxed atomics: each value stands alone).
+struct DeviceTelemetry {
+  std::atomic<uint32_t> model_age_us{0};   // of the model rendered on the last tick
+  std::atomic<uint8_t> fault{0};           // GuardFault of the last tick
+  std::atomic<float> force_n{0.0f};        // |commanded force| on the last tick
+  std::atomic<float> damping{0.0f};        // injected by the passivity guard [N s/m]
+  std::atomic<float> dissipated_j{0.0f};   // by the passivity guard since the start [J]
+  std::atomic<uint64_t> fault_ticks{0};    // ticks the watchdog had the force off
+  std::atomic<uint64_t> states_held{0};    // states the deadband held back
+  std::atomic<uint64_t> states_queued{0};  // states queued to send
 };
 
 // A force model and when it arrived, on the agent's steady clock.
@@ -26,12 +46,14 @@ struct ReceivedModel {
   std::chrono::steady_clock::time_point received_at;
 };
 
-// 256 states: a quarter of a second at the highest send rate, far longer than one write.
-inline constexpr std::size_t kStateRingCapacity = 256;
+// 512 states: a quarter of a second for two devices at the highest send rate, far longer than
+// one write.
+inline constexpr std::size_t kStateRingCapacity = 512;
 
 struct HapticChannel {
-  SpscRing<TimedState, kStateRingCapacity> states;  // haptic thread -> io thread
-  Seqlock<ReceivedModel> model;                     // io thread -> haptic thread
+  SpscRing<TimedState, kStateRingCapacity> states;         // haptic thread -> io thread
+  std::array<Seqlock<ReceivedModel>, kMaxDevices> models;  // io thread -> haptic thread
+  std::array<DeviceTelemetry, kMaxDevices> telemetry;      // haptic thread -> anyone
   // Set by the io thread once the server has welcomed us, cleared when the link ends. While it
   // is clear no states are queued and no force is rendered.
   std::atomic<bool> link_up{false};

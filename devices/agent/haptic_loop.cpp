@@ -1,6 +1,10 @@
 #include "devices/agent/haptic_loop.h"
 
 #include <algorithm>
+#include <array>
+#include <climits>
+#include <cmath>
+#include <cstdint>
 
 #if defined(__linux__)
 #include <pthread.h>
@@ -9,6 +13,10 @@
 
 namespace incise::devices::agent {
 namespace {
+
+void bump(std::atomic<uint64_t>& counter) {
+  counter.store(counter.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
+}
 
 void prepare_thread() {
 #if defined(__linux__)
@@ -21,40 +29,136 @@ void prepare_thread() {
 
 }  // namespace
 
+bool Deadband::moved(const DeviceState& state, const DeviceState& last_sent) const {
+  if (state.buttons != last_sent.buttons) return true;
+  if (std::abs(state.jaw - last_sent.jaw) > jaw) return true;
+  const double dx = state.position.x - last_sent.position.x;
+  const double dy = state.position.y - last_sent.position.y;
+  const double dz = state.position.z - last_sent.position.z;
+  if (dx * dx + dy * dy + dz * dz > position_m * position_m) return true;
+  // The angle between two unit quaternions is 2 acos(|<q1, q2>|).
+  const Quat& a = state.orientation;
+  const Quat& b = last_sent.orientation;
+  const double cosine = std::min(1.0, std::abs(a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z));
+  return 2.0 * std::acos(cosine) > angle_rad;
+}
+
+HapticLoop::HapticLoop(std::span<Device* const> devices, HapticChannel& channel,
+                       const LoopSettings& settings, Clock::time_point epoch)
+    : count_(std::min(devices.size(), kMaxDevices)),
+      channel_(channel),
+      send_every_(static_cast<uint64_t>(std::max(settings.send_every, 1))),
+      deadband_(settings.deadband),
+      epoch_(epoch),
+      stats_(kTickPeriod) {
+  for (std::size_t i = 0; i < count_; ++i) {
+    hands_[i].device = devices[i];
+    hands_[i].guard = ForceGuard(settings.guard);
+  }
+}
+
+namespace {
+LoopSettings plumbing_settings(int send_every) {
+  LoopSettings settings;
+  settings.send_every = send_every;
+  settings.deadband.enabled = false;
+  settings.guard = ForceGuardSettings::transparent();
+  return settings;
+}
+}  // namespace
+
 HapticLoop::HapticLoop(Device& device, HapticChannel& channel, int send_every,
                        Clock::time_point epoch)
-    : device_(device),
-      channel_(channel),
-      send_every_(static_cast<uint64_t>(std::max(send_every, 1))),
-      epoch_(epoch),
-      stats_(kTickPeriod) {}
+    : HapticLoop(std::span<Device* const>(std::array<Device*, 1>{&device}), channel,
+                 plumbing_settings(send_every), epoch) {}
 
 void HapticLoop::tick(Clock::time_point now) {
   const Clock::duration since_epoch = now - epoch_;
-  const DeviceState state = device_.poll(std::chrono::duration<double>(since_epoch).count());
-
-  if (channel_.model.version() != model_version_) {
-    const ReceivedModel received = channel_.model.read(model_version_);
-    evaluator_.set_model(received.model, received.received_at);
-  }
-  const bool link_up = channel_.link_up.load(std::memory_order_acquire);
-  const bool render = link_up && !stopping_.load(std::memory_order_relaxed) &&
-                      evaluator_.fresh(now) &&
-                      evaluator_.model().device_index == state.device_index;
-  const double factor = fade_.step(render);
-  Vec3 force;
-  if (factor > 0.0) {
-    const Vec3 full = evaluator_.force_at(state.position);
-    force = {factor * full.x, factor * full.y, factor * full.z};
-  }
-  device_.set_force(force);
-  last_force_ = force;
-
-  if (link_up && ticks_ % send_every_ == 0) {
-    const auto t_us = std::chrono::duration_cast<std::chrono::microseconds>(since_epoch).count();
-    channel_.states.push({state, static_cast<uint64_t>(std::max<int64_t>(t_us, 0))});
-  }
+  const auto t_us = static_cast<uint64_t>(std::max<int64_t>(
+      std::chrono::duration_cast<std::chrono::microseconds>(since_epoch).count(), 0));
+  const bool first = ticks_ == 0;
+  const double dt = first ? 0.0 : std::chrono::duration<double>(now - previous_tick_).count();
+  const bool late = !first && now - previous_tick_ > kMaxTickGap;
+  previous_tick_ = now;
+  const bool send_tick = ticks_ % send_every_ == 0;
+  for (std::size_t i = 0; i < count_; ++i)
+    tick_hand(hands_[i], i, now, dt, late, send_tick, t_us);
   ++ticks_;
+}
+
+void HapticLoop::tick_hand(Hand& hand, std::size_t index, Clock::time_point now, double dt,
+                           bool late, bool send_tick, uint64_t t_us) {
+  DeviceState state = hand.device->poll(std::chrono::duration<double>(now - epoch_).count());
+  state.device_index = static_cast<uint8_t>(index);
+  Seqlock<ReceivedModel>& slot = channel_.models[index];
+  if (slot.version() != hand.model_version) {
+    const ReceivedModel received = slot.read(hand.model_version);
+    hand.evaluator.set_model(received.model, received.received_at);
+  }
+  const Vec3& x = state.position;
+  const bool finite = std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z);
+  const Vec3 velocity = finite ? hand.guard.track(x, dt) : hand.guard.velocity();
+  const double speed =
+      std::sqrt(velocity.x * velocity.x + velocity.y * velocity.y + velocity.z * velocity.z);
+  const uint64_t age_us = hand.evaluator.age_us(t_us);
+
+  GuardFault fault = GuardFault::None;
+  if (stopping_.load(std::memory_order_relaxed))
+    fault = GuardFault::Stopping;
+  else if (!channel_.link_up.load(std::memory_order_acquire))
+    fault = GuardFault::LinkDown;
+  else if (!hand.device->fault().empty())
+    fault = GuardFault::DeviceFault;
+  else if (!finite || speed > hand.guard.settings().max_speed_m_s)
+    fault = GuardFault::BadState;
+  else if (late)
+    fault = GuardFault::LateTick;
+  else if (!hand.evaluator.fresh(now) || hand.evaluator.model().device_index != index)
+    fault = GuardFault::NoModel;
+  else if (age_us >
+           static_cast<uint64_t>(
+               std::chrono::duration_cast<std::chrono::microseconds>(kModelMaxAge).count()))
+    fault = GuardFault::StaleModel;
+  hand.fault = fault;
+
+  const double factor = hand.fade.step(fault == GuardFault::None);
+  Vec3 desired;
+  if (factor > 0.0 && finite) {
+    const Vec3 coupled =
+        hand.guard.couple(hand.evaluator.force_at(x), hand.evaluator.model().stiffness,
+                          static_cast<double>(age_us) * 1e-6);
+    desired = {factor * coupled.x, factor * coupled.y, factor * coupled.z};
+  }
+  const Vec3 force = hand.guard.finish(desired, dt, factor == 0.0 || !finite);
+  hand.device->set_force(force);
+  hand.last_force = force;
+  hand.state = state;
+
+  DeviceTelemetry& telemetry = channel_.telemetry[index];
+  telemetry.model_age_us.store(static_cast<uint32_t>(std::min<uint64_t>(age_us, UINT32_MAX)),
+                               std::memory_order_relaxed);
+  telemetry.fault.store(static_cast<uint8_t>(fault), std::memory_order_relaxed);
+  telemetry.force_n.store(
+      static_cast<float>(std::sqrt(force.x * force.x + force.y * force.y + force.z * force.z)),
+      std::memory_order_relaxed);
+  telemetry.damping.store(static_cast<float>(hand.guard.last_damping()), std::memory_order_relaxed);
+  telemetry.dissipated_j.store(static_cast<float>(hand.guard.dissipated_j()),
+                               std::memory_order_relaxed);
+  if (fault != GuardFault::None) bump(telemetry.fault_ticks);
+
+  if (!send_tick || !finite || !channel_.link_up.load(std::memory_order_acquire)) return;
+  const bool send = !deadband_.enabled || !hand.sent_any ||
+                    now - hand.last_sent_at >= deadband_.keepalive ||
+                    deadband_.moved(state, hand.last_sent);
+  if (send) {
+    hand.last_sent = state;
+    hand.last_sent_at = now;
+    hand.sent_any = true;
+    bump(telemetry.states_queued);
+  } else {
+    bump(telemetry.states_held);
+  }
+  channel_.states.push({state, t_us, send});
 }
 
 void HapticLoop::start() {
@@ -81,7 +185,7 @@ void HapticLoop::run() {
     previous = now;
 
     tick(now);
-    if (stopping_.load(std::memory_order_relaxed) && fade_.factor() == 0.0) break;
+    if (stopping_.load(std::memory_order_relaxed) && all_silent()) break;
 
     deadline += kTickPeriod;
     const Clock::time_point done = Clock::now();
@@ -92,8 +196,10 @@ void HapticLoop::run() {
       deadline += ((done - deadline) / kTickPeriod) * kTickPeriod;
     }
   }
-  device_.set_force({});
-  last_force_ = {};
+  for (std::size_t i = 0; i < count_; ++i) {
+    hands_[i].device->set_force({});
+    hands_[i].last_force = {};
+  }
 }
 
 }  // namespace incise::devices::agent

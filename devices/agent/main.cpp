@@ -1,40 +1,52 @@
-// incise-agent: bridges a station's haptic device to the Incise server (see agent_usage()).
+// incise-agent: bridges a station's haptic devices to the Incise server (see agent_usage()).
 
 #include <cstdlib>
 #include <exception>
-#include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <sstream>
+#include <vector>
 
 #include <boost/asio/io_context.hpp>
 
 #include "devices/agent/agent.h"
 #include "devices/agent/log.h"
 #include "devices/agent/options.h"
-#include "devices/simulated_device.h"
-#include "devices/simulated_script.h"
+#include "devices/agent/self_test.h"
+#include "devices/driver_registry.h"
+#include "devices/state_log.h"
 
 namespace {
 
 using namespace incise::devices;
 using namespace incise::devices::agent;
 
-// The script's text, or an error naming the file.
-ParseResult<std::string> read_script_text(const std::string& path) {
-  if (path.empty())
-    return ParseResult<std::string>::success(std::string(default_simulated_script()));
+// The configuration file's settings as arguments, or an error naming the file.
+ParseResult<std::vector<std::string>> read_config(const std::string& path) {
+  using Result = ParseResult<std::vector<std::string>>;
+  if (path.empty()) return Result::success({});
   std::ifstream file(path, std::ios::binary);
-  if (!file) return ParseResult<std::string>::failure("script " + path + ": cannot open");
+  if (!file) return Result::failure("config " + path + ": cannot open");
   std::ostringstream text;
   text << file.rdbuf();
-  return ParseResult<std::string>::success(text.str());
+  return config_file_args(text.str(), path);
 }
 
 int run(int argc, char** argv) {
-  const auto options = parse_agent_options(
-      std::span<const char* const>(const_cast<const char* const*>(argv) + 1, argc - 1),
-      std::getenv("INCISE_STATION_TOKEN"));
+  const std::span<const char* const> args(const_cast<const char* const*>(argv) + 1, argc - 1);
+  const auto path = config_path(args);
+  if (!path) {
+    log_line(path.error + " (see --help)");
+    return kExitUsage;
+  }
+  const auto config = read_config(*path.value);
+  if (!config) {
+    log_line(config.error);
+    return kExitUsage;
+  }
+  const auto options =
+      parse_agent_options(args, std::getenv("INCISE_STATION_TOKEN"), *config.value);
   if (!options) {
     log_line(options.error + " (see --help)");
     return kExitUsage;
@@ -43,26 +55,44 @@ int run(int argc, char** argv) {
     std::cout << agent_usage();
     return kExitStopped;
   }
-  const std::string& path = options.value->script_path;
-  const auto text = read_script_text(path);
-  if (!text) {
-    log_line(text.error);
-    return kExitUsage;
+  const DriverRegistry& drivers = builtin_drivers();
+  if (options.value->list_drivers) {
+    for (const DriverInfo& driver : drivers.list())
+      std::cout << "  " << driver.usage << "\n";
+    return kExitStopped;
   }
-  auto script = parse_simulated_script(*text.value);
-  if (!script) {
-    log_line("script " + (path.empty() ? std::string("(built-in)") : path) + ": " + script.error);
-    return kExitUsage;
+  std::vector<std::unique_ptr<Device>> devices;
+  std::vector<Device*> hands;
+  for (const std::string& spec : options.value->devices) {
+    auto device = drivers.open(spec);
+    if (!device) {
+      log_line(device.error);
+      return kExitUsage;
+    }
+    hands.push_back(device.value->get());
+    devices.push_back(std::move(*device.value));
   }
-  const std::string script_name =
-      path.empty() ? "built-in script" : std::filesystem::path(path).filename().string();
-  SimulatedDevice device(std::move(*script.value), "simulated (" + script_name + ")");
-
+  if (options.value->self_test) {
+    return run_self_test(*options.value, hands, std::cout) ? kExitStopped : kExitFailure;
+  }
+  std::unique_ptr<StateLogWriter> recorder;
+  if (!options.value->record_states.empty()) {
+    auto writer = StateLogWriter::create(options.value->record_states);
+    if (!writer) {
+      log_line(writer.error);
+      return kExitUsage;
+    }
+    recorder = std::move(*writer.value);
+  }
   asio::io_context io(1);
-  Agent agent(io, *options.value, device);
+  Agent agent(io, *options.value, hands, recorder.get());
   agent.start();
   io.run();
   agent.finish();
+  if (recorder) {
+    log_line("recorded " + std::to_string(recorder->written()) + " device states to " +
+             options.value->record_states);
+  }
   return agent.exit_code();
 }
 

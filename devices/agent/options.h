@@ -4,7 +4,9 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
+#include "devices/agent/force_guard.h"
 #include "devices/parse_result.h"
 
 namespace incise::devices::agent {
@@ -19,10 +21,18 @@ struct ServerAddress {
 
 struct AgentOptions {
   ServerAddress server;
-  std::string token;        // station token: --token, else $INCISE_STATION_TOKEN
-  std::string script_path;  // empty: the built-in script
-  double rate_hz = 500.0;   // device-state messages per second, kMinRateHz..kMaxRateHz
-  bool help = false;        // --help: print usage, do nothing else
+  std::string token;  // station token: --token, else $INCISE_STATION_TOKEN
+  // Driver specs "name[:argument]", one per hand (at most 2): --device, repeated. Default: the
+  // simulated device with its built-in script. --script FILE is short for --device simulated:FILE.
+  std::vector<std::string> devices;
+  double rate_hz = 500.0;  // device-state messages per second, kMinRateHz..kMaxRateHz
+  bool deadband = true;    // --no-deadband: send every state even when the hand is still
+  // --max-force (per-axis limit), --coupling (stiffness), --no-passivity (measurements only).
+  ForceGuardSettings guard;
+  std::string record_states;  // --record-states FILE: every state, full rate, for replay:FILE
+  bool self_test = false;     // --self-test: check the devices and the link, then exit
+  bool help = false;          // --help: print usage, do nothing else
+  bool list_drivers = false;  // --list-drivers
 };
 
 // The server's simulation wants the hand at >= 250 Hz; above 1000 Hz there is nothing new to
@@ -35,9 +45,20 @@ inline constexpr double kMaxRateHz = 1000.0;
 ParseResult<ServerAddress> parse_server_url(std::string_view url);
 
 // args excludes the program name. Flags take their value as the next argument or after '='.
-// env_token is $INCISE_STATION_TOKEN (nullptr if unset); --token wins over it.
+// env_token is $INCISE_STATION_TOKEN (nullptr if unset); --token wins over it. config_args are
+// the configuration file's settings (config_file_args), which the command line overrides.
 ParseResult<AgentOptions> parse_agent_options(std::span<const char* const> args,
-                                              const char* env_token);
+                                              const char* env_token,
+                                              std::span<const std::string> config_args = {});
+
+// A configuration file (deploy/incise-agent.conf): one "key = value" per line, the keys being the
+// long flags without "--" (server, token, device, rate, deadband, max-force, coupling,
+// passivity, record-states); '#' starts a comment. Returns the settings as "--key=value"
+// arguments, or the first bad line as `FILE:LINE: ...`.
+ParseResult<std::vector<std::string>> config_file_args(std::string_view text,
+                                                       const std::string& path);
+// The value of --config in args ("" if none), or an error if it has no value.
+ParseResult<std::string> config_path(std::span<const char* const> args);
 
 std::string agent_usage();
 

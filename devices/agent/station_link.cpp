@@ -4,6 +4,10 @@
 #include <boost/asio/strand.hpp>
 #include <boost/beast/http.hpp>
 
+#include <algorithm>
+#include <cmath>
+
+#include "devices/agent/force_guard.h"
 #include "devices/agent/log.h"
 
 namespace incise::devices::agent {
@@ -29,6 +33,19 @@ std::string describe(const websocket::close_reason& reason) {
 }
 
 }  // namespace
+
+double LinkWindow::round_trip_percentile(double p) const {
+  const std::size_t n = std::min<std::size_t>(round_trips, round_trip_us.size());
+  if (n == 0) return 0.0;
+  std::array<uint64_t, kWindowRoundTrips> sorted;
+  std::copy_n(round_trip_us.begin(), n, sorted.begin());
+  const std::size_t rank =
+      std::min(n - 1, static_cast<std::size_t>(std::ceil(p / 100.0 * static_cast<double>(n))) -
+                          (p > 0 ? 1 : 0));
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(rank),
+                   sorted.begin() + static_cast<std::ptrdiff_t>(n));
+  return static_cast<double>(sorted[rank]);
+}
 
 StationLink::StationLink(asio::io_context& io, const LinkSettings& settings, HapticChannel& channel,
                          BridgeStats& stats, WelcomeHandler on_welcome, EndHandler on_end)
@@ -145,6 +162,7 @@ void StationLink::on_welcome(beast::error_code ec, std::size_t) {
   }
   channel_.link_up.store(true, std::memory_order_release);
   next_drain_ = welcomed_at_;
+  next_report_ = welcomed_at_ + kReportPeriod;
   do_read();
   do_drain();
 }
@@ -157,6 +175,11 @@ void StationLink::do_drain() {
 
 void StationLink::on_drain(beast::error_code ec) {
   if (ec || stopping_ || rejecting_ || finished_) return;
+  const Clock::time_point now = Clock::now();
+  if (now >= next_report_) {
+    report_due_ = true;
+    next_report_ = now + kReportPeriod;
+  }
   if (!write_in_flight_) do_send();
   next_drain_ += kDrainPeriod;
   // After a stall (suspend, overload) resume from now instead of firing back to back.
@@ -165,14 +188,62 @@ void StationLink::on_drain(beast::error_code ec) {
 }
 
 void StationLink::do_send() {
+  if (report_due_) return send_report();
   TimedState queued;
-  if (!channel_.states.pop(queued)) return;
+  // States the deadband held back are only recorded (locally, if asked); the next one to send
+  // goes out.
+  for (;;) {
+    if (!channel_.states.pop(queued)) return;
+    if (settings_.recorder) settings_.recorder(queued);
+    if (queued.send) break;
+    ++window_.states_held;
+  }
+  ++window_.states_sent;
   const std::size_t size = encode(queued.state, sequence_, queued.timestamp_us, frame_);
   sent_timestamps_[sequence_ % sent_timestamps_.size()] = queued.timestamp_us;
   ++sequence_;
   write_in_flight_ = true;
+  ws_.binary(true);
   ws_.async_write(asio::buffer(frame_.data(), size),
                   beast::bind_front_handler(&StationLink::on_sent, shared_from_this()));
+}
+
+void StationLink::send_report() {
+  report_due_ = false;
+  LinkReport report;
+  report.rtt_p50_ms = window_.round_trip_percentile(50) * 1e-3;
+  report.rtt_p99_ms = window_.round_trip_percentile(99) * 1e-3;
+  const uint64_t expected = window_.models_received + window_.models_lost;
+  report.loss_down = expected == 0
+                         ? 0.0
+                         : static_cast<double>(window_.models_lost) / static_cast<double>(expected);
+  report.states_sent = window_.states_sent;
+  report.states_held = window_.states_held;
+  for (std::size_t i = 0; i < settings_.device_count; ++i) {
+    const DeviceTelemetry& t = channel_.telemetry[i];
+    DeviceLinkReport device;
+    device.index = static_cast<int>(i);
+    device.model_age_ms = t.model_age_us.load(std::memory_order_relaxed) * 1e-3;
+    device.fault = to_string(static_cast<GuardFault>(t.fault.load(std::memory_order_relaxed)));
+    device.force_n = t.force_n.load(std::memory_order_relaxed);
+    device.damping_ns_m = t.damping.load(std::memory_order_relaxed);
+    device.dissipated_j = t.dissipated_j.load(std::memory_order_relaxed);
+    report.devices.push_back(std::move(device));
+  }
+  stats_.last_report = report;
+  window_ = {};
+  report_text_ = build_link_report(report);
+  write_in_flight_ = true;
+  ws_.text(true);
+  ws_.async_write(asio::buffer(report_text_),
+                  beast::bind_front_handler(&StationLink::on_report_sent, shared_from_this()));
+}
+
+void StationLink::on_report_sent(beast::error_code ec, std::size_t) {
+  write_in_flight_ = false;
+  if (ec) return fail(ec, "send link report");
+  if (stopping_ || rejecting_) return do_close();
+  do_send();
 }
 
 void StationLink::on_sent(beast::error_code ec, std::size_t) {
@@ -207,6 +278,17 @@ void StationLink::on_read(beast::error_code ec, std::size_t) {
         std::span<const uint8_t>(static_cast<const uint8_t*>(bytes.data()), bytes.size()));
     read_buffer_.consume(read_buffer_.size());
     if (!result) return reject(result.reason());
+    // The server numbers its frames: a gap is force models lost on the way (TCP loses nothing,
+    // but a proxy or a lossy transport may).
+    const uint32_t sequence = result.message().header.sequence;
+    if (models_seen_ > 0 && sequence - last_model_sequence_ > 1) {
+      const uint32_t lost = sequence - last_model_sequence_ - 1;
+      window_.models_lost += lost;
+      stats_.models_lost += lost;
+    }
+    last_model_sequence_ = sequence;
+    ++models_seen_;
+    ++window_.models_received;
     on_force_model(result.message().model);
   }
   do_read();
@@ -214,12 +296,17 @@ void StationLink::on_read(beast::error_code ec, std::size_t) {
 
 void StationLink::on_force_model(const ForceModel& model) {
   const Clock::time_point now = Clock::now();
-  channel_.model.publish({model, now});
+  // A model for a device this station does not have is ignored (the server's task binds tools
+  // to the devices it expects).
+  if (model.device_index < settings_.device_count)
+    channel_.models[model.device_index].publish({model, now});
   ++stats_.models_received;
   if (sent_recently(model.state_timestamp_us)) {
     const auto now_us =
         std::chrono::duration_cast<std::chrono::microseconds>(now - settings_.epoch).count();
-    stats_.round_trip_us.add(static_cast<uint64_t>(now_us) - model.state_timestamp_us);
+    const uint64_t round_trip = static_cast<uint64_t>(now_us) - model.state_timestamp_us;
+    stats_.round_trip_us.add(round_trip);
+    window_.add_round_trip(round_trip);
   }
 }
 

@@ -51,16 +51,43 @@ struct LinkSettings {
   ServerAddress server;
   Hello hello;
   Clock::time_point epoch;  // t = 0 of device polls and frame timestamps
+  std::size_t device_count = 1;
+  // Called (io thread) with every state the haptic loop queued, sent or held back by the
+  // deadband: the agent's full-rate local recording (--record-states). May be empty.
+  std::function<void(const TimedState&)> recorder;
 };
 
 // How often the link looks for queued device states when no write is in flight. The haptic loop
-// queues one every 1..4 ms; a finished write sends the next queued state at once.
-inline constexpr Clock::duration kDrainPeriod = std::chrono::milliseconds(2);
+// queues one every 1..4 ms; a finished write sends the next queued state at once. 1 ms: a state
+// waits half a millisecond on average before it leaves.
+inline constexpr Clock::duration kDrainPeriod = std::chrono::milliseconds(1);
+// How often the agent reports the link to the server (protocol.h, LinkReport).
+inline constexpr Clock::duration kReportPeriod = std::chrono::seconds(1);
+
+// The link over one report period; io thread only.
+inline constexpr std::size_t kWindowRoundTrips = 2048;
+struct LinkWindow {
+  uint64_t states_sent = 0;
+  uint64_t states_held = 0;
+  uint64_t models_received = 0;
+  uint64_t models_lost = 0;
+  std::array<uint64_t, kWindowRoundTrips> round_trip_us{};  // the first ones of the window
+  std::size_t round_trips = 0;
+
+  void add_round_trip(uint64_t us) {
+    if (round_trips < round_trip_us.size()) round_trip_us[round_trips] = us;
+    ++round_trips;
+  }
+  // Nearest-rank percentile of the window's round trips [us]; 0 when empty.
+  double round_trip_percentile(double p) const;
+};
 
 // Totals over all links of an agent; io thread only.
 struct BridgeStats {
   uint64_t states_sent = 0;
   uint64_t models_received = 0;
+  uint64_t models_lost = 0;  // gaps in the server's sequence numbers
+  LinkReport last_report;    // the last one sent
   // now - state_timestamp_us of every model that echoes a state this agent sent [us]: 10 us bins
   // up to 100 ms.
   Histogram round_trip_us{10, 10000};
@@ -94,6 +121,8 @@ class StationLink : public std::enable_shared_from_this<StationLink> {
   void do_read();
   void on_read(beast::error_code ec, std::size_t bytes);
   void on_force_model(const ForceModel& model);
+  void send_report();
+  void on_report_sent(beast::error_code ec, std::size_t bytes);
   void on_session_notice(const SessionNotice& notice);
   // Closes with 1007 (invalid payload) and reason; the link ends as Dropped.
   void reject(std::string_view reason);
@@ -132,6 +161,12 @@ class StationLink : public std::enable_shared_from_this<StationLink> {
   bool rejecting_ = false;
   bool finished_ = false;
   uint32_t sequence_ = 0;
+  uint32_t last_model_sequence_ = 0;
+  uint64_t models_seen_ = 0;
+  LinkWindow window_;
+  bool report_due_ = false;
+  Clock::time_point next_report_;
+  std::string report_text_;
   uint64_t messages_sent_ = 0;
   Clock::time_point next_drain_;
   Clock::time_point welcomed_at_;

@@ -62,7 +62,7 @@ int main(int argc, char** argv) {
   auto next_model = start;
   for (auto now = start; now < end; now = Clock::now()) {
     if (now >= next_model) {
-      channel.model.publish({model, now});
+      channel.models[0].publish({model, now});
       next_model += 10ms;
     }
     TimedState state;

@@ -53,7 +53,7 @@ TEST(ForceModelProtocol, RoundTripOfRandomModelsIsExact) {
   std::uniform_real_distribution<double> stiffness(-kMaxModelStiffness, kMaxModelStiffness);
   for (int i = 0; i < 1000; ++i) {
     ForceModel m;
-    m.device_index = static_cast<uint8_t>(rng());
+    m.device_index = static_cast<uint8_t>(rng() % kMaxStationDevices);
     m.reference_position = {metres(rng), metres(rng), metres(rng)};
     m.force = {newtons(rng), newtons(rng), (i % 5 == 0) ? -0.0 : newtons(rng)};
     for (double& k : m.stiffness)
@@ -168,6 +168,11 @@ TEST(ForceModelProtocol, ForceAndStiffnessBounds) {
   EXPECT_TRUE(decode_force_model(encoded(m)).ok());
   m.force = {60.0, 0.0, 80.1};
   expect_error(encoded(m), DecodeErrc::ForceOutOfRange, "|force| 100.08 N exceeds 100 N");
+
+  m = sample_model();
+  m.device_index = 7;
+  expect_error(encoded(m), DecodeErrc::DeviceIndexOutOfRange,
+               "device_index 7, a station has devices 0 and 1");
 
   m = sample_model();
   m.stiffness[5] = -1.5e5;

@@ -67,7 +67,7 @@ TEST(Protocol, RoundTripOfRandomStatesIsBitExact) {
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   for (int i = 0; i < 2000; ++i) {
     DeviceState s;
-    s.device_index = static_cast<uint8_t>(rng());
+    s.device_index = static_cast<uint8_t>(rng() % kMaxStationDevices);
     s.buttons = static_cast<uint8_t>(rng());
     s.jaw = (i % 10 == 0) ? static_cast<float>(i % 20 == 0) : unit(rng);  // include 0 and 1
     s.position = {metres(rng), metres(rng), (i % 7 == 0) ? -0.0 : metres(rng)};
@@ -240,6 +240,11 @@ TEST(Protocol, JawOutsideUnitInterval) {
   DeviceState s = sample_state();
   s.jaw = 1.5f;
   expect_error(encoded(s), DecodeErrc::JawOutOfRange, "jaw 1.5 outside [0, 1]");
+  // A station has two hands, devices 0 and 1.
+  DeviceState third = sample_state();
+  third.device_index = 2;
+  expect_error(encoded(third), DecodeErrc::DeviceIndexOutOfRange,
+               "device_index 2, a station has devices 0 and 1");
   for (float jaw : {0.0f, -0.0f, 1.0f}) {
     s.jaw = jaw;
     EXPECT_TRUE(decode(encoded(s)).ok()) << jaw;

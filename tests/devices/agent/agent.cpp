@@ -60,7 +60,8 @@ std::size_t frame_count(const FakeStationServer& server) {
 
 TEST(Agent, StreamsDeviceStatesAtTheRateAndStopsCleanlyOnSigterm) {
   FakeStationServer server;
-  AgentProcess agent({"--server", server.url(), "--token", "good-token", "--rate", "250"});
+  AgentProcess agent(
+      {"--server", server.url(), "--token", "good-token", "--rate", "250", "--no-deadband"});
   ASSERT_TRUE(wait_until([&] { return frame_count(server) >= 1; }, 5s)) << agent.stderr_text();
 
   const auto start = Clock::now();
@@ -125,14 +126,16 @@ TEST(Agent, LogsSessionNoticesAndStatisticsOnSigusr1AndAtExit) {
 
   const std::string log = agent.stderr_text();
   EXPECT_NE(log.find("incise-agent: session 3 running\n"), std::string::npos) << log;
-  EXPECT_NE(log.find("haptic loop at 1000 Hz, sending its state at 500 Hz"), std::string::npos)
+  EXPECT_NE(log.find("haptic loop at 1000 Hz, sending states at 500 Hz (deadband on)"),
+            std::string::npos)
       << log;
   // The exit line: the loop's figures, then round trip and counts that match the server's.
   std::smatch m;
   const std::regex line(
       "stats: loop ([0-9.]+) Hz, period p50 ([0-9]+) us p99 ([0-9]+) us, max jitter ([0-9]+) us, "
       "([0-9]+) overruns; round trip p50 ([0-9.]+) ms p99 ([0-9.]+) ms \\(([0-9]+) models\\); "
-      "states sent ([0-9]+), dropped ([0-9]+); force models received ([0-9]+)\n"
+      "states sent ([0-9]+), dropped ([0-9]+); force models received ([0-9]+), lost ([0-9]+); "
+      "states held by the deadband ([0-9]+)\n"
       "incise-agent: stopped:");
   ASSERT_TRUE(std::regex_search(log, m, line)) << log;
   EXPECT_NEAR(std::stod(m[1]), 1000.0, 100.0);
@@ -227,7 +230,17 @@ TEST(Agent, CommandLine) {
        "incise-agent: no station token: pass --token or set INCISE_STATION_TOKEN (see "
        "--help)\n"},
       {{"--token", "t", "--script", "/nonexistent/script.json"},
-       "incise-agent: script /nonexistent/script.json: cannot open\n"},
+       "incise-agent: simulated /nonexistent/script.json: cannot open\n"},
+      {{"--token", "t", "--device", "bogus"},
+       "incise-agent: --device bogus: unknown driver (have simulated, hand, replay, evdev)\n"},
+      {{"--token", "t", "--device", "simulated", "--device", "hand", "--device", "simulated"},
+       "incise-agent: --device simulated: a station has at most 2 devices (see --help)\n"},
+      {{"--token", "t", "--device", "replay:/nonexistent.log"},
+       "incise-agent: replay /nonexistent.log: cannot open\n"},
+      {{"--token", "t", "--max-force", "50"},
+       "incise-agent: --max-force 50: must be a number of N in (0, 40] (see --help)\n"},
+      {{"--token", "t", "--config", "/nonexistent.conf"},
+       "incise-agent: config /nonexistent.conf: cannot open\n"},
   };
   for (const auto& [args, message] : bad) {
     AgentProcess agent(args);

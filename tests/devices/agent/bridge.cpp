@@ -54,7 +54,11 @@ struct RunningAgent {
     options.server = *parse_server_url(url).value;
     options.token = "good-token";
     options.rate_hz = 500.0;
-    agent = std::make_unique<Agent>(io, options, device);
+    // The plumbing: the model's force exactly, every state sent (the guard and the deadband
+    // have tests of their own).
+    options.guard = ForceGuardSettings::transparent();
+    options.deadband = false;
+    agent = std::make_unique<Agent>(io, options, std::vector<Device*>{&device});
     agent->start();
     thread = std::thread([this] { io.run(); });
   }

@@ -111,10 +111,18 @@ class Session : public std::enable_shared_from_this<Session> {
     const DecodeResult result =
         decode(std::span<const uint8_t>(static_cast<const uint8_t*>(bytes.data()), bytes.size()));
     const bool text = ws_.got_text();
+    const std::string text_body =
+        text ? std::string(static_cast<const char*>(bytes.data()), bytes.size()) : std::string();
     buffer_.consume(buffer_.size());
     state_->update([&](FakeStationRecord& r) {
       if (text) {
-        r.errors.push_back("text frame after welcome");
+        // The only text the agent sends after the welcome is its link report.
+        auto report = parse_link_report(text_body);
+        if (report) {
+          r.link_reports.push_back(std::move(*report.value));
+        } else {
+          r.errors.push_back("text frame after welcome: " + report.error);
+        }
       } else if (!result) {
         r.errors.push_back("bad frame: " + std::string(result.reason()));
       } else {
@@ -123,6 +131,7 @@ class Session : public std::enable_shared_from_this<Session> {
             {connection_, h.sequence, h.timestamp_us, std::chrono::steady_clock::now()});
       }
     });
+    if (text) return do_read();
     ++frames_;
     const int drop_after = state_->behaviour.drop_first_connection_after;
     if (connection_ == 1 && drop_after > 0 && frames_ == drop_after) {

@@ -49,6 +49,7 @@ struct FakeStationRecord {
   std::vector<int> agent_close_codes;  // close codes the agent sent, one per closed connection
   std::vector<std::string> agent_close_reasons;  // and their reasons
   int models_sent = 0;
+  std::vector<LinkReport> link_reports;  // the agent's, about one a second
 };
 
 class FakeStationServer {

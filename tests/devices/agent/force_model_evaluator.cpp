@@ -67,7 +67,7 @@ TEST(ForceModelEvaluator, FarFromTheReferenceTheForceIsCappedNotTurned) {
   EXPECT_NEAR(f.z, 502.0 * scale, 1e-9);
 }
 
-TEST(ForceModelEvaluator, NoModelNoForceAndFreshnessEndsAfterOneHundredMs) {
+TEST(ForceModelEvaluator, NoModelNoForceAndFreshnessEndsThirtyMsAfterTheLastModel) {
   ForceModelEvaluator evaluator;
   const Clock::time_point t0 = Clock::now();
   EXPECT_FALSE(evaluator.has_model());
@@ -77,8 +77,13 @@ TEST(ForceModelEvaluator, NoModelNoForceAndFreshnessEndsAfterOneHundredMs) {
   m.force = {1, 0, 0};
   evaluator.set_model(m, t0);
   EXPECT_TRUE(evaluator.fresh(t0));
-  EXPECT_TRUE(evaluator.fresh(t0 + 100ms));
-  EXPECT_FALSE(evaluator.fresh(t0 + 100ms + 1ns));
+  EXPECT_TRUE(evaluator.fresh(t0 + 30ms));
+  EXPECT_FALSE(evaluator.fresh(t0 + 30ms + 1ns));
+  // The age counts from the state the model answers, on the agent's clock.
+  m.state_timestamp_us = 5000;
+  evaluator.set_model(m, t0);
+  EXPECT_EQ(evaluator.age_us(305'000), 300'000u);
+  EXPECT_EQ(evaluator.age_us(4000), 0u);  // an echo from the future reads as new
   evaluator.clear();
   EXPECT_FALSE(evaluator.fresh(t0));
 }

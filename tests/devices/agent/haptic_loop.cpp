@@ -23,8 +23,9 @@ constexpr Vec3 kReference = {0.04, 0.04, 0.03};
 constexpr Vec3 kTip = {0.041, 0.038, 0.029};
 constexpr Vec3 kExpected = {0.8, 0.1, 2.4};
 
-ForceModel test_model() {
+ForceModel test_model(int answers_state_at_ms = 0) {
   ForceModel m;
+  m.state_timestamp_us = static_cast<uint64_t>(answers_state_at_ms) * 1000;
   m.reference_position = kReference;
   m.force = {1.0, -0.5, 2.0};
   m.stiffness = {200, 0, 0, 0, 300, 0, 0, 0, 400};
@@ -57,7 +58,7 @@ class HapticLoopTest : public ::testing::Test {
 
 TEST_F(HapticLoopTest, RendersTheModelAfterATenTickFadeIn) {
   channel_.link_up = true;
-  channel_.model.publish({test_model(), t0_});
+  channel_.models[0].publish({test_model(), t0_});
   for (int ms = 0; ms < 15; ++ms) {
     loop_->tick(t0_ + std::chrono::milliseconds(ms));
     expect_scaled(device_.last_force(), std::min(ms + 1, 10) / 10.0);
@@ -68,7 +69,7 @@ TEST_F(HapticLoopTest, RendersTheModelAfterATenTickFadeIn) {
 
 TEST_F(HapticLoopTest, LinkLossFadesToExactlyZeroInTenTicksAndBack) {
   channel_.link_up = true;
-  channel_.model.publish({test_model(), t0_});
+  channel_.models[0].publish({test_model(), t0_});
   run_ticks(0, 19);
   expect_scaled(device_.last_force(), 1.0);
   channel_.link_up = false;
@@ -81,34 +82,55 @@ TEST_F(HapticLoopTest, LinkLossFadesToExactlyZeroInTenTicksAndBack) {
   EXPECT_EQ(device_.last_force(), (Vec3{}));
   // The link is back with a fresh model: the force ramps in again, no jump.
   channel_.link_up = true;
-  channel_.model.publish({test_model(), t0_ + 41ms});
+  channel_.models[0].publish({test_model(), t0_ + 41ms});
   for (int i = 1; i <= 10; ++i) {
     loop_->tick(t0_ + std::chrono::milliseconds(40 + i));
     expect_scaled(device_.last_force(), i / 10.0);
   }
 }
 
-TEST_F(HapticLoopTest, AStaleModelFadesOutAfterOneHundredMs) {
+TEST_F(HapticLoopTest, WithoutModelsForThirtyMsTheForceFadesOut) {
   channel_.link_up = true;
-  channel_.model.publish({test_model(), t0_});
-  run_ticks(0, 100);  // 100 ms old: still fresh
+  channel_.models[0].publish({test_model(), t0_});
+  run_ticks(0, 30);  // the last model arrived 30 ms ago: the link is still alive
   expect_scaled(device_.last_force(), 1.0);
   for (int i = 1; i <= 10; ++i) {
-    loop_->tick(t0_ + std::chrono::milliseconds(100 + i));
+    loop_->tick(t0_ + std::chrono::milliseconds(30 + i));
     expect_scaled(device_.last_force(), (10 - i) / 10.0);
+    EXPECT_EQ(loop_->fault(), GuardFault::NoModel);
   }
   EXPECT_EQ(device_.last_force(), (Vec3{}));
   // A new model revives it.
-  channel_.model.publish({test_model(), t0_ + 111ms});
-  run_ticks(111, 125);
+  channel_.models[0].publish({test_model(41), t0_ + 41ms});
+  run_ticks(41, 55);
   expect_scaled(device_.last_force(), 1.0);
+}
+
+TEST_F(HapticLoopTest, AModelAnsweringAStateOverThreeHundredMsOldFadesOut) {
+  // Models keep arriving, but each answers the state of 300 ms earlier: a long delay, still
+  // rendered.
+  channel_.link_up = true;
+  for (int ms = 300; ms <= 320; ++ms) {
+    channel_.models[0].publish({test_model(ms - 300), t0_ + std::chrono::milliseconds(ms)});
+    loop_->tick(t0_ + std::chrono::milliseconds(ms));
+  }
+  expect_scaled(device_.last_force(), 1.0);
+  EXPECT_EQ(channel_.telemetry[0].model_age_us.load(), 300'000u);
+  // From here on the delay grows past 300 ms: the models are stale on arrival.
+  for (int i = 1; i <= 10; ++i) {
+    const int ms = 320 + i;
+    channel_.models[0].publish({test_model(ms - 310), t0_ + std::chrono::milliseconds(ms)});
+    loop_->tick(t0_ + std::chrono::milliseconds(ms));
+    expect_scaled(device_.last_force(), (10 - i) / 10.0);
+    EXPECT_EQ(loop_->fault(), GuardFault::StaleModel);
+  }
 }
 
 TEST_F(HapticLoopTest, AModelForAnotherDeviceIsNotRendered) {
   channel_.link_up = true;
   ForceModel other = test_model();
   other.device_index = 1;  // the recording device is index 0
-  channel_.model.publish({other, t0_});
+  channel_.models[0].publish({other, t0_});
   run_ticks(0, 20);
   EXPECT_EQ(device_.last_force(), (Vec3{}));
 }
@@ -129,12 +151,14 @@ TEST_F(HapticLoopTest, QueuesEveryKthStateWhileTheLinkIsUp) {
 
 TEST_F(HapticLoopTest, TickDoesNotAllocate) {
   channel_.link_up = true;
-  channel_.model.publish({test_model(), t0_});
+  channel_.models[0].publish({test_model(), t0_});
   run_ticks(0, 5);  // warm up
   const std::size_t before = incise::devices::testing::allocation_count();
   for (int ms = 6; ms < 2000; ++ms) {
     loop_->tick(t0_ + std::chrono::milliseconds(ms));
-    if (ms % 50 == 0) channel_.model.publish({test_model(), t0_ + std::chrono::milliseconds(ms)});
+    if (ms % 20 == 0) {
+      channel_.models[0].publish({test_model(ms), t0_ + std::chrono::milliseconds(ms)});
+    }
     TimedState s;
     if (ms % 7 == 0) {
       while (channel_.states.pop(s)) {
@@ -155,7 +179,7 @@ TEST(HapticLoopThread, RunsAtOneKilohertzAndFadesOutWhenStopped) {
   const auto started = Clock::now();
   // Keep the model fresh, as a server answering the states would.
   while (Clock::now() - started < 300ms) {
-    channel.model.publish({test_model(), Clock::now()});
+    channel.models[0].publish({test_model(), Clock::now()});
     std::this_thread::sleep_for(5ms);
   }
   loop.stop();
