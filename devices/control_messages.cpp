@@ -268,6 +268,7 @@ std::string build_link_report(const LinkReport& report) {
                        {"dissipated_j", d.dissipated_j}});
   }
   const json message = {{"type", "link"},
+                        {"loop_hz", report.loop_hz},
                         {"rtt_p50_ms", report.rtt_p50_ms},
                         {"rtt_p99_ms", report.rtt_p99_ms},
                         {"loss_down", report.loss_down},
@@ -292,7 +293,8 @@ ParseResult<LinkReport> parse_link_report(std::string_view text) {
   }
   if (message_type(text) != "link") return Result::failure(what + "\"type\" must be \"link\"");
   LinkReport report;
-  for (auto [key, target, high] : {std::tuple{"rtt_p50_ms", &report.rtt_p50_ms, 1e7},
+  for (auto [key, target, high] : {std::tuple{"loop_hz", &report.loop_hz, 1e5},
+                                   std::tuple{"rtt_p50_ms", &report.rtt_p50_ms, 1e7},
                                    std::tuple{"rtt_p99_ms", &report.rtt_p99_ms, 1e7},
                                    std::tuple{"loss_down", &report.loss_down, 1.0}}) {
     if (auto error = read_number(object, key, 0, high, *target); !error.empty())

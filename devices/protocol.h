@@ -218,7 +218,8 @@ struct SessionNotice {
 };
 
 // The link as the agent sees it, agent -> server about once a second (text frame):
-//   {"type": "link", "rtt_p50_ms": x, "rtt_p99_ms": x, "loss_down": x, "states_sent": n,
+//   {"type": "link", "loop_hz": x, "rtt_p50_ms": x, "rtt_p99_ms": x, "loss_down": x, "states_sent":
+//   n,
 //    "states_held": n, "devices": [{"index": i, "model_age_ms": x, "fault": s, "force_n": x,
 //    "damping_ns_m": x, "dissipated_j": x}, ...]}
 // Round trips and loss are over the window since the previous report; loss_down is the share of
@@ -234,6 +235,7 @@ struct DeviceLinkReport {
   friend bool operator==(const DeviceLinkReport&, const DeviceLinkReport&) = default;
 };
 struct LinkReport {
+  double loop_hz = 0;  // haptic loop ticks per second over the window
   double rtt_p50_ms = 0;
   double rtt_p99_ms = 0;
   double loss_down = 0;  // in [0, 1]

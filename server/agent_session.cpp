@@ -4,6 +4,8 @@
 #include <iostream>
 #include <mutex>
 
+#include <nlohmann/json.hpp>
+
 #include "db/stations_repo.h"
 #include "devices/protocol.h"
 
@@ -68,11 +70,36 @@ void AgentSession::on_read(beast::error_code ec, std::size_t bytes) {
                                                         std::to_string(devices::kMaxMessageSize));
   }
   if (station_id_ == 0) return handle_hello();
-  if (ws_.got_text()) {
-    return do_close(websocket::close_code::policy_error,
-                    "text messages after the hello are not part of protocol 1");
-  }
+  if (ws_.got_text()) return handle_text();
   handle_device_state();
+}
+
+void AgentSession::handle_text() {
+  const std::string text = beast::buffers_to_string(buffer_.data());
+  buffer_.consume(buffer_.size());
+  const std::string type = devices::message_type(text);
+  if (type != "link") {
+    return do_close(websocket::close_code::policy_error,
+                    type.empty() ? "a text message must be a JSON object with a \"type\""
+                                 : "text message of type \"" + type.substr(0, 40) +
+                                       "\" is not part of protocol 1 (expected link)");
+  }
+  const auto report = devices::parse_link_report(text);
+  if (!report) return do_close(websocket::close_code::bad_payload, report.error);
+  // The agent's view of the link, plus what only the server sees: device states lost on the
+  // way up (gaps in the agent's sequence numbers) since the previous report.
+  const std::uint64_t expected = window_states_ + window_states_lost_;
+  nlohmann::json link = nlohmann::json::parse(text);
+  link.erase("type");
+  link["loss_up"] = expected == 0
+                        ? 0.0
+                        : static_cast<double>(window_states_lost_) / static_cast<double>(expected);
+  window_states_ = 0;
+  window_states_lost_ = 0;
+  if (app_->agent_for_station(station_id_).get() == this) {
+    app_->live_sessions().on_link_report(station_id_, std::move(link));
+  }
+  do_read();
 }
 
 void AgentSession::handle_hello() {
@@ -99,9 +126,10 @@ void AgentSession::handle_hello() {
 }
 
 void AgentSession::send_force_model(const devices::ForceModel& model) {
+  if (model.device_index >= devices::kMaxStationDevices) return;
   net::post(ws_.get_executor(), [self = shared_from_this(), model] {
-    self->pending_model_ = model;
-    self->model_pending_ = true;
+    self->pending_models_[model.device_index] = model;
+    self->model_pending_[model.device_index] = true;
     self->do_write();
   });
 }
@@ -124,10 +152,14 @@ void AgentSession::do_write() {
     return ws_.async_write(net::buffer(text_in_flight_),
                            beast::bind_front_handler(&AgentSession::on_write, shared_from_this()));
   }
-  if (model_pending_) {
-    model_pending_ = false;
+  for (std::size_t i = 0; i < pending_models_.size(); ++i) {
+    // Round robin from the device after the last one sent, so one hand never starves the other.
+    const std::size_t device = (next_model_device_ + i) % pending_models_.size();
+    if (!model_pending_[device]) continue;
+    model_pending_[device] = false;
+    next_model_device_ = device + 1;
     const auto size =
-        devices::encode(pending_model_, send_sequence_++, monotonic_us(), model_frame_);
+        devices::encode(pending_models_[device], send_sequence_++, monotonic_us(), model_frame_);
     writing_ = true;
     ws_.binary(true);
     return ws_.async_write(net::buffer(model_frame_.data(), size),
@@ -148,7 +180,12 @@ void AgentSession::handle_device_state() {
   if (!result) {
     return do_close(websocket::close_code::bad_payload, std::string(result.reason()));
   }
-  last_sequence_ = result.message().header.sequence;
+  const std::uint32_t sequence = result.message().header.sequence;
+  if (states_received_ > 0 && sequence - last_sequence_ > 1) {
+    window_states_lost_ += sequence - last_sequence_ - 1;
+  }
+  ++window_states_;
+  last_sequence_ = sequence;
   // Only the station's newest link drives its session: a second agent with the same token (or
   // the old link of a reconnect) must not interleave its hand with the current one.
   if (app_->agent_for_station(station_id_).get() == this) {

@@ -43,6 +43,7 @@ class AgentSession : public std::enable_shared_from_this<AgentSession> {
   void on_read(boost::beast::error_code ec, std::size_t bytes);
   void handle_hello();
   void handle_device_state();
+  void handle_text();
   void do_close(boost::beast::websocket::close_code code, std::string reason);
   void do_write();
   void on_write(boost::beast::error_code ec, std::size_t bytes);
@@ -56,14 +57,18 @@ class AgentSession : public std::enable_shared_from_this<AgentSession> {
   bool writing_ = false;
   std::deque<std::string> texts_;
   std::string text_in_flight_;
-  bool model_pending_ = false;
-  devices::ForceModel pending_model_;
+  // The newest force model per device; one hand never displaces the other's.
+  std::array<bool, devices::kMaxStationDevices> model_pending_{};
+  std::array<devices::ForceModel, devices::kMaxStationDevices> pending_models_{};
+  std::size_t next_model_device_ = 0;
   std::array<std::uint8_t, devices::kForceModelFrameSize> model_frame_{};
   std::uint32_t send_sequence_ = 0;
   std::int64_t station_id_ = 0;
   bool closing_ = false;
   std::int64_t states_received_ = 0;
   std::uint32_t last_sequence_ = 0;
+  std::uint64_t window_states_ = 0;       // since the last link report
+  std::uint64_t window_states_lost_ = 0;  // gaps in the agent's sequence numbers
 };
 
 }  // namespace incise::server

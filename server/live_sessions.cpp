@@ -43,6 +43,10 @@ std::shared_ptr<live::LiveSession> LiveSessions::active_at(std::int64_t station_
   return nullptr;
 }
 
+void LiveSessions::on_link_report(std::int64_t station_id, nlohmann::json report) const {
+  if (auto session = active_at(station_id)) session->set_link_report(std::move(report));
+}
+
 void LiveSessions::on_device_state(std::int64_t station_id, const devices::DeviceState& state,
                                    std::uint64_t timestamp_us) const {
   if (auto session = active_at(station_id)) session->on_device_state(state, timestamp_us);

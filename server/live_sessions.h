@@ -22,6 +22,8 @@ class LiveSessions {
   // The station's session that has not finished, if any.
   std::shared_ptr<live::LiveSession> active_at(std::int64_t station_id) const;
 
+  // The agent's link report (with the server's loss_up) for the station's active session.
+  void on_link_report(std::int64_t station_id, nlohmann::json report) const;
   void on_device_state(std::int64_t station_id, const devices::DeviceState& state,
                        std::uint64_t timestamp_us) const;
   void on_agent(std::int64_t station_id, bool online) const;

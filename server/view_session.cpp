@@ -251,6 +251,10 @@ void ViewSession::send_metrics() {
     m["peak_force_n"] = s->peak_force_n;
     m["path_length_m"] = s->path_length_m;
     m["contact"] = s->contact;
+    if (s->hands > 1) {
+      m["tool_2"] = {s->second_tool_tip.x(), s->second_tool_tip.y(), s->second_tool_tip.z()};
+      m["force_2_n"] = s->second_force_n.norm();
+    }
   }
   m["frames_sent"] = frames_sent_;
   if (live_ && live_->state() == live::LiveState::finished) {

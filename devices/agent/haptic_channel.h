@@ -30,7 +30,10 @@ struct TimedState {
 // What the haptic loop reports about one device, for the link report and the logs. Written by
 // the haptic thread, read by any (relaxed atomics: each value stands alone).
 struct DeviceTelemetry {
-  std::atomic<uint32_t> model_age_us{0};   // of the model rendered on the last tick
+  std::atomic<uint32_t> model_age_us{0};  // of the model rendered on the last tick
+  // io thread -> haptic thread: the round trip of the latest state the server answered for the
+  // first time [us]; 0 until one is known.
+  std::atomic<uint32_t> round_trip_us{0};
   std::atomic<uint8_t> fault{0};           // GuardFault of the last tick
   std::atomic<float> force_n{0.0f};        // |commanded force| on the last tick
   std::atomic<float> damping{0.0f};        // injected by the passivity guard [N s/m]
@@ -54,6 +57,7 @@ struct HapticChannel {
   SpscRing<TimedState, kStateRingCapacity> states;         // haptic thread -> io thread
   std::array<Seqlock<ReceivedModel>, kMaxDevices> models;  // io thread -> haptic thread
   std::array<DeviceTelemetry, kMaxDevices> telemetry;      // haptic thread -> anyone
+  std::atomic<uint64_t> loop_ticks{0};                     // ticks run: the link report's loop rate
   // Set by the io thread once the server has welcomed us, cleared when the link ends. While it
   // is clear no states are queued and no force is rendered.
   std::atomic<bool> link_up{false};

@@ -84,6 +84,7 @@ void HapticLoop::tick(Clock::time_point now) {
   for (std::size_t i = 0; i < count_; ++i)
     tick_hand(hands_[i], i, now, dt, late, send_tick, t_us);
   ++ticks_;
+  channel_.loop_ticks.store(ticks_, std::memory_order_relaxed);
 }
 
 void HapticLoop::tick_hand(Hand& hand, std::size_t index, Clock::time_point now, double dt,
@@ -100,7 +101,19 @@ void HapticLoop::tick_hand(Hand& hand, std::size_t index, Clock::time_point now,
   const Vec3 velocity = finite ? hand.guard.track(x, dt) : hand.guard.velocity();
   const double speed =
       std::sqrt(velocity.x * velocity.x + velocity.y * velocity.y + velocity.z * velocity.z);
-  const uint64_t age_us = hand.evaluator.age_us(t_us);
+  // How old the model's picture of the world is: the link's round trip plus the time since the
+  // model arrived. (The state it echoes can be older without the model being stale: while the
+  // deadband holds the hand's state, the server keeps answering the last one sent.) Before the
+  // link has measured a round trip, the echo tells.
+  const uint64_t round_trip_us =
+      channel_.telemetry[index].round_trip_us.load(std::memory_order_relaxed);
+  const uint64_t age_us =
+      round_trip_us == 0
+          ? hand.evaluator.age_us(t_us)
+          : round_trip_us + static_cast<uint64_t>(std::max<int64_t>(
+                                0, std::chrono::duration_cast<std::chrono::microseconds>(
+                                       now - hand.evaluator.received_at())
+                                       .count()));
 
   GuardFault fault = GuardFault::None;
   if (stopping_.load(std::memory_order_relaxed))

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "devices/agent/force_guard.h"
 #include "devices/agent/log.h"
@@ -163,6 +164,8 @@ void StationLink::on_welcome(beast::error_code ec, std::size_t) {
   channel_.link_up.store(true, std::memory_order_release);
   next_drain_ = welcomed_at_;
   next_report_ = welcomed_at_ + kReportPeriod;
+  window_start_ = welcomed_at_;
+  window_start_ticks_ = channel_.loop_ticks.load(std::memory_order_relaxed);
   do_read();
   do_drain();
 }
@@ -217,6 +220,14 @@ void StationLink::send_report() {
   report.loss_down = expected == 0
                          ? 0.0
                          : static_cast<double>(window_.models_lost) / static_cast<double>(expected);
+  const Clock::time_point now = Clock::now();
+  const uint64_t ticks = channel_.loop_ticks.load(std::memory_order_relaxed);
+  const double window_s = std::chrono::duration<double>(now - window_start_).count();
+  if (window_s > 0) {
+    report.loop_hz = static_cast<double>(ticks - window_start_ticks_) / window_s;
+  }
+  window_start_ = now;
+  window_start_ticks_ = ticks;
   report.states_sent = window_.states_sent;
   report.states_held = window_.states_held;
   for (std::size_t i = 0; i < settings_.device_count; ++i) {
@@ -301,12 +312,20 @@ void StationLink::on_force_model(const ForceModel& model) {
   if (model.device_index < settings_.device_count)
     channel_.models[model.device_index].publish({model, now});
   ++stats_.models_received;
-  if (sent_recently(model.state_timestamp_us)) {
+  // A round trip is the first answer to a state: while the deadband holds the hand's state back,
+  // the server keeps answering the last one sent, and those answers are not later round trips.
+  const bool first_answer = model.device_index < last_answered_.size() &&
+                            model.state_timestamp_us != last_answered_[model.device_index];
+  if (first_answer) last_answered_[model.device_index] = model.state_timestamp_us;
+  if (first_answer && sent_recently(model.state_timestamp_us)) {
     const auto now_us =
         std::chrono::duration_cast<std::chrono::microseconds>(now - settings_.epoch).count();
     const uint64_t round_trip = static_cast<uint64_t>(now_us) - model.state_timestamp_us;
     stats_.round_trip_us.add(round_trip);
     window_.add_round_trip(round_trip);
+    channel_.telemetry[model.device_index].round_trip_us.store(
+        static_cast<uint32_t>(std::min<uint64_t>(round_trip, UINT32_MAX)),
+        std::memory_order_relaxed);
   }
 }
 

@@ -162,9 +162,12 @@ class StationLink : public std::enable_shared_from_this<StationLink> {
   bool finished_ = false;
   uint32_t sequence_ = 0;
   uint32_t last_model_sequence_ = 0;
+  std::array<uint64_t, kMaxDevices> last_answered_{};  // state timestamps, per device
   uint64_t models_seen_ = 0;
   LinkWindow window_;
   bool report_due_ = false;
+  Clock::time_point window_start_{};  // of the report window, for the loop rate
+  uint64_t window_start_ticks_ = 0;
   Clock::time_point next_report_;
   std::string report_text_;
   uint64_t messages_sent_ = 0;

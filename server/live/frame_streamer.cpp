@@ -1,9 +1,11 @@
 #include "server/live/frame_streamer.h"
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <iostream>
 #include <map>
+#include <span>
 
 #include "sim/render/egl_context.h"
 #include "sim/render/frame_encoder.h"
@@ -127,10 +129,15 @@ void FrameStreamer::render_loop() {
     ++pass;
     sim::surface_vertices(*snapshot->surface, snapshot->positions, V, N);
     const render::TissueView tissue{&V, &N, &snapshot->surface->faces};
-    render::ToolView tool;
-    tool.tip = snapshot->tool_tip;
-    tool.radius = snapshot->tool_radius;
-    tool.in_contact = snapshot->contact;
+    std::array<render::ToolView, 2> tools;
+    tools[0].tip = snapshot->tool_tip;
+    tools[0].radius = snapshot->tool_radius;
+    tools[0].in_contact = snapshot->contact;
+    tools[1].tip = snapshot->second_tool_tip;
+    tools[1].radius = snapshot->tool_radius;
+    tools[1].in_contact = snapshot->second_force_n.squaredNorm() > 0;
+    const std::span<const render::ToolView> tool(tools.data(),
+                                                 static_cast<std::size_t>(snapshot->hands));
     // Viewers asking for the same size share one rendering.
     std::map<std::pair<int, int>, std::shared_ptr<const std::vector<std::uint8_t>>> rendered;
     for (auto& job : jobs) {

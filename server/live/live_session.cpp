@@ -30,6 +30,10 @@ Clock::duration period_of(double hz) {
 
 }  // namespace
 
+int hands_for(const curriculum::Task& task) {
+  return std::clamp(static_cast<int>(task.tools.size()), 1, SimEngine::kMaxHands);
+}
+
 const char* to_string(LiveState state) {
   switch (state) {
     case LiveState::running:
@@ -111,7 +115,7 @@ constexpr double kMaxUnrecordedS = 10.0;
 LiveSession::LiveSession(LiveSessionParams params, AgentLink agent)
     : params_(std::move(params)),
       agent_(std::move(agent)),
-      engine_(params_.scene, 1.0 / params_.tick_hz),
+      engine_(params_.scene, 1.0 / params_.tick_hz, hands_for(params_.task)),
       surface_(std::make_shared<const sim::BoundarySurface>(engine_.surface())) {
   publish_snapshot();
 }
@@ -183,10 +187,20 @@ void LiveSession::stop(const std::string& reason) {
 }
 
 void LiveSession::on_device_state(const devices::DeviceState& state, std::uint64_t timestamp_us) {
+  if (state.device_index >= engine_.hands()) {
+    ++ignored_states_;  // a device the task has no tool for
+    return;
+  }
   std::lock_guard lock(mutex_);
-  input_ = state;
-  has_input_ = true;
-  input_timestamp_us_ = timestamp_us;
+  Input& input = inputs_[state.device_index];
+  input.state = state;
+  input.received = true;
+  input.timestamp_us = timestamp_us;
+}
+
+void LiveSession::set_link_report(nlohmann::json report) {
+  std::lock_guard lock(mutex_);
+  link_report_ = std::move(report);
 }
 
 void LiveSession::set_agent_online(bool online) {
@@ -199,7 +213,7 @@ nlohmann::json LiveSession::status() const {
   {
     std::lock_guard lock(mutex_);
     out["state"] = to_string(state_);
-    out["reason"] = state_ == LiveState::running && !has_input_
+    out["reason"] = state_ == LiveState::running && !inputs_[0].received
                         ? "waiting for the first device state from the station"
                         : reason_;
   }
@@ -207,6 +221,12 @@ nlohmann::json LiveSession::status() const {
   out["sim_rate_hz"] = sim_rate_hz_.load();
   out["late_ticks"] = late_ticks_.load();
   out["force_models_sent"] = force_models_sent_.load();
+  out["hands"] = engine_.hands();
+  out["ignored_device_states"] = ignored_states_.load();
+  {
+    std::lock_guard lock(mutex_);
+    if (!link_report_.is_null()) out["link"] = link_report_;
+  }
   out["frame_latency_ms"] = frame_latency().median();
   if (streamer_) {
     const auto error = streamer_->error();
@@ -263,9 +283,7 @@ void LiveSession::run() {
   std::int64_t rate_window_ticks = 0;
   TickRecord record;
   while (true) {
-    devices::DeviceState input;
-    std::uint64_t input_timestamp_us = 0;
-    bool has_input = false;
+    std::array<Input, SimEngine::kMaxHands> inputs;
     {
       std::unique_lock lock(mutex_);
       if (stop_requested_) break;
@@ -283,9 +301,7 @@ void LiveSession::run() {
         rate_window_ticks = 0;
         continue;
       }
-      input = input_;
-      has_input = has_input_;
-      input_timestamp_us = input_timestamp_us_;
+      inputs = inputs_;
     }
     if (written != LiveState::running) {
       write_state(LiveState::running);
@@ -300,17 +316,31 @@ void LiveSession::run() {
     }
     std::this_thread::sleep_until(next);
 
-    if (!has_input) {
+    if (!inputs[0].received) {
       // Time starts with the first device state: the recording then begins where the tool is,
       // with no jump from a parked position into the scene (and none in the path length).
       next = Clock::now();
       continue;
     }
-    engine_.tick(input);
+    // A second hand that has not reported yet waits parked, out of the scene.
+    std::array<devices::DeviceState, SimEngine::kMaxHands> states;
+    for (std::size_t h = 0; h < states.size(); ++h) {
+      states[h] = inputs[h].state;
+      states[h].device_index = static_cast<std::uint8_t>(h);
+      if (!inputs[h].received) states[h].position = {0, 0, kParkedToolHeight};
+    }
+    engine_.tick(std::span<const devices::DeviceState>(states.data(),
+                                                       static_cast<std::size_t>(engine_.hands())));
     record.tick = static_cast<std::uint32_t>(engine_.ticks() - 1);
-    record.input = input;
+    record.input = states[0];
     for (int i = 0; i < 3; ++i)
-      record.force[i] = static_cast<float>(engine_.contact().force_on_tool[i]);
+      record.force[i] = static_cast<float>(engine_.contact(0).force_on_tool[i]);
+    record.has_second = engine_.hands() > 1;
+    if (record.has_second) {
+      record.second.input = states[1];
+      for (int i = 0; i < 3; ++i)
+        record.second.force[i] = static_cast<float>(engine_.contact(1).force_on_tool[i]);
+    }
     if (recorder) {
       const auto error = recorder->add(record);
       if (!error.empty() && error != last_record_error) {
@@ -327,10 +357,14 @@ void LiveSession::run() {
     sim_time_s_.store(engine_.time_s());
 
     if (engine_.ticks() % ticks_per_force_model == 0 && agent_.send_force_model) {
-      auto model = engine_.force_model();
-      model.state_timestamp_us = input_timestamp_us;
-      agent_.send_force_model(model);
-      ++force_models_sent_;
+      for (int h = 0; h < engine_.hands(); ++h) {
+        const Input& input = inputs[static_cast<std::size_t>(h)];
+        if (!input.received) continue;
+        auto model = engine_.force_model(h);
+        model.state_timestamp_us = input.timestamp_us;
+        agent_.send_force_model(model);
+        ++force_models_sent_;
+      }
     }
     if (engine_.ticks() % ticks_per_snapshot == 0) publish_snapshot();
 
@@ -341,6 +375,12 @@ void LiveSession::run() {
                          std::chrono::duration<double>(window).count());
       rate_window_start = Clock::now();
       rate_window_ticks = 0;
+    }
+    if (engine_.ticks() >= static_cast<std::int64_t>(kSecondHandBit)) {
+      // A tick number has 31 bits in the recording: 49 days at 500 Hz.
+      std::lock_guard lock(mutex_);
+      stop_requested_ = true;
+      reason_ = "session reached the longest recordable length";
     }
     if (!engine_.state_finite()) {
       std::lock_guard lock(mutex_);

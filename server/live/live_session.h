@@ -12,6 +12,7 @@
 // The session thread owns its own SQLite connection (WAL allows it beside the server's) and is
 // the only writer of its session's rows after the start, so control calls never wait on the
 // database and the REST handlers' lock never waits on the simulation.
+#include <array>
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -70,8 +71,12 @@ class LiveSession : public StreamSource {
   // Ends the session and waits until its recording and score are stored. Idempotent.
   void stop(const std::string& reason);
 
-  // From the agent link (any thread).
+  // From the agent link (any thread). A state from a device the task has no tool for (index >=
+  // hands) is counted and ignored.
   void on_device_state(const devices::DeviceState& state, std::uint64_t timestamp_us);
+  // The agent's latest link report (protocol.h LinkReport, plus the server's own "loss_up"),
+  // shown as "link" in status().
+  void set_link_report(nlohmann::json report);
   void set_agent_online(bool online);
 
   std::int64_t session_id() const { return params_.session_id; }
@@ -101,9 +106,15 @@ class LiveSession : public StreamSource {
   LiveState state_ = LiveState::running;
   std::string reason_;
   bool stop_requested_ = false;
-  devices::DeviceState input_;
-  bool has_input_ = false;
-  std::uint64_t input_timestamp_us_ = 0;
+  // The latest state of each hand's device.
+  struct Input {
+    devices::DeviceState state;
+    bool received = false;
+    std::uint64_t timestamp_us = 0;
+  };
+  std::array<Input, SimEngine::kMaxHands> inputs_;
+  nlohmann::json link_report_;
+  std::atomic<std::int64_t> ignored_states_{0};
   std::atomic<bool> agent_online_{true};
   std::atomic<double> sim_time_s_{0};
   std::atomic<double> sim_rate_hz_{0};
@@ -114,6 +125,9 @@ class LiveSession : public StreamSource {
   std::mutex join_mutex_;  // stop() may race with itself (REST stop, shutdown)
   std::thread thread_;
 };
+
+// The number of hands a task needs: its tools[i] is held by device i (1 or 2).
+int hands_for(const curriculum::Task& task);
 
 // The camera a scene's view asks for (a default one looking at the scene if it has none).
 render::Camera camera_for(const sim::Scene& scene);

@@ -1,6 +1,7 @@
 #include "server/live/replay_session.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 
@@ -11,6 +12,11 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// A two-handed recording has a second hand's record in its ticks.
+int hands_of(const std::vector<TickRecord>& ticks) {
+  return !ticks.empty() && ticks.front().has_second ? 2 : 1;
+}
+
 // Longest stretch of simulation one pass of the loop runs before it looks at its controls again.
 constexpr std::int64_t kMaxTicksPerPass = 100;
 constexpr auto kSnapshotPeriod = std::chrono::milliseconds(16);
@@ -19,8 +25,14 @@ constexpr std::int64_t kAbortCheckTicks = 64;
 
 }  // namespace
 
+void replay_tick(SimEngine& engine, const TickRecord& record) {
+  if (engine.hands() == 1) return engine.tick(record.input);
+  const std::array<devices::DeviceState, 2> inputs = {record.input, record.second.input};
+  engine.tick(inputs);
+}
+
 ReplaySession::ReplaySession(const sim::Scene& scene, double tick_s, std::vector<TickRecord> ticks)
-    : engine_(scene, tick_s),
+    : engine_(scene, tick_s, hands_of(ticks)),
       camera_(camera_for(scene)),
       tick_s_(tick_s),
       ticks_(std::move(ticks)),
@@ -84,6 +96,7 @@ nlohmann::json ReplaySession::status() const {
                         {"duration_s", duration_s()},
                         {"speed", speed_},
                         {"playing", playing_},
+                        {"hands", engine_.hands()},
                         {"frame_latency_ms", frame_latency().median()}};
   if (ended) out["state_hash"] = end_hash_;
   if (streamer_) {
@@ -111,7 +124,7 @@ bool ReplaySession::advance_to(std::int64_t target) {
     if (it->first > engine_.ticks()) engine_.restore(it->second);
   }
   while (engine_.ticks() < target) {
-    engine_.tick(ticks_[static_cast<std::size_t>(engine_.ticks())].input);
+    replay_tick(engine_, ticks_[static_cast<std::size_t>(engine_.ticks())]);
     if (engine_.ticks() % kCheckpointTicks == 0) {
       checkpoints_.try_emplace(engine_.ticks(), engine_.checkpoint());
     }
@@ -184,9 +197,9 @@ void ReplaySession::run() {
 
 std::string ReplaySession::final_state_hash(const sim::Scene& scene, double tick_s,
                                             const std::vector<TickRecord>& ticks) {
-  SimEngine engine(scene, tick_s);
+  SimEngine engine(scene, tick_s, hands_of(ticks));
   for (const auto& r : ticks)
-    engine.tick(r.input);
+    replay_tick(engine, r);
   return engine.state_hash();
 }
 

@@ -21,6 +21,9 @@
 
 namespace incise::server::live {
 
+// Runs one recorded tick on engine: both hands if the engine has two.
+void replay_tick(SimEngine& engine, const TickRecord& record);
+
 class ReplaySession : public StreamSource {
  public:
   static constexpr std::int64_t kCheckpointTicks = 1000;  // 2 s at 500 Hz

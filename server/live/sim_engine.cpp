@@ -31,46 +31,69 @@ int substeps_for(const sim::Scene& scene, double tick_s) {
 
 }  // namespace
 
-SimEngine::SimEngine(const sim::Scene& scene, double tick_s)
+SimEngine::SimEngine(const sim::Scene& scene, double tick_s, int hands)
     : simulation_(scene),
       surface_(sim::boundary_surface(simulation_.mesh())),
       tool_(scene.tool.value_or(sim::SphereTool{})),
       tick_s_(tick_s),
       substeps_(substeps_for(scene, tick_s)),
-      node_forces_(sim::Points::Zero(simulation_.mesh().num_nodes(), 3)),
-      tip_(0, 0, kParkedToolHeight) {}
+      hands_(hands),
+      node_forces_(sim::Points::Zero(simulation_.mesh().num_nodes(), 3)) {
+  if (hands < 1 || hands > kMaxHands) {
+    throw std::invalid_argument("a session has 1 or 2 hands, not " + std::to_string(hands));
+  }
+}
 
 void SimEngine::tick(const devices::DeviceState& input) {
-  const sim::Vec3 from = has_input_ ? tip_ : to_vec(input.position);
-  const sim::Vec3 to = to_vec(input.position);
+  tick(std::span<const devices::DeviceState>(&input, 1));
+}
+
+void SimEngine::tick(std::span<const devices::DeviceState> inputs) {
+  const int n = std::min(hands_, static_cast<int>(inputs.size()));
+  std::array<sim::Vec3, kMaxHands> from;
+  std::array<sim::Vec3, kMaxHands> to;
+  for (int h = 0; h < n; ++h) {
+    const auto i = static_cast<std::size_t>(h);
+    to[i] = to_vec(inputs[i].position);
+    from[i] = hand_[i].has_input ? hand_[i].tip : to[i];
+  }
   for (int s = 1; s <= substeps_; ++s) {
     const double a = static_cast<double>(s) / substeps_;
-    const sim::Vec3 centre = (1 - a) * from + a * to;
     node_forces_.setZero();
-    contact_ =
-        sim::apply_sphere_contact(tool_, centre, surface_, simulation_.mesh().x, node_forces_);
+    for (int h = 0; h < n; ++h) {
+      const auto i = static_cast<std::size_t>(h);
+      const sim::Vec3 centre = (1 - a) * from[i] + a * to[i];
+      hand_[i].contact =
+          sim::apply_sphere_contact(tool_, centre, surface_, simulation_.mesh().x, node_forces_);
+    }
     simulation_.step(node_forces_);
   }
-  metrics_.path_length_m += (to - from).norm();
-  const double force = contact_.force_on_tool.norm();
+  for (int h = 0; h < n; ++h) {
+    const auto i = static_cast<std::size_t>(h);
+    hand_[i].path_length_m += (to[i] - from[i]).norm();
+    hand_[i].tip = to[i];
+    hand_[i].has_input = true;
+    hand_[i].last_input = inputs[i];
+  }
+  const sim::ToolContact& primary = hand_[0].contact;
+  metrics_.path_length_m = hand_[0].path_length_m;
+  const double force = primary.force_on_tool.norm();
   metrics_.peak_force_n = std::max(metrics_.peak_force_n, force);
   metrics_.force_squared_time += force * force * tick_s_;
-  if (contact_.nodes_in_contact > 0) ++metrics_.contact_ticks;
-  tip_ = to;
-  has_input_ = true;
-  last_input_ = input;
+  if (primary.nodes_in_contact > 0) ++metrics_.contact_ticks;
   ++ticks_;
 }
 
-devices::ForceModel SimEngine::force_model() const {
+devices::ForceModel SimEngine::force_model(int hand) const {
+  const Hand& h = hand_[static_cast<std::size_t>(hand)];
   devices::ForceModel model;
-  model.device_index = last_input_.device_index;
-  model.reference_position = to_device(tip_);
+  model.device_index = static_cast<std::uint8_t>(hand);
+  model.reference_position = to_device(h.tip);
   // Whatever the simulation did, the agent gets a model its decoder accepts: a non-finite contact
   // sends no force at all, the force is clamped to kMaxForceN and each stiffness entry to the
   // protocol's bound.
-  sim::Vec3 force = contact_.force_on_tool;
-  sim::Mat3 stiffness = contact_.stiffness;
+  sim::Vec3 force = h.contact.force_on_tool;
+  sim::Mat3 stiffness = h.contact.stiffness;
   if (!force.allFinite() || !stiffness.allFinite()) {
     force.setZero();
     stiffness.setZero();
@@ -87,15 +110,12 @@ devices::ForceModel SimEngine::force_model() const {
 }
 
 SimEngine::Checkpoint SimEngine::checkpoint() const {
-  return {simulation_.save_state(), tip_, has_input_, last_input_, contact_, metrics_, ticks_};
+  return {simulation_.save_state(), hand_, metrics_, ticks_};
 }
 
 void SimEngine::restore(const Checkpoint& c) {
   simulation_.restore_state(c.simulation);
-  tip_ = c.tip;
-  has_input_ = c.has_input;
-  last_input_ = c.last_input;
-  contact_ = c.contact;
+  hand_ = c.hands;
   metrics_ = c.metrics;
   ticks_ = c.ticks;
 }
@@ -123,6 +143,11 @@ std::shared_ptr<Snapshot> make_snapshot(const SimEngine& engine,
   s->positions = engine.simulation().mesh().x;
   s->tool_tip = engine.tool_tip();
   s->tool_radius = engine.tool().radius;
+  s->hands = engine.hands();
+  if (engine.hands() > 1) {
+    s->second_tool_tip = engine.tool_tip(1);
+    s->second_force_n = engine.contact(1).force_on_tool;
+  }
   s->contact = engine.contact().nodes_in_contact > 0;
   s->force_n = engine.contact().force_on_tool;
   s->peak_force_n = engine.metrics().peak_force_n;

@@ -1,10 +1,13 @@
 #pragma once
 // The deterministic heart of a session, shared by live runs and replays: a scene's simulation plus
-// the tool, advanced one tick (e.g. 2 ms) per device input. Within a tick the tool tip moves
-// linearly from its previous position to the input's, and every sub-step (the scene's solver.dt)
-// applies the sphere-tip penalty contact. Same scene + same inputs = same state, bit for bit.
+// one tool per hand (a station has one or two devices; the task's tools[i] is held by device i),
+// advanced one tick (e.g. 2 ms) per device input. Within a tick each tool tip moves linearly from
+// its previous position to its input's, and every sub-step (the scene's solver.dt) applies the
+// sphere-tip penalty contacts of both. Same scene + same inputs = same state, bit for bit.
+#include <array>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 
 #include "devices/device_state.h"
@@ -17,6 +20,9 @@
 
 namespace incise::server::live {
 
+// Where the tool waits before the device has reported: well above any scene, out of contact.
+inline constexpr double kParkedToolHeight = 1.0;
+
 // Running sums over the ticks taken, for the live metrics (the score comes from the recording).
 struct RunningMetrics {
   double path_length_m = 0;
@@ -28,11 +34,17 @@ struct RunningMetrics {
 class SimEngine {
  public:
   // tick_s: the tick length [s]; must be a whole number of the scene's solver.dt (within 1e-9).
-  // Throws sim::SceneError for an invalid scene and std::invalid_argument for a bad tick.
-  SimEngine(const sim::Scene& scene, double tick_s);
+  // hands: 1 or kMaxHands tools. Throws sim::SceneError for an invalid scene and
+  // std::invalid_argument for a bad tick or hand count.
+  SimEngine(const sim::Scene& scene, double tick_s, int hands = 1);
 
-  // Advances one tick with the tool tip at input.position at its end.
+  static constexpr int kMaxHands = 2;
+
+  // Advances one tick with the tool tip at input.position at its end (hand 0 only).
   void tick(const devices::DeviceState& input);
+  // Advances one tick with hand i's tool at inputs[i].position; inputs.size() == hands().
+  void tick(std::span<const devices::DeviceState> inputs);
+  int hands() const { return hands_; }
 
   double tick_s() const { return tick_s_; }
   int substeps() const { return substeps_; }
@@ -41,22 +53,29 @@ class SimEngine {
   const sim::Simulation& simulation() const { return simulation_; }
   const sim::BoundarySurface& surface() const { return surface_; }
   const sim::SphereTool& tool() const { return tool_; }
-  const sim::Vec3& tool_tip() const { return tip_; }
-  const devices::DeviceState& last_input() const { return last_input_; }
+  const sim::Vec3& tool_tip(int hand = 0) const { return hand_[hand].tip; }
+  const devices::DeviceState& last_input(int hand = 0) const { return hand_[hand].last_input; }
   // The contact at the end of the last tick: reaction on the tool and its linearisation.
-  const sim::ToolContact& contact() const { return contact_; }
+  const sim::ToolContact& contact(int hand = 0) const { return hand_[hand].contact; }
+  // Of hand 0, the primary hand (the score's path length and forces); see hand_path_length_m.
   const RunningMetrics& metrics() const { return metrics_; }
-  // Force model for the agent from the last tick (force clamped to kMaxForceN).
-  devices::ForceModel force_model() const;
+  double hand_path_length_m(int hand) const { return hand_[hand].path_length_m; }
+  // Force model for hand i's device from the last tick (force clamped to kMaxForceN).
+  devices::ForceModel force_model(int hand = 0) const;
   // Whether the state is finite (the engine resets nothing silently: the session reports it).
   bool state_finite() const { return simulation_.state_finite(); }
 
-  struct Checkpoint {
-    sim::SimulationState simulation;
-    sim::Vec3 tip;
+  // One hand's tool: where it is and what it touches.
+  struct Hand {
+    sim::Vec3 tip = sim::Vec3(0, 0, kParkedToolHeight);
     bool has_input = false;
     devices::DeviceState last_input;
     sim::ToolContact contact;
+    double path_length_m = 0;
+  };
+  struct Checkpoint {
+    sim::SimulationState simulation;
+    std::array<Hand, kMaxHands> hands;
     RunningMetrics metrics;
     std::int64_t ticks = 0;
   };
@@ -76,11 +95,9 @@ class SimEngine {
   sim::SphereTool tool_;
   double tick_s_;
   int substeps_;
+  int hands_;
   sim::Points node_forces_;
-  sim::Vec3 tip_;
-  bool has_input_ = false;
-  devices::DeviceState last_input_;
-  sim::ToolContact contact_;
+  std::array<Hand, kMaxHands> hand_;
   RunningMetrics metrics_;
   std::int64_t ticks_ = 0;
 };
@@ -88,8 +105,5 @@ class SimEngine {
 // The engine's current state as an immutable snapshot for the renderer and the viewers.
 std::shared_ptr<Snapshot> make_snapshot(const SimEngine& engine,
                                         std::shared_ptr<const sim::BoundarySurface> surface);
-
-// Where the tool waits before the device has reported: well above any scene, out of contact.
-inline constexpr double kParkedToolHeight = 1.0;
 
 }  // namespace incise::server::live

@@ -24,6 +24,9 @@ struct Snapshot {
   double tool_radius = 0.005;
   bool contact = false;
   sim::Vec3 force_n = sim::Vec3::Zero();  // on the tool
+  int hands = 1;                          // tools in the scene (a two-handed task has 2)
+  sim::Vec3 second_tool_tip = sim::Vec3::Zero();
+  sim::Vec3 second_force_n = sim::Vec3::Zero();
   double peak_force_n = 0;
   double path_length_m = 0;
   std::chrono::steady_clock::time_point published_at;

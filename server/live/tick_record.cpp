@@ -1,7 +1,9 @@
 #include "server/live/tick_record.h"
 
+#include <algorithm>
 #include <bit>
 #include <cstring>
+#include <iterator>
 
 namespace incise::server::live {
 namespace {
@@ -24,11 +26,9 @@ T get(const std::uint8_t*& p) {
   return value;
 }
 
-}  // namespace
-
-void append_tick_record(const TickRecord& record, std::vector<std::uint8_t>& out) {
-  const auto& s = record.input;
-  put(out, record.tick);
+void append_hand(std::uint32_t tick, const devices::DeviceState& s, const float (&force)[3],
+                 std::vector<std::uint8_t>& out) {
+  put(out, tick);
   put(out, s.buttons);
   put(out, s.jaw);
   put(out, s.position.x);
@@ -38,8 +38,17 @@ void append_tick_record(const TickRecord& record, std::vector<std::uint8_t>& out
   put(out, s.orientation.x);
   put(out, s.orientation.y);
   put(out, s.orientation.z);
-  for (float f : record.force)
+  for (float f : force)
     put(out, f);
+}
+
+}  // namespace
+
+void append_tick_record(const TickRecord& record, std::vector<std::uint8_t>& out) {
+  append_hand(record.tick, record.input, record.force, out);
+  if (record.has_second) {
+    append_hand(record.tick | kSecondHandBit, record.second.input, record.second.force, out);
+  }
 }
 
 std::string decode_tick_records(std::span<const std::uint8_t> chunk, std::vector<TickRecord>& out) {
@@ -50,14 +59,29 @@ std::string decode_tick_records(std::span<const std::uint8_t> chunk, std::vector
   const std::uint8_t* p = chunk.data();
   const std::uint8_t* end = p + chunk.size();
   while (p != end) {
-    TickRecord r;
-    r.tick = get<std::uint32_t>(p);
-    r.input.buttons = get<std::uint8_t>(p);
-    r.input.jaw = get<float>(p);
-    r.input.position = {get<double>(p), get<double>(p), get<double>(p)};
-    r.input.orientation = {get<double>(p), get<double>(p), get<double>(p), get<double>(p)};
-    for (float& f : r.force)
+    const std::uint32_t tick = get<std::uint32_t>(p);
+    HandRecord hand;
+    hand.input.buttons = get<std::uint8_t>(p);
+    hand.input.jaw = get<float>(p);
+    hand.input.position = {get<double>(p), get<double>(p), get<double>(p)};
+    hand.input.orientation = {get<double>(p), get<double>(p), get<double>(p), get<double>(p)};
+    for (float& f : hand.force)
       f = get<float>(p);
+    if ((tick & kSecondHandBit) != 0) {
+      const std::uint32_t of = tick & ~kSecondHandBit;
+      if (out.empty() || out.back().tick != of || out.back().has_second) {
+        return "a second hand's record for tick " + std::to_string(of) +
+               " does not follow that tick's first";
+      }
+      hand.input.device_index = 1;
+      out.back().has_second = true;
+      out.back().second = hand;
+      continue;
+    }
+    TickRecord r;
+    r.tick = tick;
+    r.input = hand.input;
+    std::copy(std::begin(hand.force), std::end(hand.force), std::begin(r.force));
     if (!out.empty() && r.tick != out.back().tick + 1) {
       return "tick " + std::to_string(r.tick) + " follows tick " + std::to_string(out.back().tick);
     }

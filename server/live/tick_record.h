@@ -5,7 +5,9 @@
 // fixed-size little-endian records:
 //
 //   offset size  field
-//        0    4  tick          u32, counted from 0 at the session start (paused time is skipped)
+//        0    4  tick          u32, counted from 0 at the session start (paused time is skipped);
+//                              bit 31 set: the second hand's record of the same tick
+//                              (kSecondHandBit | tick), right after the first hand's
 //        4    1  buttons       u8
 //        5    4  jaw           f32
 //        9   24  position      3 x f64 tool tip [m], scene frame
@@ -21,19 +23,31 @@
 
 namespace incise::server::live {
 
-struct TickRecord {
-  std::uint32_t tick = 0;
+// One hand's input and the force on its tool.
+struct HandRecord {
   devices::DeviceState input;
   float force[3] = {0, 0, 0};
 };
 
-inline constexpr std::size_t kTickRecordSize = 77;
+// A tick of a one- or two-handed session: the first hand (device 0) in input and force, the
+// second (device 1) in second when has_second.
+struct TickRecord {
+  std::uint32_t tick = 0;
+  devices::DeviceState input;
+  float force[3] = {0, 0, 0};
+  bool has_second = false;
+  HandRecord second;
+};
 
-// Appends record's kTickRecordSize bytes to out.
+inline constexpr std::size_t kTickRecordSize = 77;
+inline constexpr std::uint32_t kSecondHandBit = 0x80000000u;
+
+// Appends record's kTickRecordSize bytes to out (twice that with a second hand).
 void append_tick_record(const TickRecord& record, std::vector<std::uint8_t>& out);
 
 // Decodes a chunk into out (appending). Returns "" or why the chunk is malformed (its size is
-// not a multiple of the record size, or a tick does not follow its predecessor).
+// not a multiple of the record size, a tick does not follow its predecessor, or a second hand's
+// record does not follow its tick's first).
 std::string decode_tick_records(std::span<const std::uint8_t> chunk, std::vector<TickRecord>& out);
 
 }  // namespace incise::server::live

@@ -37,9 +37,15 @@ void FrameEncoder::resize(int width, int height) {
 void FrameEncoder::render_jpeg(SceneRenderer& renderer, const Camera& camera,
                                const TissueView& tissue, const ToolView& tool,
                                std::vector<std::uint8_t>& jpeg) {
+  render_jpeg(renderer, camera, tissue, std::span<const ToolView>(&tool, 1), jpeg);
+}
+
+void FrameEncoder::render_jpeg(SceneRenderer& renderer, const Camera& camera,
+                               const TissueView& tissue, std::span<const ToolView> tools,
+                               std::vector<std::uint8_t>& jpeg) {
   using clock = std::chrono::steady_clock;
   const clock::time_point start = clock::now();
-  renderer.render(*framebuffer_, camera, tissue, tool);
+  renderer.render(*framebuffer_, camera, tissue, tools);
   // The readback would wait for the drawing anyway; finishing first only splits the time.
   glFinish();
   const clock::time_point drawn = clock::now();

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "sim/render/camera.h"
@@ -43,6 +44,9 @@ class FrameEncoder {
   // SceneRenderer::render and JpegEncoder::encode.
   void render_jpeg(SceneRenderer& renderer, const Camera& camera, const TissueView& tissue,
                    const ToolView& tool, std::vector<std::uint8_t>& jpeg);
+  // The same with any number of tools (a two-handed station's).
+  void render_jpeg(SceneRenderer& renderer, const Camera& camera, const TissueView& tissue,
+                   std::span<const ToolView> tools, std::vector<std::uint8_t>& jpeg);
 
   // The raw frame behind the last JPEG: width * height * 3 bytes, RGB, top row first.
   const std::vector<std::uint8_t>& rgb() const { return rgb_; }

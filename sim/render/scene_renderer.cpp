@@ -239,11 +239,36 @@ void SceneRenderer::draw_lit(const GlMesh& mesh, const Eigen::Affine3d& model,
 
 void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
                            const TissueView& tissue, const ToolView& tool) {
+  render(target, camera, tissue, std::span<const ToolView>(&tool, 1));
+}
+
+void SceneRenderer::draw_tool(const ToolView& tool) const {
+  const SurfaceLook& tool_look = tool.in_contact ? style_.tool_in_contact : style_.tool;
+  Eigen::Affine3d sphere = Eigen::Affine3d::Identity();
+  sphere.translate(tool.tip).scale(tool.radius);
+  draw_lit(sphere_, sphere, tool_look);
+  if (tool.shaft_length > 0.0) {
+    // The unit cylinder's z axis becomes the shaft, starting at the tip's centre.
+    Eigen::Matrix3d axes;
+    Eigen::Vector3d across_1, across_2;
+    const Eigen::Vector3d along = tool.shaft_direction.normalized();
+    complete_basis(along, across_1, across_2);
+    axes << across_1 * tool.shaft_radius, across_2 * tool.shaft_radius, along * tool.shaft_length;
+    Eigen::Affine3d shaft = Eigen::Affine3d::Identity();
+    shaft.translate(tool.tip);
+    shaft.linear() = axes;
+    draw_lit(cylinder_, shaft, tool_look);
+  }
+}
+
+void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
+                           const TissueView& tissue, std::span<const ToolView> tools) {
   const double aspect = static_cast<double>(target.width()) / target.height();
   // Eigen stores column-major, as GL expects without transposing.
   const Eigen::Matrix4f view_projection =
       (projection_matrix(camera, aspect) * view_matrix(camera)).cast<float>();
-  validate_tool(tool);
+  for (const ToolView& tool : tools)
+    validate_tool(tool);
   const bool has_tissue = upload_tissue(tissue);
 
   target.bind();
@@ -265,22 +290,8 @@ void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
   glUniform1f(diffuse_location_, style_.diffuse);
 
   // Nearest first, so that the depth test spares shading hidden pixels of the larger shapes.
-  const SurfaceLook& tool_look = tool.in_contact ? style_.tool_in_contact : style_.tool;
-  Eigen::Affine3d sphere = Eigen::Affine3d::Identity();
-  sphere.translate(tool.tip).scale(tool.radius);
-  draw_lit(sphere_, sphere, tool_look);
-  if (tool.shaft_length > 0.0) {
-    // The unit cylinder's z axis becomes the shaft, starting at the tip's centre.
-    Eigen::Matrix3d axes;
-    Eigen::Vector3d across_1, across_2;
-    const Eigen::Vector3d along = tool.shaft_direction.normalized();
-    complete_basis(along, across_1, across_2);
-    axes << across_1 * tool.shaft_radius, across_2 * tool.shaft_radius, along * tool.shaft_length;
-    Eigen::Affine3d shaft = Eigen::Affine3d::Identity();
-    shaft.translate(tool.tip);
-    shaft.linear() = axes;
-    draw_lit(cylinder_, shaft, tool_look);
-  }
+  for (const ToolView& tool : tools)
+    draw_tool(tool);
 
   if (has_tissue) {
     draw_lit(tissue_, Eigen::Affine3d::Identity(), style_.tissue);

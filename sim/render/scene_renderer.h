@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -94,11 +95,15 @@ class SceneRenderer {
   // zero shaft direction, non-finite tip).
   void render(const Framebuffer& target, const Camera& camera, const TissueView& tissue,
               const ToolView& tool);
+  // The same with any number of tools (a two-handed station's); every one is validated first.
+  void render(const Framebuffer& target, const Camera& camera, const TissueView& tissue,
+              std::span<const ToolView> tools);
 
  private:
   // Validates and uploads the tissue; returns false when there is none.
   bool upload_tissue(const TissueView& tissue);
   void draw_lit(const GlMesh& mesh, const Eigen::Affine3d& model, const SurfaceLook& look) const;
+  void draw_tool(const ToolView& tool) const;
 
   SceneStyle style_;
   ShaderProgram backdrop_program_;

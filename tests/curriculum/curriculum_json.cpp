@@ -44,7 +44,12 @@ TEST(CurriculumJson, DemoFileParses) {
   const Curriculum curriculum = parse_curriculum_text(text);
   EXPECT_EQ(curriculum.name, "Basic laparoscopic skills");
   ASSERT_EQ(curriculum.modules.size(), 1u);
-  ASSERT_EQ(curriculum.modules[0].tasks.size(), 1u);
+  ASSERT_EQ(curriculum.modules[0].tasks.size(), 2u);
+  // The second task is two-handed: its tools are held by devices 0 and 1.
+  const Task& bimanual = curriculum.modules[0].tasks[1];
+  EXPECT_EQ(bimanual.key, "bimanual_palpation");
+  EXPECT_EQ(bimanual.tools, (std::vector<std::string>{"probe", "retractor"}));
+  EXPECT_EQ(bimanual.prerequisites, std::vector<std::string>{"palpation"});
   const Task& task = curriculum.modules[0].tasks[0];
   EXPECT_EQ(task.key, "palpation");
   EXPECT_EQ(task.scene, "scenes/palpation.json");

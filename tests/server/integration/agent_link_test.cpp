@@ -126,7 +126,19 @@ TEST_F(AgentLink, MisbehavingAgentsAreClosedAndTheRealOneStays) {
     ws->send_text(R"({"type": "chat"})");
     const auto event = ws->read();
     EXPECT_EQ(event.close_code, 1008) << event.error;
-    EXPECT_EQ(event.close_reason, "text messages after the hello are not part of protocol 1");
+    EXPECT_EQ(event.close_reason,
+              "text message of type \"chat\" is not part of protocol 1 (expected link)");
+  }
+  {
+    // A link report with a bad field: closed with 1007 and the field.
+    auto ws = connect();
+    ws->send_text(hello(kStationToken));
+    ASSERT_FALSE(ws->read().closed);
+    ws->send_text(R"({"type": "link", "loop_hz": 1000, "rtt_p50_ms": 1, "rtt_p99_ms": 2,
+                      "loss_down": 2, "states_sent": 1, "states_held": 0, "devices": []})");
+    const auto event = ws->read();
+    EXPECT_EQ(event.close_code, 1007) << event.error;
+    EXPECT_EQ(event.close_reason, "link: \"loss_down\" must be in [0, 1], got 2");
   }
 
   // The real agent never noticed: still connected, on its first connection.

@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "devices/agent/impaired_link.h"
 #include "integration/server_fixture.h"
 #include "sim/render/jpeg.h"
 #include "ws_client.h"
@@ -97,11 +98,19 @@ class Viewer {
 
 class LiveSession : public ServerTest {
  protected:
-  std::unique_ptr<ChildProcess> start_agent() {
-    auto agent = std::make_unique<ChildProcess>(
-        std::vector<std::string>{INCISE_AGENT_BIN, "--server",
-                                 "ws://127.0.0.1:" + std::to_string(server().port()) + "/agent",
-                                 "--token", kStationToken, "--rate", "500"});
+  // The real agent for Station 1; extra arguments (devices) after the defaults, and the port it
+  // connects to (the server's unless a proxy sits between).
+  std::unique_ptr<ChildProcess> start_agent(std::vector<std::string> extra = {}, int port = 0) {
+    std::vector<std::string> args = {
+        INCISE_AGENT_BIN,
+        "--server",
+        "ws://127.0.0.1:" + std::to_string(port ? port : server().port()) + "/agent",
+        "--token",
+        kStationToken,
+        "--rate",
+        "500"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    auto agent = std::make_unique<ChildProcess>(args);
     const auto deadline = Clock::now() + 5s;
     while (Clock::now() < deadline && !station_online())
       std::this_thread::sleep_for(20ms);
@@ -139,17 +148,29 @@ class LiveSession : public ServerTest {
     std::int64_t session = 0;
     std::int64_t recording = 0;
   };
-  void start_booked_session(Running& out) {
-    out.agent = start_agent();
+  void start_booked_session(Running& out, const std::string& task = "palpation",
+                            std::vector<std::string> agent_args = {}, int agent_port = 0) {
+    out.agent = start_agent(std::move(agent_args), agent_port);
     ASSERT_TRUE(station_online()) << out.agent->stderr_text();
     out.booking = book_now();
-    const auto started =
-        as(kTrainee).post("/api/sessions", {{"station_id", 1}, {"task", "palpation"}});
+    const auto started = as(kTrainee).post("/api/sessions", {{"station_id", 1}, {"task", task}});
     ASSERT_EQ(started.status, 201) << started.body;
     EXPECT_EQ(started.json()["live"]["state"], "running");
     out.session = started.json()["id"].get<std::int64_t>();
     out.recording = started.json()["live"]["recording_id"].get<std::int64_t>();
   }
+
+  // Stops the run's session and cancels its booking however the test ends, so that a failure
+  // does not leave Station 1 busy for the next test.
+  struct EndRun {
+    LiveSession& test;
+    const Running& run;
+    ~EndRun() {
+      test.as(kTrainee).post("/api/sessions/" + std::to_string(run.session) + "/stop",
+                             nlohmann::json::object());
+      test.cancel(run.booking);
+    }
+  };
 
   std::string cookie(const Login& login) { return *as(login).cookie("incise_session"); }
 
@@ -426,6 +447,109 @@ TEST_F(LiveSession, MisbehavingLinksNeverDisturbARunningSession) {
   EXPECT_TRUE(viewer->read_until([&] { return viewer->frames.size() >= frames + 3; }, 5s));
   EXPECT_EQ(as(kTrainee).post(session + "/stop", nlohmann::json::object()).status, 200);
   cancel(run.booking);
+}
+
+}  // namespace
+}  // namespace incise::server::test
+
+namespace incise::server::test {
+namespace {
+
+// A script for the second hand: down onto the block away from the first hand's path, then held
+// pressing into it.
+std::string write_holding_script(const TempDir& dir) {
+  const auto path = dir.path() / "hold.json";
+  std::ofstream(path) << R"({"waypoints": [{"t": 0, "position": [0.065, 0.015, 0.05]},
+                                          {"t": 1, "position": [0.065, 0.015, 0.029]}]})";
+  return path.string();
+}
+
+TEST_F(LiveSession, TwoHandedSessionsSimulateRecordAndReplayBothDevices) {
+  TempDir dir{"incise-two-hands"};
+  Running run;
+  ASSERT_NO_FATAL_FAILURE(start_booked_session(
+      run, "bimanual_palpation",
+      {"--device", "simulated", "--device", "simulated:" + write_holding_script(dir)}));
+  const auto session = std::to_string(run.session);
+  const EndRun end_run(*this, run);
+  {
+    auto viewer = view("/api/sessions/" + session + "/view?fps=10&width=160&height=120");
+    // Both tools are in the scene, the second pressing where its script holds it, and the
+    // agent's link report names both devices.
+    ASSERT_TRUE(viewer->read_until(
+        [&] {
+          const auto& m = viewer->metrics;
+          return m.contains("tool_2") && m.value("force_2_n", 0.0) > 0.01 && m.contains("link") &&
+                 m["link"]["devices"].size() == 2;
+        },
+        20s))
+        << viewer->metrics.dump() << run.agent->stderr_text();
+    const auto& m = viewer->metrics;
+    EXPECT_EQ(m["hands"], 2);
+    EXPECT_NEAR(m["tool_2"][0].get<double>(), 0.065, 1e-6);
+    EXPECT_NEAR(m["tool_2"][2].get<double>(), 0.029, 1e-6);
+    EXPECT_GT(m["link"]["loop_hz"].get<double>(), 500.0);
+    EXPECT_EQ(m["link"]["devices"][1]["index"], 1);
+  }
+  const auto stopped =
+      as(kTrainee).post("/api/sessions/" + session + "/stop", nlohmann::json::object());
+  ASSERT_EQ(stopped.status, 200) << stopped.body;
+  const auto rid = std::to_string(run.recording);
+  EXPECT_EQ(db_text("SELECT state FROM recordings WHERE id = " + rid), "complete");
+  // Every tick holds both hands: two 77-byte records.
+  const auto bytes =
+      db_int("SELECT SUM(length(data)) FROM recording_chunks WHERE recording_id = " + rid);
+  EXPECT_GT(bytes, 0);
+  EXPECT_EQ(bytes % (2 * 77), 0);
+  const double duration = std::stod(db_text("SELECT duration_s FROM recordings WHERE id = " + rid));
+  EXPECT_NEAR(static_cast<double>(bytes) / (2 * 77) / 500.0, duration, 1e-6);
+  // The replay re-runs both hands: the second probe's press is in the final state, bit for bit.
+  const auto final_hash = db_text("SELECT final_state_hash FROM recordings WHERE id = " + rid);
+  auto replay = view("/api/recordings/" + rid + "/replay?fps=5&width=160&height=120", kInstructor);
+  replay->send({{"type", "speed"}, {"value", 4}});
+  replay->send({{"type", "play"}});
+  ASSERT_TRUE(
+      replay->read_until([&] { return replay->metrics.value("state", "") == "ended"; },
+                         std::chrono::milliseconds(static_cast<int>(duration * 1000)) + 20s))
+      << replay->metrics.dump();
+  EXPECT_EQ(replay->metrics["state_hash"], final_hash);
+  EXPECT_EQ(replay->metrics["hands"], 2);
+}
+
+// The agent's 1 kHz loop behind an emulated network (an in-process proxy that delays each
+// direction and drops 5 % of the binary frames) holding a simulated hand that feels the force:
+// the loop keeps its rate, the link report shows the delay and the loss, and the contact stays
+// stable (bounded force, the session keeps running) at every level.
+TEST_F(LiveSession, TheAgentKeepsItsLoopAndAStableContactAtEachDelayAndFivePercentLoss) {
+  using devices::agent::testing::ImpairedLink;
+  using devices::agent::testing::Impairment;
+  ImpairedLink link("127.0.0.1", static_cast<std::uint16_t>(server().port()), {});
+  Running run;
+  ASSERT_NO_FATAL_FAILURE(
+      start_booked_session(run, "palpation", {"--device", "hand"}, link.port()));
+  const auto session = std::to_string(run.session);
+  const EndRun end_run(*this, run);
+  auto viewer = view("/api/sessions/" + session + "/view?fps=2&width=160&height=120");
+  for (const int delay_ms : {0, 50, 100}) {
+    SCOPED_TRACE(::testing::Message() << delay_ms << " ms each way, 5 % loss");
+    link.set_impairment({.delay = std::chrono::milliseconds(delay_ms), .loss = 0.05, .seed = 7});
+    // Two report windows entirely at this level.
+    const auto since = Clock::now();
+    ASSERT_TRUE(viewer->read_until(
+        [&] { return Clock::now() - since > 2500ms && viewer->metrics.contains("link"); }, 10s));
+    const auto& link_report = viewer->metrics["link"];
+    EXPECT_GT(link_report["loop_hz"].get<double>(), 900.0) << link_report.dump();
+    EXPECT_GE(link_report["rtt_p50_ms"].get<double>(), 2.0 * delay_ms) << link_report.dump();
+    EXPECT_LT(link_report["rtt_p50_ms"].get<double>(), 2.0 * delay_ms + 40.0) << link_report.dump();
+    EXPECT_NEAR(link_report["loss_down"].get<double>(), 0.05, 0.04) << link_report.dump();
+    EXPECT_NEAR(link_report["loss_up"].get<double>(), 0.05, 0.04) << link_report.dump();
+    EXPECT_LE(link_report["devices"][0]["force_n"].get<double>(), 8.0 * std::sqrt(3.0));
+    EXPECT_EQ(viewer->metrics["state"], "running") << viewer->metrics.dump();
+    EXPECT_LT(viewer->metrics["peak_force_n"].get<double>(), 8.0) << viewer->metrics.dump();
+  }
+  const auto stats = link.stats();
+  EXPECT_GT(stats.dropped_up, 0u);
+  EXPECT_GT(stats.dropped_down, 0u);
 }
 
 }  // namespace

@@ -144,7 +144,8 @@ TEST(TickRecord, FieldsSitAtTheDocumentedOffsets) {
 TEST(TickRecord, RandomRecordsRoundTripBitForBit) {
   std::mt19937_64 rng(20240611);
   std::vector<TickRecord> records;
-  const std::uint32_t first = 4'000'000'000u;  // near the top of u32: the tick is unsigned
+  // Near the top of the 31 bits a tick has (bit 31 marks a second hand's record).
+  const std::uint32_t first = kSecondHandBit - 6000;
   for (std::uint32_t i = 0; i < 5000; ++i)
     records.push_back(any_record(rng, first + i));
   const Bytes bytes = encode(records);
@@ -157,6 +158,44 @@ TEST(TickRecord, RandomRecordsRoundTripBitForBit) {
     ASSERT_TRUE(same_record(decoded[i], records[i])) << "record " << i;
   // Encoding the decoded records gives the same bytes.
   EXPECT_EQ(encode(decoded), bytes);
+}
+
+TEST(TickRecord, TwoHandedRecordsRoundTripAndAMisplacedSecondHandIsRejected) {
+  std::mt19937_64 rng(7);
+  std::vector<TickRecord> records;
+  for (std::uint32_t i = 0; i < 500; ++i) {
+    TickRecord r = any_record(rng, i);
+    r.has_second = true;
+    const TickRecord other = any_record(rng, i);
+    r.second.input = other.input;
+    r.second.input.device_index = 1;
+    std::copy(std::begin(other.force), std::end(other.force), std::begin(r.second.force));
+    records.push_back(r);
+  }
+  const Bytes bytes = encode(records);
+  ASSERT_EQ(bytes.size(), 2 * records.size() * kTickRecordSize);
+  std::vector<TickRecord> decoded;
+  ASSERT_EQ(decode_tick_records(bytes, decoded), "");
+  ASSERT_EQ(decoded.size(), records.size());
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    ASSERT_TRUE(decoded[i].has_second);
+    ASSERT_TRUE(same_record(decoded[i], records[i])) << "record " << i;
+    EXPECT_EQ(decoded[i].second.input, records[i].second.input) << "record " << i;
+    for (int k = 0; k < 3; ++k)
+      EXPECT_EQ(decoded[i].second.force[k], records[i].second.force[k]);
+  }
+  EXPECT_EQ(encode(decoded), bytes);
+
+  // A second hand's record alone, or after another tick's first, is refused.
+  const Bytes second_first(bytes.begin() + kTickRecordSize, bytes.begin() + 2 * kTickRecordSize);
+  std::vector<TickRecord> out;
+  EXPECT_EQ(decode_tick_records(second_first, out),
+            "a second hand's record for tick 0 does not follow that tick's first");
+  Bytes twice(bytes.begin(), bytes.begin() + 2 * kTickRecordSize);
+  twice.insert(twice.end(), bytes.begin() + kTickRecordSize, bytes.begin() + 2 * kTickRecordSize);
+  out.clear();
+  EXPECT_EQ(decode_tick_records(twice, out),
+            "a second hand's record for tick 0 does not follow that tick's first");
 }
 
 TEST(TickRecord, EmptyChunkDecodesToNothing) {
