@@ -52,4 +52,17 @@ std::vector<Station> StationsRepo::list() {
   return out;
 }
 
+std::string StationsRepo::calibration(std::int64_t id) {
+  auto q = db_.prepare("SELECT calibration FROM stations WHERE id = ?");
+  q.bind(1, id);
+  if (!q.step()) throw NotFound("station " + std::to_string(id) + " not found");
+  return q.text(0);
+}
+
+void StationsRepo::set_calibration(std::int64_t id, std::string_view json_text) {
+  auto q = db_.prepare("UPDATE stations SET calibration = ? WHERE id = ?");
+  q.bind(1, json_text).bind(2, id).run();
+  if (db_.changes() == 0) throw NotFound("station " + std::to_string(id) + " not found");
+}
+
 }  // namespace incise::db

@@ -29,6 +29,11 @@ class StationsRepo {
   std::optional<Station> find_by_token(std::string_view token);
   std::vector<Station> list();
 
+  // The station's calibration as stored (JSON text, devices/kinematics.h; "" = the default).
+  // The caller validates it: db/ knows nothing of devices. Throws NotFound for an unknown id.
+  std::string calibration(std::int64_t id);
+  void set_calibration(std::int64_t id, std::string_view json_text);
+
  private:
   Database& db_;
 };

@@ -113,10 +113,13 @@ std::string build_hello(const Hello& hello) {
 }
 
 std::string build_welcome(const Welcome& welcome) {
-  const json message = {{"type", "welcome"},
-                        {"protocol", kProtocolVersion},
-                        {"station_id", welcome.station_id},
-                        {"station_name", welcome.station_name}};
+  json message = {{"type", "welcome"},
+                  {"protocol", kProtocolVersion},
+                  {"station_id", welcome.station_id},
+                  {"station_name", welcome.station_name}};
+  if (!welcome.calibration.empty()) {
+    message["calibration"] = json::parse(welcome.calibration, nullptr, false);
+  }
   return message.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
@@ -149,6 +152,15 @@ ParseResult<Welcome> parse_welcome(std::string_view text) {
   }
   if (error.empty()) {
     error = read_string(object, "welcome", "station_name", kMaxNameSize, welcome.station_name);
+  }
+  if (error.empty() && object.contains("calibration")) {
+    const json& calibration = object["calibration"];
+    if (!calibration.is_object()) {
+      error =
+          std::string("welcome: \"calibration\" must be an object, got ") + calibration.type_name();
+    } else {
+      welcome.calibration = calibration.dump();
+    }
   }
   if (!error.empty()) return ParseResult<Welcome>::failure(clip(std::move(error)));
   return ParseResult<Welcome>::success(std::move(welcome));
@@ -319,6 +331,21 @@ ParseResult<LinkReport> parse_link_report(std::string_view text) {
     report.devices.push_back(std::move(device));
   }
   return Result::success(std::move(report));
+}
+
+std::string build_calibration_notice(const std::string& calibration_json) {
+  json message = {{"type", "calibration"}};
+  message["calibration"] = json::parse(calibration_json, nullptr, false);
+  return message.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+ParseResult<std::string> parse_calibration_notice(std::string_view text) {
+  using Result = ParseResult<std::string>;
+  const json object = json::parse(text, nullptr, false);
+  if (object.is_discarded()) return Result::failure("calibration: not valid JSON");
+  if (!object.is_object() || !object.contains("calibration") || !object["calibration"].is_object())
+    return Result::failure("calibration: \"calibration\" must be an object");
+  return Result::success(object["calibration"].dump());
 }
 
 std::string message_type(std::string_view text) {

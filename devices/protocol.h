@@ -4,7 +4,8 @@
 // Text frames carry JSON control messages. The agent opens with hello, the server answers with
 // welcome or closes with 1008 (policy) and a reason:
 //   {"type": "hello", "protocol": 1, "station_token": s, "agent": s}
-//   {"type": "welcome", "protocol": 1, "station_id": n, "station_name": s}
+//   {"type": "welcome", "protocol": 1, "station_id": n, "station_name": s, "calibration": {...}}
+// ("calibration" optional: the station's devices/kinematics.h StationCalibration)
 // After welcome the server tells the agent whenever the station's live session changes state:
 //   {"type": "session", "session_id": n, "state": "running" | "paused" | "idle"}
 // (session_id >= 1; 0 only with "idle", for a station that has no session).
@@ -207,6 +208,9 @@ struct Hello {
 struct Welcome {
   int64_t station_id = 0;  // > 0
   std::string station_name;
+  // The station's calibration (kinematics.h StationCalibration) as JSON object text; optional,
+  // "" = the default. The agent validates it with parse_station_calibration.
+  std::string calibration;
   friend bool operator==(const Welcome&, const Welcome&) = default;
 };
 
@@ -249,6 +253,12 @@ std::string build_hello(const Hello& hello);
 std::string build_link_report(const LinkReport& report);
 std::string build_welcome(const Welcome& welcome);
 std::string build_session_notice(const SessionNotice& notice);
+
+// The station's calibration changed while its agent is connected, server -> agent:
+//   {"type": "calibration", "calibration": {...}}
+std::string build_calibration_notice(const std::string& calibration_json);
+// Agent side: the calibration object's text.
+ParseResult<std::string> parse_calibration_notice(std::string_view text);
 
 // Server side. A version mismatch reads `protocol 2 not supported (server speaks 1)`.
 ParseResult<Hello> parse_hello(std::string_view text);

@@ -101,7 +101,10 @@ DeviceState ReplayDevice::poll(double t) {
   const uint64_t first = samples_.front().timestamp_us;
   const uint64_t span = samples_.back().timestamp_us - first;
   auto offset = static_cast<uint64_t>(std::llround(std::max(t, 0.0) * 1e6));
-  if (loop_ && span > 0) offset %= span + 1;
+  // A loop lasts the span plus one mean sample interval, so the last sample is held as long as
+  // the others before the first comes again.
+  const uint64_t interval = samples_.size() > 1 ? span / (samples_.size() - 1) : 0;
+  if (loop_ && span > 0) offset %= span + interval;
   const uint64_t at = first + offset;
   // The last sample at or before `at`.
   const auto after = std::upper_bound(

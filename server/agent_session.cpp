@@ -110,9 +110,12 @@ void AgentSession::handle_hello() {
   if (!hello) return do_close(websocket::close_code::policy_error, hello.error);
 
   std::optional<db::Station> station;
+  std::string calibration;
   {
     std::lock_guard lock(app_->db_mutex());
-    station = db::StationsRepo(app_->db()).find_by_token(hello.value->station_token);
+    db::StationsRepo stations(app_->db());
+    station = stations.find_by_token(hello.value->station_token);
+    if (station) calibration = stations.calibration(station->id);
   }
   if (!station) return do_close(websocket::close_code::policy_error, "unknown station token");
 
@@ -120,7 +123,7 @@ void AgentSession::handle_hello() {
   app_->agent_joined(station_id_, shared_from_this());
   std::cerr << "incise-server: station " << station->id << " (" << station->name
             << ") agent connected: " << hello.value->agent << "\n";
-  texts_.push_back(devices::build_welcome({station->id, station->name}));
+  texts_.push_back(devices::build_welcome({station->id, station->name, calibration}));
   do_write();
   do_read();
 }

@@ -95,13 +95,19 @@ Vec3 ForceGuard::couple(const Vec3& model_force, const std::array<double, 9>& st
   if (!settings_.coupling) return model_force;
   const double k =
       settings_.coupling_stiffness / (1.0 + std::max(age_s, 0.0) / settings_.softening_age_s);
-  const Eigen::Matrix3d K =
+  const Eigen::Matrix3d raw =
       Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(stiffness.data());
-  const Eigen::Matrix3d A = K + k * Eigen::Matrix3d::Identity();
-  // A linearisation with a strongly negative stiffness would make A singular or flip signs; the
-  // coupling is then just the spring k itself acting on the model force's direction.
-  if (!(std::abs(A.determinant()) > 1e-9 * k * k * k)) return model_force;
-  const Eigen::Matrix3d A_inv = A.inverse();
+  // Only the stiffness that resists motion is coupled: the symmetric part with its negative
+  // eigenvalues clamped to zero. A negative stiffness (the linearisation of a buckling contact,
+  // or a bad model) would otherwise make K + kI near singular and amplify the force without
+  // bound. So K + kI has eigenvalues >= k, and k (K + kI)^-1 never lengthens the model force.
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(0.5 * (raw + raw.transpose()));
+  if (eigen.info() != Eigen::Success) return {};
+  const Eigen::Vector3d lambda = eigen.eigenvalues().cwiseMax(0.0);
+  const Eigen::Matrix3d& V = eigen.eigenvectors();
+  const Eigen::Matrix3d K = V * lambda.asDiagonal() * V.transpose();
+  const Eigen::Vector3d inverse_diagonal = (lambda.array() + k).inverse();
+  const Eigen::Matrix3d A_inv = V * inverse_diagonal.asDiagonal() * V.transpose();
   const Eigen::Vector3d coupled = k * (A_inv * to_eigen(model_force));
   const Eigen::Matrix3d share = K * A_inv;
   const Eigen::Vector3d damping = settings_.coupling_damping * (share * to_eigen(velocity_));

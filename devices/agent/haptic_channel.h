@@ -11,6 +11,7 @@
 #include "devices/agent/seqlock.h"
 #include "devices/agent/spsc_ring.h"
 #include "devices/device_state.h"
+#include "devices/kinematics.h"
 #include "devices/protocol.h"
 
 namespace incise::devices::agent {
@@ -56,8 +57,10 @@ inline constexpr std::size_t kStateRingCapacity = 512;
 struct HapticChannel {
   SpscRing<TimedState, kStateRingCapacity> states;         // haptic thread -> io thread
   std::array<Seqlock<ReceivedModel>, kMaxDevices> models;  // io thread -> haptic thread
-  std::array<DeviceTelemetry, kMaxDevices> telemetry;      // haptic thread -> anyone
-  std::atomic<uint64_t> loop_ticks{0};                     // ticks run: the link report's loop rate
+  // The station's calibration, io thread -> haptic thread: device frame -> scene frame.
+  std::array<Seqlock<WorkspaceMapping>, kMaxDevices> mappings;
+  std::array<DeviceTelemetry, kMaxDevices> telemetry;  // haptic thread -> anyone
+  std::atomic<uint64_t> loop_ticks{0};                 // ticks run: the link report's loop rate
   // Set by the io thread once the server has welcomed us, cleared when the link ends. While it
   // is clear no states are queued and no force is rendered.
   std::atomic<bool> link_up{false};

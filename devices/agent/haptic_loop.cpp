@@ -91,10 +91,22 @@ void HapticLoop::tick_hand(Hand& hand, std::size_t index, Clock::time_point now,
                            bool late, bool send_tick, uint64_t t_us) {
   DeviceState state = hand.device->poll(std::chrono::duration<double>(now - epoch_).count());
   state.device_index = static_cast<uint8_t>(index);
+  // Everything here runs in the device's frame: the server's model is mapped into it (virtual
+  // work kept), and only the state sent to the server is mapped to the scene.
+  bool remap = false;
+  Seqlock<WorkspaceMapping>& mapping_slot = channel_.mappings[index];
+  if (mapping_slot.version() != hand.mapping_version) {
+    hand.mapping = mapping_slot.read(hand.mapping_version);
+    remap = true;
+  }
   Seqlock<ReceivedModel>& slot = channel_.models[index];
   if (slot.version() != hand.model_version) {
-    const ReceivedModel received = slot.read(hand.model_version);
-    hand.evaluator.set_model(received.model, received.received_at);
+    hand.model = slot.read(hand.model_version);
+    remap = true;
+  }
+  if (remap && hand.model_version != 0) {
+    hand.evaluator.set_model(hand.mapping.force_model_to_device(hand.model.model),
+                             hand.model.received_at);
   }
   const Vec3& x = state.position;
   const bool finite = std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z);
@@ -171,7 +183,7 @@ void HapticLoop::tick_hand(Hand& hand, std::size_t index, Clock::time_point now,
   } else {
     bump(telemetry.states_held);
   }
-  channel_.states.push({state, t_us, send});
+  channel_.states.push({hand.mapping.state_to_scene(state), t_us, send});
 }
 
 void HapticLoop::start() {

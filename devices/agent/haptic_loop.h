@@ -94,7 +94,10 @@ class HapticLoop {
     ForceGuard guard;
     ForceFade fade;
     uint64_t model_version = 0;  // of the model in evaluator
-    DeviceState state;
+    ReceivedModel model;         // the latest, in the scene frame as the server sent it
+    WorkspaceMapping mapping;    // device -> scene (identity until the station's calibration)
+    uint64_t mapping_version = 0;
+    DeviceState state;  // the device's, in its own frame
     GuardFault fault = GuardFault::NoModel;
     Vec3 last_force;
     DeviceState last_sent;

@@ -35,6 +35,12 @@ ParseResult<std::vector<std::string>> read_config(const std::string& path) {
 
 int run(int argc, char** argv) {
   const std::span<const char* const> args(const_cast<const char* const*>(argv) + 1, argc - 1);
+  for (std::string_view arg : args) {
+    if (arg == "--help" || arg == "-h") {
+      std::cout << agent_usage();
+      return kExitStopped;
+    }
+  }
   const auto path = config_path(args);
   if (!path) {
     log_line(path.error + " (see --help)");

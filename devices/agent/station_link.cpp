@@ -154,6 +154,7 @@ void StationLink::on_welcome(beast::error_code ec, std::size_t) {
 
   welcomed_ = true;
   welcomed_at_ = Clock::now();
+  apply_calibration(welcome.value->calibration);
   on_welcome_(*welcome.value);
   ws_.binary(true);
   // States queued while no link was up (at most a few, from the end of the previous link) are
@@ -279,9 +280,15 @@ void StationLink::on_read(beast::error_code ec, std::size_t) {
   const auto bytes = read_buffer_.cdata();
   const bool text = ws_.got_text();
   if (text) {
-    const auto notice = parse_session_notice(
-        std::string_view(static_cast<const char*>(bytes.data()), bytes.size()));
+    const std::string body(static_cast<const char*>(bytes.data()), bytes.size());
     read_buffer_.consume(read_buffer_.size());
+    if (message_type(body) == "calibration") {
+      const auto calibration = parse_calibration_notice(body);
+      if (!calibration) return reject(calibration.error);
+      apply_calibration(*calibration.value);
+      return do_read();
+    }
+    const auto notice = parse_session_notice(body);
     if (!notice) return reject(notice.error);
     on_session_notice(*notice.value);
   } else {
@@ -339,6 +346,24 @@ bool StationLink::sent_recently(uint64_t timestamp_us) const {
     if (sent < timestamp_us) return false;
   }
   return false;
+}
+
+void StationLink::apply_calibration(const std::string& json_text) {
+  const auto parsed = json_text.empty()
+                          ? ParseResult<StationCalibration>::success(default_station_calibration())
+                          : parse_station_calibration(json_text);
+  if (!parsed) {
+    // The server validates what it stores, so this is a corrupt or newer message: keep the
+    // mapping in force rather than guess.
+    log_line("calibration from the server refused, keeping the current one: " + parsed.error);
+    return;
+  }
+  for (std::size_t i = 0; i < settings_.device_count; ++i) {
+    const DeviceCalibration* device = parsed.value->find(static_cast<int>(i));
+    channel_.mappings[i].publish(device ? device->mapping : WorkspaceMapping{});
+  }
+  if (!json_text.empty())
+    log_line("calibration applied: " + station_calibration_json(*parsed.value));
 }
 
 void StationLink::on_session_notice(const SessionNotice& notice) {

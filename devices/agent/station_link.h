@@ -124,6 +124,8 @@ class StationLink : public std::enable_shared_from_this<StationLink> {
   void send_report();
   void on_report_sent(beast::error_code ec, std::size_t bytes);
   void on_session_notice(const SessionNotice& notice);
+  // Publishes each device's workspace mapping to the haptic loop (JSON "" = the default).
+  void apply_calibration(const std::string& json_text);
   // Closes with 1007 (invalid payload) and reason; the link ends as Dropped.
   void reject(std::string_view reason);
   void do_stop();

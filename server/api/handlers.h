@@ -15,6 +15,8 @@ ApiResponse create_user(ApiContext& ctx);
 
 ApiResponse list_stations(ApiContext& ctx);
 ApiResponse create_station(ApiContext& ctx);
+ApiResponse get_station_calibration(ApiContext& ctx);  // admin, instructor
+ApiResponse put_station_calibration(ApiContext& ctx);  // admin; 422 with the first problem
 
 ApiResponse list_bookings(ApiContext& ctx);
 ApiResponse create_booking(ApiContext& ctx);

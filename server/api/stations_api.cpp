@@ -1,5 +1,8 @@
 #include "db/audit_repo.h"
 #include "db/password.h"
+#include "devices/kinematics.h"
+#include "devices/protocol.h"
+#include "server/agent_session.h"
 #include "server/api/api_error.h"
 #include "server/api/handlers.h"
 #include "server/api/json_views.h"
@@ -32,6 +35,49 @@ ApiResponse create_station(ApiContext& ctx) {
   const auto station = db::StationsRepo(ctx.app.db()).create(name, location, token, ctx.now);
   db::AuditRepo(ctx.app.db()).record(admin.id, "station.create", station.name, ctx.now);
   return {http::status::created, {{"station", to_json(station, false)}, {"token", token}}, {}};
+}
+
+ApiResponse get_station_calibration(ApiContext& ctx) {
+  ctx.require_role({db::Role::admin, db::Role::instructor});
+  db::StationsRepo stations(ctx.app.db());
+  if (!stations.find(ctx.path_id)) {
+    throw ApiError(http::status::not_found,
+                   "station " + std::to_string(ctx.path_id) + " does not exist");
+  }
+  const auto stored = stations.calibration(ctx.path_id);
+  const auto calibration = stored.empty() ? devices::default_station_calibration()
+                                          : *devices::parse_station_calibration(stored).value;
+  return {http::status::ok,
+          {{"station_id", ctx.path_id},
+           {"default", stored.empty()},
+           {"calibration", nlohmann::json::parse(devices::station_calibration_json(calibration))}},
+          {}};
+}
+
+ApiResponse put_station_calibration(ApiContext& ctx) {
+  const auto& admin = ctx.require_role({db::Role::admin});
+  const auto body = ctx.json_body();
+  const auto parsed = devices::parse_station_calibration(body.dump());
+  if (!parsed) throw ApiError(http::status::unprocessable_entity, parsed.error);
+  // Stored normalised (unit quaternions, full precision), so every reader sees the same text.
+  const auto text = devices::station_calibration_json(*parsed.value);
+  db::StationsRepo stations(ctx.app.db());
+  const auto station = stations.find(ctx.path_id);
+  if (!station) {
+    throw ApiError(http::status::not_found,
+                   "station " + std::to_string(ctx.path_id) + " does not exist");
+  }
+  stations.set_calibration(ctx.path_id, text);
+  db::AuditRepo(ctx.app.db()).record(admin.id, "station.calibrate", station->name, ctx.now);
+  // A connected agent applies it at once.
+  if (const auto agent = ctx.app.agent_for_station(ctx.path_id)) {
+    agent->send_text(devices::build_calibration_notice(text));
+  }
+  return {http::status::ok,
+          {{"station_id", ctx.path_id},
+           {"default", false},
+           {"calibration", nlohmann::json::parse(text)}},
+          {}};
 }
 
 }  // namespace incise::server::api

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
+#include <utility>
+
 #include <nlohmann/json.hpp>
 
 #include "devices/protocol.h"
@@ -49,7 +52,7 @@ TEST(ControlMessages, HelloRoundTrip) {
 }
 
 TEST(ControlMessages, WelcomeRoundTrip) {
-  const Welcome welcome{9007199254740993, "Übungsplatz 2 — left"};
+  const Welcome welcome{9007199254740993, "Übungsplatz 2 — left", ""};
   const std::string text = build_welcome(welcome);
   const auto parsed = parse_welcome(text);
   ASSERT_TRUE(parsed) << parsed.error;
@@ -59,6 +62,56 @@ TEST(ControlMessages, WelcomeRoundTrip) {
                      {"protocol", 1},
                      {"station_id", welcome.station_id},
                      {"station_name", welcome.station_name}}));
+}
+
+TEST(ControlMessages, WelcomeCarriesTheCalibrationAndItsNoticeRoundTrips) {
+  const std::string calibration = R"({"devices":[{"index":0,"kind":"pen"}]})";
+  const Welcome welcome{3, "Bench 3", calibration};
+  const auto parsed = parse_welcome(build_welcome(welcome));
+  ASSERT_TRUE(parsed) << parsed.error;
+  EXPECT_EQ(json::parse(parsed.value->calibration), json::parse(calibration));
+  json bad = json::parse(build_welcome(welcome));
+  bad["calibration"] = "pen";
+  EXPECT_EQ(parse_welcome(bad.dump()).error,
+            "welcome: \"calibration\" must be an object, got string");
+
+  const auto notice = parse_calibration_notice(build_calibration_notice(calibration));
+  ASSERT_TRUE(notice) << notice.error;
+  EXPECT_EQ(json::parse(*notice.value), json::parse(calibration));
+  EXPECT_EQ(message_type(build_calibration_notice(calibration)), "calibration");
+  EXPECT_EQ(parse_calibration_notice(R"({"type":"calibration"})").error,
+            "calibration: \"calibration\" must be an object");
+}
+
+TEST(ControlMessages, LinkReportRoundTripsAndBadFieldsAreNamed) {
+  LinkReport report;
+  report.loop_hz = 999.5;
+  report.rtt_p50_ms = 1.25;
+  report.rtt_p99_ms = 4.5;
+  report.loss_down = 0.05;
+  report.states_sent = 480;
+  report.states_held = 20;
+  report.devices = {{0, 3.5, "none", 1.5, 0.0, 0.25}, {1, 4.0, "stale model", 0.0, 2.0, 0.5}};
+  const auto parsed = parse_link_report(build_link_report(report));
+  ASSERT_TRUE(parsed) << parsed.error;
+  EXPECT_EQ(*parsed.value, report);
+  const std::pair<std::function<void(json&)>, std::string> bad[] = {
+      {[](json& j) { j["loss_down"] = 1.5; }, "link: \"loss_down\" must be in [0, 1], got 1.5"},
+      {[](json& j) { j.erase("rtt_p50_ms"); }, "link: missing key \"rtt_p50_ms\""},
+      {[](json& j) { j["states_sent"] = -1; },
+       "link: \"states_sent\" must be a non-negative integer, got -1"},
+      {[](json& j) { j["devices"][1]["index"] = 2; },
+       "link: devices[1]: \"index\" must be in [0, 1], got 2"},
+      {[](json& j) { j["devices"].push_back(j["devices"][0]); },
+       "link: \"devices\" has 3 entries, at most 2"},
+      {[](json& j) { j["devices"][0]["force_n"] = "x"; },
+       "link: devices[0]: \"force_n\" must be a number, got string"},
+  };
+  for (const auto& [change, message] : bad) {
+    json j = json::parse(build_link_report(report));
+    change(j);
+    EXPECT_EQ(parse_link_report(j.dump()).error, message);
+  }
 }
 
 TEST(ControlMessages, UnknownKeysAreIgnoredAndOrderDoesNotMatter) {

@@ -64,6 +64,10 @@ HttpResponse HttpClient::post(std::string_view target, const nlohmann::json& bod
   return request(http::verb::post, target, body.dump(), {{"Content-Type", "application/json"}});
 }
 
+HttpResponse HttpClient::put(std::string_view target, const nlohmann::json& body) {
+  return request(http::verb::put, target, body.dump(), {{"Content-Type", "application/json"}});
+}
+
 HttpResponse HttpClient::del(std::string_view target) {
   return request(http::verb::delete_, target);
 }

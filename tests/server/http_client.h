@@ -42,6 +42,7 @@ class HttpClient {
   HttpResponse get(std::string_view target);
   // Sends `body` as JSON with Content-Type application/json.
   HttpResponse post(std::string_view target, const nlohmann::json& body);
+  HttpResponse put(std::string_view target, const nlohmann::json& body);
   HttpResponse del(std::string_view target);
   // Anything else: `headers` are added to Host, Cookie and Content-Length.
   HttpResponse request(http::verb method, std::string_view target, std::string body = {},

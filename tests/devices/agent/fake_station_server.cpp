@@ -57,7 +57,7 @@ class Session : public std::enable_shared_from_this<Session> {
       return do_close(websocket::close_code::policy_error, "unknown station token");
     }
     state_->update([&](FakeStationRecord& r) { r.agents.push_back(hello.value->agent); });
-    welcome_ = build_welcome({7, "Bench 7"});
+    welcome_ = build_welcome({7, "Bench 7", ""});
     ws_.text(true);
     ws_.async_write(asio::buffer(welcome_),
                     beast::bind_front_handler(&Session::on_welcome_sent, shared_from_this()));
