@@ -14,6 +14,7 @@
 
 #include "devices/agent/agent.h"
 #include "fake_station_server.h"
+#include "impaired_link.h"
 #include "recording_device.h"
 
 namespace incise::devices::agent::testing {
@@ -126,6 +127,44 @@ TEST(HapticBridge, AMalformedForceModelClosesTheLinkWith1007) {
   EXPECT_EQ(record.agent_close_codes[0], 1007);
   EXPECT_EQ(record.agent_close_reasons[0], "|force| 150 N exceeds 100 N");
   EXPECT_TRUE(record.errors.empty()) << record.errors.front();
+}
+
+// A cable pull between agent and server (the proxy resets both connections): the watchdog
+// fades the hand's force to exactly zero within 10 ticks of the agent seeing the link end.
+TEST(HapticBridge, ALinkCutFadesTheForceToZeroWithinTenMilliseconds) {
+  RecordingDevice device;
+  device.set_position(kTip);
+  FakeStationBehaviour behaviour;
+  behaviour.force_model = server_model();
+  FakeStationServer server(behaviour);
+  ImpairedLink link("127.0.0.1", server.port(), {});
+  RunningAgent running("ws://127.0.0.1:" + std::to_string(link.port()) + "/agent", device);
+  ASSERT_TRUE(wait_until([&] { return near(device.last_force(), kExpected); }, 3s));
+
+  const std::size_t before_cut = device.force_count();
+  link.cut();
+  const auto cut_at = Clock::now();
+  // Zero force within the fade (10 ticks) after the agent notices the reset; both on a loaded
+  // machine: allow 40 ms of wall time in all.
+  ASSERT_TRUE(wait_until([&] { return device.last_force() == Vec3{}; }, 1s));
+  EXPECT_LT(Clock::now() - cut_at, 40ms);
+  // The force came down in steps of a tenth, never up: from the first smaller force to zero in
+  // at most 10 commands.
+  std::size_t first_lower = 0;
+  std::size_t first_zero = 0;
+  const std::size_t end = std::min(device.force_count(), RecordingDevice::kCapacity);
+  for (std::size_t i = before_cut; i < end; ++i) {
+    const Vec3 f = device.force(i);
+    if (!first_lower && std::abs(f.z) < std::abs(kExpected.z) - 1e-9) first_lower = i;
+    if (first_lower && f == Vec3{}) {
+      first_zero = i;
+      break;
+    }
+  }
+  ASSERT_GT(first_lower, 0u);
+  ASSERT_GT(first_zero, 0u);
+  EXPECT_LE(first_zero - first_lower, 10u);
+  running.stop();
 }
 
 }  // namespace

@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
+
 #include <array>
 #include <string>
 #include <vector>
@@ -202,6 +205,24 @@ TEST(AgentOptions, TokenAndUnknownFlags) {
   const auto with_config = parse("", {"--config", "agent.conf", "--rate=250"});
   ASSERT_TRUE(with_config) << with_config.error;
   EXPECT_EQ(with_config.value->rate_hz, 250.0);
+}
+
+// The example shipped for the systemd unit parses and says what its comments say.
+TEST(ConfigFile, TheDeployedExampleParses) {
+  std::ifstream file(INCISE_AGENT_CONF);
+  ASSERT_TRUE(file) << INCISE_AGENT_CONF;
+  const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const auto config = config_file_args(text, INCISE_AGENT_CONF);
+  ASSERT_TRUE(config) << config.error;
+  const auto options = parse_agent_options({}, "token-from-env", *config.value);
+  ASSERT_TRUE(options) << options.error;
+  EXPECT_EQ(options.value->server.host, "incise.example.org");
+  EXPECT_EQ(options.value->devices, std::vector<std::string>{"simulated"});
+  EXPECT_EQ(options.value->rate_hz, 500.0);
+  EXPECT_TRUE(options.value->deadband);
+  EXPECT_TRUE(options.value->guard.passivity);
+  EXPECT_EQ(options.value->guard.max_force_n[0], 8.0);
+  EXPECT_EQ(options.value->token, "token-from-env");
 }
 
 }  // namespace

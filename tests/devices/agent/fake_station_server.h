@@ -58,6 +58,7 @@ class FakeStationServer {
   ~FakeStationServer();
 
   std::string url() const;  // ws://127.0.0.1:<port>/agent
+  unsigned short port() const { return port_; }
   FakeStationRecord record() const;
 
   struct State;  // shared with the sessions, which may outlive a request
