@@ -29,6 +29,12 @@ out=results/bench-$(date -u +%Y%m%dT%H%M%SZ).txt
   echo "## agent haptic loop, ${seconds} s"
   "$bin/bench_agent_loop" --seconds "$seconds"
   echo
+  echo "## device-state traffic with and without the deadband, scripted task"
+  "$bin/bench_agent_traffic"
+  echo
+  echo "## force error against network delay and loss (simulated time)"
+  "$bin/bench_haptic_network"
+  echo
   echo "## live path on loopback (server + agent + one viewer), ${live_seconds} s"
   "$bin/bench_live" --seconds "$live_seconds"
   echo

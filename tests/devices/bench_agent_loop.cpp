@@ -1,6 +1,9 @@
-// bench_agent_loop: runs the station agent's real haptic loop (devices/agent/haptic_loop.h) with
-// the default simulated device and a constant force model, without a server, and prints its
-// timing. A measurement, not a test: the figures depend on the machine and its load.
+// bench_agent_loop: runs the station agent's real haptic loop (devices/agent/haptic_loop.h, with
+// the agent's default settings: force guard and deadband on) with the default simulated device
+// and a constant force model, without a server, and prints its timing and the device-to-force
+// latency: from the device poll to the force command of the same tick (the local force model
+// answers every position at once; docs/haptic_safety.md). A measurement, not a test: the
+// figures depend on the machine and its load.
 //
 //   bench_agent_loop [--seconds N]   (default 60)
 //
@@ -15,6 +18,7 @@
 #include <thread>
 
 #include "devices/agent/haptic_loop.h"
+#include "devices/agent/histogram.h"
 #include "devices/simulated_device.h"
 #include "devices/simulated_script.h"
 
@@ -28,6 +32,29 @@ int usage(const char* error) {
   std::fprintf(stderr, "bench_agent_loop: %s\nusage: bench_agent_loop [--seconds N]\n", error);
   return 2;
 }
+
+// The simulated device, timing each tick from its poll to its force command.
+class TimedDevice final : public Device {
+ public:
+  explicit TimedDevice(SimulatedScript script) : inner_(std::move(script)) {}
+  std::string_view name() const override { return inner_.name(); }
+  int degrees_of_freedom() const override { return inner_.degrees_of_freedom(); }
+  DeviceCapabilities capabilities() const override { return {.has_force_output = true}; }
+  DeviceState poll(double t) override {
+    polled_at_ = Clock::now();
+    return inner_.poll(t);
+  }
+  void set_force(const Vec3&) override {
+    latency_ns_.add(static_cast<uint64_t>(
+        std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - polled_at_).count()));
+  }
+  const Histogram& latency_ns() const { return latency_ns_; }
+
+ private:
+  SimulatedDevice inner_;
+  Clock::time_point polled_at_;
+  Histogram latency_ns_{10, 100000};  // 10 ns bins up to 1 ms
+};
 
 }  // namespace
 
@@ -45,7 +72,7 @@ int main(int argc, char** argv) {
     }
   }
 
-  SimulatedDevice device(*parse_simulated_script(default_simulated_script()).value);
+  TimedDevice device(*parse_simulated_script(default_simulated_script()).value);
   HapticChannel channel;
   channel.link_up = true;
   ForceModel model;  // a stiff contact under the script's first press
@@ -53,7 +80,9 @@ int main(int argc, char** argv) {
   model.force = {0.0, 0.0, 1.0};
   model.stiffness = {300, 0, 0, 0, 300, 0, 0, 0, 800};
 
-  HapticLoop loop(device, channel, 2, Clock::now());  // 500 Hz of states, the agent's default
+  const Clock::time_point epoch = Clock::now();
+  Device* devices[] = {&device};
+  HapticLoop loop(devices, channel, LoopSettings{}, epoch);  // the agent's defaults: 500 Hz
   loop.start();
   const auto start = Clock::now();
   const auto end =
@@ -62,6 +91,9 @@ int main(int argc, char** argv) {
   auto next_model = start;
   for (auto now = start; now < end; now = Clock::now()) {
     if (now >= next_model) {
+      // As if it answered the state sampled just now: the model is fresh.
+      model.state_timestamp_us = static_cast<uint64_t>(
+          std::chrono::duration_cast<std::chrono::microseconds>(now - epoch).count());
       channel.models[0].publish({model, now});
       next_model += 10ms;
     }
@@ -83,5 +115,9 @@ int main(int argc, char** argv) {
   std::printf("max jitter [us]: %.1f\n", s.max_jitter_us);
   std::printf("jitter p99 [us]: %.0f\n", s.jitter_p99_us);
   std::printf("overruns: %llu\n", static_cast<unsigned long long>(s.overruns));
+  std::printf("device -> force latency (poll to force command) p50 [us]: %.2f\n",
+              device.latency_ns().percentile(50) / 1000.0);
+  std::printf("device -> force latency (poll to force command) p99 [us]: %.2f\n",
+              device.latency_ns().percentile(99) / 1000.0);
   return 0;
 }
