@@ -5,6 +5,7 @@
 
 #include "devices/simulated_device.h"
 #include "devices/simulated_hand.h"
+#include "devices/simulated_scope.h"
 #include "devices/simulated_script.h"
 #include "devices/state_log.h"
 
@@ -62,6 +63,17 @@ DriverRegistry make_builtin() {
                  return DeviceResult::success(
                      std::make_unique<SimulatedHand>(std::move(*script.value), HandSettings{},
                                                      "simulated hand (" + script_name(path) + ")"));
+               });
+  registry.add("scope",
+               "scope[:SCRIPT.json]  a simulated 4-DOF scope at a portal above the demo block: "
+               "the script's tip targets through the fulcrum kinematics, forces on pitch, yaw and "
+               "insertion",
+               [](const std::string& path) -> DeviceResult {
+                 auto script = load_script("scope", path);
+                 if (!script) return DeviceResult::failure(script.error);
+                 return DeviceResult::success(std::make_unique<SimulatedScope>(
+                     std::move(*script.value), demo_scope_geometry(),
+                     "simulated scope (" + script_name(path) + ")"));
                });
   registry.add("replay", "replay:FILE[,device=N][,once]  plays a --record-states log",
                [](const std::string& argument) { return ReplayDevice::open(argument); });
