@@ -127,6 +127,13 @@ scenario(
     assert.ok(changed >= 10, `the picture changed in ${changed} of ${first.grid.length} sampled pixels`);
     const fps = Number(await metric(page, 'fps').textContent());
     assert.ok(fps > 0, `measured fps ${fps}`);
+    // The agent's link report arrives once a second: the haptic loop at about 1 kHz, a round
+    // trip, and device 0 with its model age.
+    await sees(metric(page, 'haptic_loop').filter({ hasText: / Hz$/ }), 'the haptic loop rate');
+    const loop_hz = Number((await metric(page, 'haptic_loop').textContent()).replace(' Hz', ''));
+    assert.ok(loop_hz > 500, `haptic loop ${loop_hz} Hz`);
+    await sees(metric(page, 'link').filter({ hasText: /^round trip [0-9.]+ ms/ }), 'the link round trip');
+    await sees(metric(page, 'haptic_devices').filter({ hasText: /^0: [0-9]+ ms/ }), 'device 0 in the link report');
 
     // Long enough a session that the middle of its recording is far from its start.
     await wait_for_canvas(page, 'live-canvas', { time_min: 6 }, 'six simulated seconds', 30_000);

@@ -25,6 +25,29 @@ export function parse_frame(data: ArrayBuffer): { header: FrameHeader; jpeg: Blo
   return { header, jpeg: new Blob([data.slice(header_bytes)], { type: 'image/jpeg' }) };
 }
 
+/** One device of the station as the agent's haptic loop sees it. */
+export interface DeviceLink {
+  index: number;
+  model_age_ms: number;
+  /** The watchdog's reason the force is off, "none" while it renders. */
+  fault: string;
+  force_n: number;
+  damping_ns_m: number;
+  dissipated_j: number;
+}
+
+/** The station link over the last second, as the agent reports it plus the server's loss_up. */
+export interface LinkReport {
+  loop_hz: number;
+  rtt_p50_ms: number;
+  rtt_p99_ms: number;
+  loss_down: number;
+  loss_up?: number;
+  states_sent: number;
+  states_held: number;
+  devices: DeviceLink[];
+}
+
 export interface StreamMetrics {
   state: 'running' | 'paused' | 'finished';
   reason: string;
@@ -39,6 +62,13 @@ export interface StreamMetrics {
   steps: number;
   sim_rate_hz: number;
   frames_sent: number;
+  /** Tools in the scene: 2 for a two-handed task. */
+  hands?: number;
+  /** The second hand's tool (two-handed tasks only). */
+  tool_2?: [number, number, number];
+  force_2_n?: number;
+  /** Live sessions: the station agent's latest link report (docs/api.md). */
+  link?: LinkReport;
   /** Replays only. */
   duration_s?: number;
   speed?: number;

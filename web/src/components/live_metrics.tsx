@@ -6,6 +6,10 @@ const state_labels: Record<StreamMetrics['state'], string> = {
   finished: 'Finished',
 };
 
+function percent(share: number): string {
+  return `${(share * 100).toFixed(1)} %`;
+}
+
 function seconds(value: number): string {
   return `${value.toFixed(1)} s`;
 }
@@ -28,16 +32,45 @@ const rows: Row[] = [
   { key: 'peak_force_n', label: 'Peak force', value: (m) => `${m.peak_force_n.toFixed(2)} N` },
   { key: 'path_length_m', label: 'Path length', value: (m) => `${m.path_length_m.toFixed(3)} m` },
   { key: 'contact', label: 'Tool contact', value: (m) => (m.contact ? 'Yes' : 'No') },
+  {
+    key: 'force_2_n',
+    label: 'Second tool force',
+    value: (m) => (m.force_2_n === undefined ? '—' : `${m.force_2_n.toFixed(2)} N`),
+  },
   { key: 'agent_online', label: 'Station agent', value: (m) => (m.agent_online ? 'Online' : 'Offline') },
+  {
+    key: 'link',
+    label: 'Station link',
+    value: (m) =>
+      m.link
+        ? `round trip ${m.link.rtt_p50_ms.toFixed(1)} ms (p99 ${m.link.rtt_p99_ms.toFixed(1)}), loss ${percent(m.link.loss_up ?? 0)} up / ${percent(m.link.loss_down)} down`
+        : '—',
+  },
+  { key: 'haptic_loop', label: 'Haptic loop', value: (m) => (m.link ? `${m.link.loop_hz.toFixed(0)} Hz` : '—') },
+  {
+    key: 'haptic_devices',
+    label: 'Devices (model age, force)',
+    value: (m) =>
+      m.link && m.link.devices.length > 0
+        ? m.link.devices
+            .map((d) => `${d.index}: ${d.model_age_ms.toFixed(0)} ms, ${d.fault === 'none' ? `${d.force_n.toFixed(2)} N` : `off (${d.fault})`}`)
+            .join('; ')
+        : '—',
+  },
   { key: 'fps', label: 'Frames per second (here)', value: (_, fps) => (fps === null ? '—' : fps.toFixed(1)) },
 ];
 
 /**
  * The latest metrics message as a list; "—" until the first one arrives. Replays leave out the
- * station agent, which only matters while a session is live.
+ * station agent and its link, which only matter while a session is live; one-handed sessions
+ * leave out the second tool.
  */
+const live_only = new Set(['agent_online', 'link', 'haptic_loop', 'haptic_devices']);
+
 export function LiveMetrics({ metrics, fps, replay }: { metrics: StreamMetrics | null; fps: number | null; replay: boolean }) {
-  const shown = replay ? rows.filter((row) => row.key !== 'agent_online') : rows;
+  const shown = rows.filter(
+    (row) => !(replay && live_only.has(row.key)) && !(row.key === 'force_2_n' && (metrics?.hands ?? 1) < 2),
+  );
   return (
     <dl className="metrics" aria-label={replay ? 'Replay metrics' : 'Live metrics'}>
       {shown.map((row) => (
