@@ -118,7 +118,9 @@ std::string build_welcome(const Welcome& welcome) {
                   {"station_id", welcome.station_id},
                   {"station_name", welcome.station_name}};
   if (!welcome.calibration.empty()) {
-    message["calibration"] = json::parse(welcome.calibration, nullptr, false);
+    // Only a JSON object goes out; anything else would make the whole welcome invalid.
+    json calibration = json::parse(welcome.calibration, nullptr, false);
+    if (calibration.is_object()) message["calibration"] = std::move(calibration);
   }
   return message.dump(-1, ' ', false, json::error_handler_t::replace);
 }
@@ -335,7 +337,8 @@ ParseResult<LinkReport> parse_link_report(std::string_view text) {
 
 std::string build_calibration_notice(const std::string& calibration_json) {
   json message = {{"type", "calibration"}};
-  message["calibration"] = json::parse(calibration_json, nullptr, false);
+  json calibration = json::parse(calibration_json, nullptr, false);
+  message["calibration"] = calibration.is_object() ? std::move(calibration) : json::object();
   return message.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 

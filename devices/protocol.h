@@ -93,9 +93,9 @@ inline constexpr std::size_t kMaxCloseReasonSize = 120;
 // Longest strings accepted in hello and welcome [bytes]: far above real use, small enough to
 // bound memory and logs.
 inline constexpr std::size_t kMaxStationTokenSize = 256;
-inline constexpr std::size_t kMaxNameSize = 128;
+inline constexpr std::size_t kMaxNameSize = 128;  // hello "agent", welcome "station_name"
 // A station has up to two devices (two hands): device_index 0 and 1.
-inline constexpr std::size_t kMaxStationDevices = 2;  // hello "agent", welcome "station_name"
+inline constexpr std::size_t kMaxStationDevices = 2;
 
 // How far |q| may stray from 1 before an orientation is rejected.
 inline constexpr double kUnitQuaternionTolerance = 1e-3;

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "db/stations_repo.h"
+#include "devices/kinematics.h"
 #include "devices/protocol.h"
 
 namespace incise::server {
@@ -89,7 +90,8 @@ void AgentSession::handle_text() {
   // The agent's view of the link, plus what only the server sees: device states lost on the
   // way up (gaps in the agent's sequence numbers) since the previous report.
   const std::uint64_t expected = window_states_ + window_states_lost_;
-  nlohmann::json link = nlohmann::json::parse(text);
+  // Re-serialised from what was parsed: only the known fields reach the viewers.
+  nlohmann::json link = nlohmann::json::parse(devices::build_link_report(*report.value));
   link.erase("type");
   link["loss_up"] = expected == 0
                         ? 0.0
@@ -116,6 +118,14 @@ void AgentSession::handle_hello() {
     db::StationsRepo stations(app_->db());
     station = stations.find_by_token(hello.value->station_token);
     if (station) calibration = stations.calibration(station->id);
+  }
+  if (station && !calibration.empty() && !devices::parse_station_calibration(calibration)) {
+    // Stored before a schema change, or edited by hand: the agent runs with identity mappings
+    // rather than never connecting; the admin sees the error on GET .../calibration.
+    std::cerr << "incise-server: station " << station->id
+              << " has an invalid stored calibration; sending none: "
+              << devices::parse_station_calibration(calibration).error << "\n";
+    calibration.clear();
   }
   if (!station) return do_close(websocket::close_code::policy_error, "unknown station token");
 
@@ -184,7 +194,9 @@ void AgentSession::handle_device_state() {
     return do_close(websocket::close_code::bad_payload, std::string(result.reason()));
   }
   const std::uint32_t sequence = result.message().header.sequence;
-  if (states_received_ > 0 && sequence - last_sequence_ > 1) {
+  // Unsigned: a wrap is a small gap, a repeat or a step back (never on TCP) is ignored.
+  if (states_received_ > 0 && sequence - last_sequence_ > 1 &&
+      sequence - last_sequence_ < 0x80000000u) {
     window_states_lost_ += sequence - last_sequence_ - 1;
   }
   ++window_states_;

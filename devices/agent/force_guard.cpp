@@ -20,9 +20,11 @@ double dot(const Vec3& a, const Vec3& b) {
 }
 
 // The slew limit lets a force component fall toward zero freely (the watchdog's fade must never
-// be held back), and moves it otherwise by at most step.
+// be held back), and moves it otherwise by at most step. A force that changes sign drops to zero
+// at once and rises from there: holding the old direction would push the hand the wrong way.
 double slew(double previous, double desired, double step) {
-  const bool falling = std::abs(desired) <= std::abs(previous) && desired * previous >= 0.0;
+  if (desired * previous < 0.0) previous = 0.0;
+  const bool falling = std::abs(desired) <= std::abs(previous);
   if (falling) return desired;
   return std::clamp(desired, previous - step, previous + step);
 }

@@ -93,18 +93,16 @@ void HapticLoop::tick_hand(Hand& hand, std::size_t index, Clock::time_point now,
   state.device_index = static_cast<uint8_t>(index);
   // Everything here runs in the device's frame: the server's model is mapped into it (virtual
   // work kept), and only the state sent to the server is mapped to the scene.
-  bool remap = false;
+  // A new mapping drops the model in hand: it answered a state mapped the old way. The next
+  // model renders (the watchdog fades out and back in meanwhile).
   Seqlock<WorkspaceMapping>& mapping_slot = channel_.mappings[index];
   if (mapping_slot.version() != hand.mapping_version) {
     hand.mapping = mapping_slot.read(hand.mapping_version);
-    remap = true;
+    hand.evaluator.clear();
   }
   Seqlock<ReceivedModel>& slot = channel_.models[index];
   if (slot.version() != hand.model_version) {
     hand.model = slot.read(hand.model_version);
-    remap = true;
-  }
-  if (remap && hand.model_version != 0) {
     hand.evaluator.set_model(hand.mapping.force_model_to_device(hand.model.model),
                              hand.model.received_at);
   }
@@ -147,6 +145,13 @@ void HapticLoop::tick_hand(Hand& hand, std::size_t index, Clock::time_point now,
   hand.fault = fault;
 
   const double factor = hand.fade.step(fault == GuardFault::None);
+  // Once the force is off, what the guard remembers (velocity, energy credit or debt, the slew's
+  // last force) belongs to before the fault: the hand may have moved, the link changed. Start
+  // afresh, tracking from this tick's position.
+  if (factor == 0.0 && fault != GuardFault::None) {
+    hand.guard.reset();
+    if (finite) hand.guard.track(x, dt);
+  }
   Vec3 desired;
   if (factor > 0.0 && finite) {
     const Vec3 coupled =

@@ -229,7 +229,7 @@ std::string agent_usage() {
 Bridges this station's haptic devices (one per hand, at most two) to the Incise server. A 1 kHz
 haptic loop polls the devices and renders the latest local force model the server sent for each,
 through a virtual coupling, a passivity guard and per-axis force limits; a watchdog fades the
-force to zero within 10 ms of any fault (link down, no model for 30 ms, a model answering a
+force to zero within 10 ms of any fault (link down, no model for 15 ms, a model answering a
 state over 300 ms old, a device fault). Device states go to the server over its /agent
 WebSocket (held back while the hand is still), which is reconnected (0.25 s backoff doubling to
 5 s) when it drops. SIGUSR1 logs the loop and link statistics (they are also logged at exit).

@@ -299,7 +299,8 @@ void StationLink::on_read(beast::error_code ec, std::size_t) {
     // The server numbers its frames: a gap is force models lost on the way (TCP loses nothing,
     // but a proxy or a lossy transport may).
     const uint32_t sequence = result.message().header.sequence;
-    if (models_seen_ > 0 && sequence - last_model_sequence_ > 1) {
+    if (models_seen_ > 0 && sequence - last_model_sequence_ > 1 &&
+        sequence - last_model_sequence_ < 0x80000000u) {
       const uint32_t lost = sequence - last_model_sequence_ - 1;
       window_.models_lost += lost;
       stats_.models_lost += lost;
@@ -449,6 +450,9 @@ void StationLink::finish(LinkEnd::Kind kind, std::string reason) {
   if (finished_) return;
   finished_ = true;
   channel_.link_up.store(false, std::memory_order_release);
+  // The next link measures its own round trip.
+  for (DeviceTelemetry& t : channel_.telemetry)
+    t.round_trip_us.store(0, std::memory_order_relaxed);
   welcome_timer_.cancel();
   drain_timer_.cancel();
   // Abort whatever is still pending (a read after a failed write); after a clean close the

@@ -10,6 +10,8 @@
 
 namespace incise::server::api {
 
+using devices::ParseResult;
+
 ApiResponse list_stations(ApiContext& ctx) {
   ctx.user();
   auto out = nlohmann::json::array();
@@ -45,8 +47,15 @@ ApiResponse get_station_calibration(ApiContext& ctx) {
                    "station " + std::to_string(ctx.path_id) + " does not exist");
   }
   const auto stored = stations.calibration(ctx.path_id);
-  const auto calibration = stored.empty() ? devices::default_station_calibration()
-                                          : *devices::parse_station_calibration(stored).value;
+  auto parsed = stored.empty() ? ParseResult<devices::StationCalibration>::success(
+                                     devices::default_station_calibration())
+                               : devices::parse_station_calibration(stored);
+  if (!parsed) {
+    throw ApiError(http::status::internal_server_error, "the stored calibration of station " +
+                                                            std::to_string(ctx.path_id) +
+                                                            " is invalid: " + parsed.error);
+  }
+  const auto& calibration = *parsed.value;
   return {http::status::ok,
           {{"station_id", ctx.path_id},
            {"default", stored.empty()},
@@ -66,6 +75,13 @@ ApiResponse put_station_calibration(ApiContext& ctx) {
   if (!station) {
     throw ApiError(http::status::not_found,
                    "station " + std::to_string(ctx.path_id) + " does not exist");
+  }
+  // Remapping a hand that is touching tissue would move its tool in the scene at once.
+  if (const auto session = ctx.app.live_sessions().active_at(ctx.path_id)) {
+    throw ApiError(http::status::conflict, "station " + std::to_string(ctx.path_id) +
+                                               " is busy with session " +
+                                               std::to_string(session->session_id()) +
+                                               "; change its calibration when no session runs");
   }
   stations.set_calibration(ctx.path_id, text);
   db::AuditRepo(ctx.app.db()).record(admin.id, "station.calibrate", station->name, ctx.now);

@@ -68,11 +68,14 @@ void SimEngine::tick(std::span<const devices::DeviceState> inputs) {
     }
     simulation_.step(node_forces_);
   }
+  const sim::Vec3 parked(0, 0, kParkedToolHeight);
   for (int h = 0; h < n; ++h) {
     const auto i = static_cast<std::size_t>(h);
     hand_[i].path_length_m += (to[i] - from[i]).norm();
     hand_[i].tip = to[i];
-    hand_[i].has_input = true;
+    // A hand at the parked position has not reported yet (a two-handed session's second device
+    // comes a little later): its first real state must not sweep it in from the park.
+    hand_[i].has_input = to[i] != parked;
     hand_[i].last_input = inputs[i];
   }
   const sim::ToolContact& primary = hand_[0].contact;

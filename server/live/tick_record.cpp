@@ -78,6 +78,14 @@ std::string decode_tick_records(std::span<const std::uint8_t> chunk, std::vector
       out.back().second = hand;
       continue;
     }
+    // Every tick of a recording has the same hands: a two-handed tick after a one-handed one
+    // (or the reverse) is a corrupt chunk.
+    if (out.size() >= 2 && out[out.size() - 1].has_second != out[out.size() - 2].has_second) {
+      return "tick " + std::to_string(out.back().tick) + " has " +
+             (out.back().has_second ? "two hands" : "one hand") + ", tick " +
+             std::to_string(out[out.size() - 2].tick) + " had " +
+             (out[out.size() - 2].has_second ? "two" : "one");
+    }
     TickRecord r;
     r.tick = tick;
     r.input = hand.input;
@@ -86,6 +94,12 @@ std::string decode_tick_records(std::span<const std::uint8_t> chunk, std::vector
       return "tick " + std::to_string(r.tick) + " follows tick " + std::to_string(out.back().tick);
     }
     out.push_back(r);
+  }
+  if (out.size() >= 2 && out[out.size() - 1].has_second != out[out.size() - 2].has_second) {
+    return "tick " + std::to_string(out.back().tick) + " has " +
+           (out.back().has_second ? "two hands" : "one hand") + ", tick " +
+           std::to_string(out[out.size() - 2].tick) + " had " +
+           (out[out.size() - 2].has_second ? "two" : "one");
   }
   return "";
 }

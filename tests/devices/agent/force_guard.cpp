@@ -231,11 +231,12 @@ TEST(ForceGuardFinish, SlewLimitsARisingForceButLetsItFallAtOnce) {
   // Falling toward zero is never held back: the watchdog's fade must be felt at once.
   EXPECT_EQ(guard.finish({2.0, 0.0, -1.0}, kDt), (Vec3{2.0, 0.0, -1.0}));
   EXPECT_EQ(guard.finish({0.0, 0.0, 0.0}, kDt), (Vec3{}));
-  // Through zero to the other sign counts as rising: one step per tick again.
+  // A change of sign drops to zero at once and rises from there, one step per tick: the old
+  // direction is never held.
   guard.finish({2.0, 0.0, 0.0}, kDt);
   guard.finish({2.0, 0.0, 0.0}, kDt);
-  EXPECT_DOUBLE_EQ(guard.finish({-2.0, 0.0, 0.0}, kDt).x, 2.0 - step);
-  EXPECT_DOUBLE_EQ(guard.finish({-2.0, 0.0, 0.0}, kDt).x, 2.0 - 2 * step);
+  EXPECT_DOUBLE_EQ(guard.finish({-2.0, 0.0, 0.0}, kDt).x, -step);
+  EXPECT_DOUBLE_EQ(guard.finish({-2.0, 0.0, 0.0}, kDt).x, -2 * step);
   // A longer tick allows a proportionally larger step.
   EXPECT_DOUBLE_EQ(guard.finish({5.0, 0.0, 0.0}, 3 * kDt).x, 3 * step);
 }

@@ -186,6 +186,13 @@ TEST(TickRecord, TwoHandedRecordsRoundTripAndAMisplacedSecondHandIsRejected) {
   }
   EXPECT_EQ(encode(decoded), bytes);
 
+  // A one-handed tick among two-handed ones is refused.
+  Bytes mixed(bytes.begin(), bytes.begin() + 2 * kTickRecordSize);
+  mixed.insert(mixed.end(), bytes.begin() + 2 * kTickRecordSize,
+               bytes.begin() + 3 * kTickRecordSize);  // tick 1's first hand only
+  std::vector<TickRecord> mixed_out;
+  EXPECT_EQ(decode_tick_records(mixed, mixed_out), "tick 1 has one hand, tick 0 had two");
+
   // A second hand's record alone, or after another tick's first, is refused.
   const Bytes second_first(bytes.begin() + kTickRecordSize, bytes.begin() + 2 * kTickRecordSize);
   std::vector<TickRecord> out;
