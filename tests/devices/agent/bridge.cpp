@@ -167,5 +167,28 @@ TEST(HapticBridge, ALinkCutFadesTheForceToZeroWithinTenMilliseconds) {
   running.stop();
 }
 
+// A silent cut (the cable is out, the socket does not notice: the proxy just stops delivering):
+// no model for kModelMaxGap is a fault, so the force is gone 15 + 10 ms after the last model.
+TEST(HapticBridge, ASilentCutFadesTheForceToZeroWithinTwentyFiveMsOfTheLastModel) {
+  RecordingDevice device;
+  device.set_position(kTip);
+  FakeStationBehaviour behaviour;
+  behaviour.force_model = server_model();
+  FakeStationServer server(behaviour);
+  ImpairedLink link("127.0.0.1", server.port(), {});
+  RunningAgent running("ws://127.0.0.1:" + std::to_string(link.port()) + "/agent", device);
+  ASSERT_TRUE(wait_until([&] { return near(device.last_force(), kExpected); }, 3s));
+
+  // From now on every frame takes a minute: nothing more arrives, nothing is closed.
+  link.set_impairment({.delay = std::chrono::seconds(60)});
+  const auto silent_from = Clock::now();
+  ASSERT_TRUE(wait_until([&] { return device.last_force() == Vec3{}; }, 1s));
+  const auto after = Clock::now() - silent_from;
+  // 15 ms without a model, then 10 ticks of fade; plus scheduling on a loaded machine.
+  EXPECT_GE(after, 20ms);
+  EXPECT_LT(after, 60ms);
+  running.stop();
+}
+
 }  // namespace
 }  // namespace incise::devices::agent::testing
