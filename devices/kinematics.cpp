@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "devices/json_read.h"
+
 namespace incise::devices {
 namespace {
 
@@ -254,6 +256,7 @@ PenForces PenDevice::joint_forces(const Vec3& tip_force_n, const Vec3& tip_torqu
 namespace {
 
 using nlohmann::json;
+using namespace json_read;
 
 std::string number(double value) {
   char text[32];
@@ -304,34 +307,6 @@ std::string check_mapping(const WorkspaceMapping& m, const std::string& path) {
     return error;
   }
   return check_point(m.offset, path + ".offset");
-}
-
-std::string index_path(const std::string& path, std::size_t i) {
-  return path + "[" + std::to_string(i) + "]";
-}
-
-std::string wrong_type(const std::string& path, const char* expected, const json& value) {
-  return path + ": must be " + expected + ", got " + value.type_name();
-}
-
-std::string read_number(const json& value, const std::string& path, double& out) {
-  if (!value.is_number()) return wrong_type(path, "a number", value);
-  out = value.get<double>();
-  return {};
-}
-
-std::string read_numbers(const json& value, const std::string& path, std::size_t n, double* out) {
-  if (!value.is_array()) return wrong_type(path, "an array", value);
-  if (value.size() != n) {
-    return path + ": must have " + std::to_string(n) + " numbers, got " +
-           std::to_string(value.size());
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    if (auto error = read_number(value[i], index_path(path, i), out[i]); !error.empty()) {
-      return error;
-    }
-  }
-  return {};
 }
 
 std::string read_vec3(const json& value, const std::string& path, Vec3& out) {

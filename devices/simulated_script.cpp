@@ -5,12 +5,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include "devices/json_read.h"
+
 #include "devices/protocol.h"
 
 namespace incise::devices {
 namespace {
 
 using nlohmann::json;
+using namespace json_read;
 
 // The tremor of a resting hand is a fraction of a millimetre; more than a centimetre is a typo.
 constexpr double kMaxJitter = 0.01;
@@ -19,35 +22,6 @@ std::string number(double value) {
   char text[32];
   std::snprintf(text, sizeof text, "%g", value);
   return text;
-}
-
-std::string index_path(const std::string& path, std::size_t i) {
-  return path + "[" + std::to_string(i) + "]";
-}
-
-std::string wrong_type(const std::string& path, const char* expected, const json& value) {
-  return path + ": must be " + expected + ", got " + value.type_name();
-}
-
-std::string read_number(const json& value, const std::string& path, double& out) {
-  if (!value.is_number()) return wrong_type(path, "a number", value);
-  out = value.get<double>();
-  return {};
-}
-
-// Reads an array of exactly n numbers into out[0..n).
-std::string read_numbers(const json& value, const std::string& path, std::size_t n, double* out) {
-  if (!value.is_array()) return wrong_type(path, "an array", value);
-  if (value.size() != n) {
-    return path + ": must have " + std::to_string(n) + " numbers, got " +
-           std::to_string(value.size());
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    if (auto error = read_number(value[i], index_path(path, i), out[i]); !error.empty()) {
-      return error;
-    }
-  }
-  return {};
 }
 
 std::string read_waypoint(const json& value, const std::string& path, Waypoint& waypoint) {
