@@ -94,7 +94,9 @@ TEST(HapticBridge, StreamsStatesAndRendersTheServersForceModels) {
                       std::chrono::duration<double>(Clock::now() - start).count();
   EXPECT_GE(rate, 250.0);
   EXPECT_LE(rate, 550.0);
-  EXPECT_TRUE(near(device.last_force(), kExpected));
+  // Still rendering (a loaded machine may starve the fake server for more than the model gap
+  // now and then: the watchdog fades out and back, so allow a moment to be back).
+  EXPECT_TRUE(wait_until([&] { return near(device.last_force(), kExpected); }, 500ms));
 
   // The server goes away: the force fades to exactly zero (within 10 ticks of the drop; the
   // bound here only allows for a slow machine noticing the drop).
