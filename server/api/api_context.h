@@ -22,9 +22,17 @@ using Request = http::request<http::string_body>;
 using Response = http::response<http::string_body>;
 
 struct ApiResponse {
+  using Headers = std::vector<std::pair<std::string, std::string>>;
+  ApiResponse() = default;
+  ApiResponse(http::status status, nlohmann::json body, Headers headers = {})
+      : status(status), body(std::move(body)), headers(std::move(headers)) {}
+
   http::status status = http::status::ok;
   nlohmann::json body;  // null for 204
   std::vector<std::pair<std::string, std::string>> headers;
+  // A body that is not JSON (a CSV export): sent as it is with this Content-Type.
+  std::optional<std::string> text_body;
+  std::string content_type;
 };
 
 class ApiContext {

@@ -1,7 +1,13 @@
+#include <cstdio>
+#include <string>
+#include <string_view>
+
+#include "db/audit_repo.h"
 #include "db/curricula_repo.h"
 #include "db/training_repo.h"
 #include "server/api/handlers.h"
 #include "server/api/json_views.h"
+#include "server/time_text.h"
 
 namespace incise::server::api {
 
@@ -31,6 +37,53 @@ ApiResponse list_recordings(ApiContext& ctx) {
 
 ApiResponse list_scores(ApiContext& ctx) {
   return as_list(db::TrainingRepo(ctx.app.db()).scores(visible_trainee(ctx)));
+}
+
+namespace {
+
+// One CSV field (RFC 4180): quoted when it holds a comma, a quote or a line break, quotes
+// doubled. A text field a spreadsheet would read as a formula (=, +, -, @, tab, CR first) gets a
+// leading apostrophe, so that an export opened in a spreadsheet never runs a trainee's name.
+std::string csv_text(const std::string& text) {
+  std::string field = text;
+  if (!field.empty() &&
+      std::string_view("=+-@\t\r").find(field.front()) != std::string_view::npos) {
+    field.insert(field.begin(), '\'');
+  }
+  if (field.find_first_of(",\"\r\n") == std::string::npos) return field;
+  std::string quoted = "\"";
+  for (const char c : field) {
+    if (c == '"') quoted += '"';
+    quoted += c;
+  }
+  return quoted + "\"";
+}
+
+std::string csv_number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
+}
+
+}  // namespace
+
+ApiResponse export_scores_csv(ApiContext& ctx) {
+  const auto& admin = ctx.require_role({db::Role::admin});
+  std::string csv = "score_id,session_id,trainee,task,metric,value,unit,passed,created_at\r\n";
+  const auto scores = db::TrainingRepo(ctx.app.db()).scores();
+  for (const auto& s : scores) {
+    csv += std::to_string(s.id) + "," + std::to_string(s.session_id) + "," + csv_text(s.trainee) +
+           "," + csv_text(s.task) + "," + csv_text(s.metric) + "," + csv_number(s.value) + "," +
+           csv_text(s.unit) + "," + (s.passed ? "true" : "false") + "," + format_utc(s.created_at) +
+           "\r\n";
+  }
+  db::AuditRepo(ctx.app.db())
+      .record(admin.id, "export.scores", std::to_string(scores.size()) + " rows", ctx.now);
+  ApiResponse out;
+  out.text_body = std::move(csv);
+  out.content_type = "text/csv; charset=utf-8";
+  out.headers = {{"Content-Disposition", "attachment; filename=\"incise-scores.csv\""}};
+  return out;
 }
 
 ApiResponse list_curricula(ApiContext& ctx) {

@@ -43,6 +43,7 @@ constexpr std::array kRoutes = {
     Route{http::verb::post, "/api/sessions/{id}/stop", api::stop_session},
     Route{http::verb::get, "/api/recordings", api::list_recordings},
     Route{http::verb::get, "/api/scores", api::list_scores},
+    Route{http::verb::get, "/api/exports/scores.csv", api::export_scores_csv},
     Route{http::verb::get, "/api/curricula", api::list_curricula},
 };
 
@@ -142,7 +143,10 @@ Response handle_api_request(const Request& request, AppState& app, const std::st
     res.set(http::field::cache_control, "no-store");
     for (const auto& [name, value] : out.headers)
       res.insert(name, value);
-    if (out.status != http::status::no_content) {
+    if (out.text_body) {
+      res.set(http::field::content_type, out.content_type);
+      res.body() = *out.text_body;
+    } else if (out.status != http::status::no_content) {
       res.set(http::field::content_type, "application/json");
       res.body() = out.body.dump();
     }

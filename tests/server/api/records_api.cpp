@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "api/api_test_app.h"
 #include "db/training_repo.h"
+#include "server/time_text.h"
 
 namespace incise::server::test {
 namespace {
@@ -108,6 +110,80 @@ TEST_F(RecordsApi, HealthNeedsNoLogin) {
   ASSERT_EQ(response.result(), http::status::ok);
   EXPECT_EQ(json_of(response)["status"], "ok");
   EXPECT_TRUE(json_of(response)["version"].is_string());
+}
+
+// A minimal RFC 4180 reader for the test: rows of fields, quotes undone.
+std::vector<std::vector<std::string>> parse_csv(const std::string& text) {
+  std::vector<std::vector<std::string>> rows(1);
+  std::string field;
+  bool quoted = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') {
+        field += '"';
+        ++i;
+      } else if (c == '"') {
+        quoted = false;
+      } else {
+        field += c;
+      }
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      rows.back().push_back(std::move(field));
+      field.clear();
+    } else if (c == '\r' && i + 1 < text.size() && text[i + 1] == '\n') {
+      rows.back().push_back(std::move(field));
+      field.clear();
+      rows.emplace_back();
+      ++i;
+    } else {
+      field += c;
+    }
+  }
+  if (rows.back().empty()) rows.pop_back();
+  return rows;
+}
+
+TEST_F(RecordsApi, AdminsExportEveryScoreAsCsvThatReadsBackExactly) {
+  // A task name a spreadsheet would trip over: a comma, quotes, a line break, a formula.
+  db::TrainingRepo training(db());
+  const auto other = add_trainee("trainee3");
+  const std::string task = "=HYPERLINK(\"x\"), cut \"A\"\nline 2";
+  const auto session = training.create_session(other, std::nullopt, task, now());
+  training.add_score(session, "peak_force_n", 0.1 + 0.2, "N", false, now() + 5);
+
+  for (const Who who : {Who::trainee, Who::instructor}) {
+    EXPECT_EQ(get("/api/exports/scores.csv", session_of(who)).result_int(), 403) << name_of(who);
+  }
+  const auto response = get("/api/exports/scores.csv", session_of(Who::admin));
+  ASSERT_EQ(response.result_int(), 200);
+  EXPECT_EQ(response[http::field::content_type], "text/csv; charset=utf-8");
+  EXPECT_EQ(response["Content-Disposition"], "attachment; filename=\"incise-scores.csv\"");
+  const auto rows = parse_csv(response.body());
+  ASSERT_EQ(rows.size(), 1u + 5u);  // the header, the demo trainee's 3, trainee2's 1, this one
+  EXPECT_EQ(rows[0], (std::vector<std::string>{"score_id", "session_id", "trainee", "task",
+                                               "metric", "value", "unit", "passed", "created_at"}));
+  const auto scores = training.scores();
+  ASSERT_EQ(scores.size(), 5u);
+  for (std::size_t i = 0; i < scores.size(); ++i) {
+    const auto& row = rows[i + 1];
+    ASSERT_EQ(row.size(), 9u) << i;
+    EXPECT_EQ(row[0], std::to_string(scores[i].id));
+    EXPECT_EQ(row[1], std::to_string(scores[i].session_id));
+    EXPECT_EQ(row[2], scores[i].trainee);
+    // A formula-looking text starts with an apostrophe; everything else is as stored.
+    const bool formula = scores[i].task.front() == '=';
+    EXPECT_EQ(row[3], formula ? "'" + scores[i].task : scores[i].task);
+    EXPECT_EQ(row[4], scores[i].metric);
+    EXPECT_EQ(std::stod(row[5]), scores[i].value);  // %.17g: the double exactly
+    EXPECT_EQ(row[6], scores[i].unit);
+    EXPECT_EQ(row[7], scores[i].passed ? "true" : "false");
+    EXPECT_EQ(row[8], format_utc(scores[i].created_at));
+  }
+  // The export is in the audit log.
+  EXPECT_EQ(count("audit_log WHERE action = 'export.scores'"), 1);
 }
 
 }  // namespace
