@@ -27,6 +27,8 @@ ApiResponse list_recordings(ApiContext& ctx);
 ApiResponse list_scores(ApiContext& ctx);
 // admin: every score as CSV (RFC 4180), one row per metric of an attempt; audited.
 ApiResponse export_scores_csv(ApiContext& ctx);
+// admin: the latest 200 audit entries, newest first.
+ApiResponse list_audit(ApiContext& ctx);
 ApiResponse list_curricula(ApiContext& ctx);
 ApiResponse start_session(ApiContext& ctx);
 ApiResponse get_session(ApiContext& ctx);

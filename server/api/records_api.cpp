@@ -86,6 +86,19 @@ ApiResponse export_scores_csv(ApiContext& ctx) {
   return out;
 }
 
+ApiResponse list_audit(ApiContext& ctx) {
+  ctx.require_role({db::Role::admin});
+  auto out = nlohmann::json::array();
+  for (const auto& e : db::AuditRepo(ctx.app.db()).list()) {
+    out.push_back({{"id", e.id},
+                   {"at", format_utc(e.at)},
+                   {"user_id", e.user_id ? nlohmann::json(*e.user_id) : nlohmann::json(nullptr)},
+                   {"action", e.action},
+                   {"detail", e.detail}});
+  }
+  return {http::status::ok, std::move(out)};
+}
+
 ApiResponse list_curricula(ApiContext& ctx) {
   ctx.user();
   return as_list(db::CurriculaRepo(ctx.app.db()).list());

@@ -186,5 +186,24 @@ TEST_F(RecordsApi, AdminsExportEveryScoreAsCsvThatReadsBackExactly) {
   EXPECT_EQ(count("audit_log WHERE action = 'export.scores'"), 1);
 }
 
+TEST_F(RecordsApi, OnlyAdminsReadTheAuditLogNewestFirst) {
+  for (const Who who : {Who::trainee, Who::instructor}) {
+    EXPECT_EQ(get("/api/audit", session_of(who)).result_int(), 403) << name_of(who);
+  }
+  const auto admin = session_of(Who::admin);
+  // Two audited actions by the admin: a station, then an export.
+  ASSERT_EQ(post("/api/stations", {{"name", "Bench 9"}}, admin).result_int(), 201);
+  ASSERT_EQ(get("/api/exports/scores.csv", admin).result_int(), 200);
+  const auto entries = json_of(get("/api/audit", admin));
+  ASSERT_TRUE(entries.is_array());
+  ASSERT_GE(entries.size(), 2u);
+  EXPECT_EQ(entries[0]["action"], "export.scores");
+  EXPECT_EQ(entries[1]["action"], "station.create");
+  EXPECT_EQ(entries[1]["detail"], "Bench 9");
+  EXPECT_EQ(entries[0]["user_id"], entries[1]["user_id"]);
+  EXPECT_GT(entries[0]["id"].get<std::int64_t>(), entries[1]["id"].get<std::int64_t>());
+  EXPECT_TRUE(parse_utc(entries[0]["at"].get<std::string>()).has_value());
+}
+
 }  // namespace
 }  // namespace incise::server::test
