@@ -1,5 +1,6 @@
 #include "server/live/scoring.h"
 
+#include <cmath>
 #include <stdexcept>
 
 #include "db/recordings_repo.h"
@@ -32,16 +33,53 @@ std::vector<curriculum::ToolSample> tool_samples(const std::vector<TickRecord>& 
   return samples;
 }
 
+std::vector<curriculum::HandSample> hand_samples(const std::vector<TickRecord>& ticks,
+                                                 double tick_s, int hand) {
+  std::vector<curriculum::HandSample> samples;
+  samples.reserve(ticks.size());
+  for (const auto& r : ticks) {
+    const devices::DeviceState& s = hand == 0 ? r.input : r.second.input;
+    const float* f = hand == 0 ? r.force : r.second.force;
+    samples.push_back({static_cast<double>(r.tick) * tick_s,
+                       {s.position.x, s.position.y, s.position.z},
+                       {s.orientation.w, s.orientation.x, s.orientation.y, s.orientation.z},
+                       static_cast<double>(s.jaw),
+                       {f[0], f[1], f[2]}});
+  }
+  return samples;
+}
+
+std::vector<curriculum::MetricValue> session_metrics(const std::vector<TickRecord>& ticks,
+                                                     double tick_s) {
+  // The basic metrics first: where a motion metric has the same key, score_attempt takes the
+  // first.
+  auto values = curriculum::basic_metrics(tool_samples(ticks, tick_s));
+  const auto right = hand_samples(ticks, tick_s, 0);
+  for (auto& v : curriculum::hand_metrics(right))
+    values.push_back(std::move(v));
+  if (!ticks.empty() && ticks.front().has_second) {
+    const auto left = hand_samples(ticks, tick_s, 1);
+    for (auto v : curriculum::hand_metrics(left)) {
+      v.key += "_left";
+      values.push_back(std::move(v));
+    }
+    for (auto& v : curriculum::bimanual_metrics(right, left))
+      values.push_back(std::move(v));
+  }
+  return values;
+}
+
 std::vector<curriculum::MetricResult> score_session(db::Database& db, std::int64_t session_id,
                                                     std::int64_t recording_id,
                                                     const curriculum::Task& task, double tick_s,
                                                     std::int64_t now) {
-  const auto samples = tool_samples(load_tick_records(db, recording_id), tick_s);
-  const auto values = curriculum::basic_metrics(samples);
+  const auto values = session_metrics(load_tick_records(db, recording_id), tick_s);
   auto results = curriculum::score_attempt(task, values);
   std::vector<db::ScoreInput> scores;
-  for (const auto& r : results)
-    scores.push_back({r.key, r.value, r.unit, r.passed});
+  for (const auto& r : results) {
+    // An undefined metric (the smoothness of a tool that never moved: NaN) fails; stored as 0.
+    scores.push_back({r.key, std::isfinite(r.value) ? r.value : 0.0, r.unit, r.passed});
+  }
   db::TrainingRepo(db).add_scores(session_id, scores, now);
   return results;
 }

@@ -7,6 +7,7 @@
 
 #include "curriculum/curriculum.h"
 #include "curriculum/metrics.h"
+#include "curriculum/motion_metrics.h"
 #include "db/database.h"
 #include "server/live/tick_record.h"
 
@@ -19,6 +20,16 @@ std::vector<TickRecord> load_tick_records(db::Database& db, std::int64_t recordi
 // The recorded stream as the metrics take it: one sample per tick at t = tick * tick_s.
 std::vector<curriculum::ToolSample> tool_samples(const std::vector<TickRecord>& ticks,
                                                  double tick_s);
+
+// One hand's recorded stream (hand 0, or 1 of a two-handed recording) as the motion metrics take
+// it.
+std::vector<curriculum::HandSample> hand_samples(const std::vector<TickRecord>& ticks,
+                                                 double tick_s, int hand);
+
+// Every metric of a recording: the basic ones, each hand's motion metrics (the second hand's
+// keys end in "_left") and, with two hands, the bimanual ones. A task scores those it names.
+std::vector<curriculum::MetricValue> session_metrics(const std::vector<TickRecord>& ticks,
+                                                     double tick_s);
 
 // Computes the task's metrics from the recording and stores them as the session's scores (one
 // transaction). Returns the results.

@@ -152,6 +152,49 @@ TEST_F(ScoreSession, StoresTheCurriculumsMetricsOfTheRecordingWithTheirPassFlags
   }
 }
 
+// A two-handed recording scores both hands: the right hand moves straight along x at 5 cm/s
+// for 2 s; the left hand either mirrors it or holds still.
+TEST_F(ScoreSession, TwoHandedRecordingsScoreEachHandAndTheirCoordination) {
+  for (const bool left_moves : {true, false}) {
+    SCOPED_TRACE(left_moves ? "left hand moves" : "left hand still");
+    std::vector<TickRecord> records(1000);
+    for (std::uint32_t i = 0; i < records.size(); ++i) {
+      TickRecord& r = records[i];
+      r.tick = i;
+      const double x = 0.01 + 0.05 * i * kTickS;
+      r.input.position = {x, 0.04, 0.04};
+      r.has_second = true;
+      r.second.input.device_index = 1;
+      r.second.input.position = {left_moves ? x : 0.01, 0.02, 0.04};
+    }
+    const auto values = session_metrics(records, kTickS);
+    // The right hand: a straight line, 0.05 m/s for 999 ticks.
+    EXPECT_NEAR(value_of(values, "path_length_m"), 0.05 * 999 * kTickS, 1e-12);
+    EXPECT_NEAR(value_of(values, "economy_of_motion"), 1.0, 1e-12);
+    EXPECT_EQ(value_of(values, "movements"), 1.0);
+    // The left hand's metrics carry the suffix; the coordination compares them.
+    EXPECT_NEAR(value_of(values, "path_length_m_left"), left_moves ? 0.05 * 999 * kTickS : 0.0,
+                1e-12);
+    EXPECT_NEAR(value_of(values, "path_length_ratio"), left_moves ? 1.0 : 0.0, 1e-12);
+    EXPECT_NEAR(value_of(values, "bimanual_dexterity"), left_moves ? 1.0 : 0.0, 1e-12);
+
+    // A task that asks for both hands moving together passes only when they do.
+    curriculum::Task task;
+    task.metrics = {{"bimanual_dexterity", {curriculum::ThresholdOp::at_least, 0.5}, ""}};
+    const auto session =
+        db::TrainingRepo(db_).create_session(trainee_, std::nullopt, "bimanual", kNow);
+    const auto recording = recordings_.create(session, "scenes/palpation.json", "0123456789abcdef",
+                                              0, 1 / kTickS, kNow);
+    std::vector<std::uint8_t> chunk;
+    for (const auto& r : records)
+      append_tick_record(r, chunk);
+    recordings_.append_chunk(recording, 0, 0, chunk, 1000 * kTickS);
+    const auto results = score_session(db_, session, recording, task, kTickS, kNow + 60);
+    ASSERT_EQ(results.size(), 1u);
+    EXPECT_EQ(results[0].passed, left_moves);
+  }
+}
+
 TEST_F(ScoreSession, LoadsEveryChunkInOrder) {
   const auto records = wandering_records(0, 600, 3);
   record(records, 7);
