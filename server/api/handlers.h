@@ -27,6 +27,10 @@ ApiResponse list_recordings(ApiContext& ctx);
 ApiResponse list_scores(ApiContext& ctx);
 // admin: every score as CSV (RFC 4180), one row per metric of an attempt; audited.
 ApiResponse export_scores_csv(ApiContext& ctx);
+// Proficiency-based progression: the caller's own, or (instructors, admins, the trainee
+// themself) a trainee's: per task attempts, the current run of passes, mastered, unlocked.
+ApiResponse my_progress(ApiContext& ctx);
+ApiResponse trainee_progress(ApiContext& ctx);
 // admin: the latest 200 audit entries, newest first.
 ApiResponse list_audit(ApiContext& ctx);
 ApiResponse list_curricula(ApiContext& ctx);

@@ -45,6 +45,8 @@ constexpr std::array kRoutes = {
     Route{http::verb::get, "/api/scores", api::list_scores},
     Route{http::verb::get, "/api/exports/scores.csv", api::export_scores_csv},
     Route{http::verb::get, "/api/audit", api::list_audit},
+    Route{http::verb::get, "/api/progress", api::my_progress},
+    Route{http::verb::get, "/api/trainees/{id}/progress", api::trainee_progress},
     Route{http::verb::get, "/api/curricula", api::list_curricula},
 };
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "api/api_test_app.h"
+#include "db/auth_sessions_repo.h"
 #include "db/training_repo.h"
 #include "server/time_text.h"
 
@@ -203,6 +204,57 @@ TEST_F(RecordsApi, OnlyAdminsReadTheAuditLogNewestFirst) {
   EXPECT_EQ(entries[0]["user_id"], entries[1]["user_id"]);
   EXPECT_GT(entries[0]["id"].get<std::int64_t>(), entries[1]["id"].get<std::int64_t>());
   EXPECT_TRUE(parse_utc(entries[0]["at"].get<std::string>()).has_value());
+}
+
+// The demo curriculum: palpation (3 consecutive passes), then two-handed palpation (needs it).
+TEST_F(RecordsApi, ProgressUnlocksTheNextTaskAfterEnoughConsecutivePasses) {
+  const auto tess = add_trainee("tess");
+  db::TrainingRepo training(db());
+  std::int64_t t = now();
+  // One finished palpation attempt, every metric passed or not.
+  const auto attempt = [&](bool pass) {
+    const auto session = training.create_session(tess, std::nullopt, "palpation", t);
+    training.set_session_state(session, "finished", ++t);
+    training.add_score(session, "completion_time_s", 60.0, "s", true, t);
+    training.add_score(session, "peak_force_n", 3.0, "N", pass, t);
+  };
+  const auto token = db::AuthSessionsRepo(db()).create(tess, now(), 3600);
+  const auto task_of = [&](const std::string& key) {
+    const auto progress = json_of(get("/api/progress", token));
+    for (const auto& task : progress["tasks"])
+      if (task["key"] == key) return task;
+    return nlohmann::json();
+  };
+  EXPECT_TRUE(task_of("palpation")["unlocked"].get<bool>());
+  EXPECT_FALSE(task_of("bimanual_palpation")["unlocked"].get<bool>());
+
+  attempt(true);
+  attempt(true);
+  attempt(false);  // a failure starts the count again
+  attempt(true);
+  attempt(true);
+  auto palpation = task_of("palpation");
+  EXPECT_EQ(palpation["attempts"], 5);
+  EXPECT_EQ(palpation["passed_attempts"], 4);
+  EXPECT_EQ(palpation["consecutive_passes"], 2);
+  EXPECT_EQ(palpation["required_passes"], 3);
+  EXPECT_FALSE(palpation["mastered"].get<bool>());
+  EXPECT_FALSE(task_of("bimanual_palpation")["unlocked"].get<bool>());
+
+  attempt(true);  // the third in a row
+  palpation = task_of("palpation");
+  EXPECT_EQ(palpation["consecutive_passes"], 3);
+  EXPECT_TRUE(palpation["mastered"].get<bool>());
+  const auto next = task_of("bimanual_palpation");
+  EXPECT_TRUE(next["unlocked"].get<bool>());
+  EXPECT_EQ(next["prerequisites"], nlohmann::json::array({"palpation"}));
+
+  // Instructors read any trainee's; a trainee only their own.
+  const auto path = "/api/trainees/" + std::to_string(tess) + "/progress";
+  EXPECT_EQ(json_of(get(path, session_of(Who::instructor)))["tasks"],
+            json_of(get("/api/progress", token))["tasks"]);
+  EXPECT_EQ(get(path, session_of(Who::trainee)).result_int(), 403);
+  EXPECT_EQ(get("/api/trainees/999999/progress", session_of(Who::admin)).result_int(), 404);
 }
 
 }  // namespace
