@@ -25,6 +25,12 @@ scenario('a trainee books a slot, meets a conflict and cancels', async (page) =>
   await sees(header.getByText('Trainee', { exact: true }), 'the role in the header');
   await sees(header.getByRole('button', { name: 'Log out' }), 'a Log out button');
 
+  // The curriculum: the first task is open, the two-handed one waits for it to be mastered.
+  const curriculum = region(page, 'My curriculum');
+  await sees(curriculum.getByTestId('task-status-palpation').filter({ hasText: /^(Unlocked|In progress)$/ }), 'palpation open');
+  await sees(curriculum.getByTestId('task-status-bimanual_palpation').filter({ hasText: 'Locked' }), 'the two-handed task locked');
+  await sees(curriculum.getByTestId('task-passes-palpation').filter({ hasText: / of 3$/ }), 'passes in a row out of 3');
+
   const form = page.getByRole('form', { name: 'Book a slot' });
   const station_select = form.getByLabel('Station', { exact: true });
   const station_option = station_select.locator('option', { hasText: 'Station 1' });

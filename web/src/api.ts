@@ -87,6 +87,26 @@ export interface CurriculumTask {
   instructions: string;
 }
 
+/** A task of the curriculum as one trainee stands with it (GET /api/progress). */
+export interface TaskProgress {
+  key: string;
+  name: string;
+  module: string;
+  prerequisites: string[];
+  attempts: number;
+  passed_attempts: number;
+  consecutive_passes: number;
+  required_passes: number;
+  mastered: boolean;
+  unlocked: boolean;
+}
+
+export interface Progress {
+  trainee_id: number;
+  curriculum: string | null;
+  tasks: TaskProgress[];
+}
+
 export interface CurriculumEntry {
   id: number;
   name: string;
@@ -176,4 +196,5 @@ export const api = {
   recordings: () => request<Recording[]>('GET', '/api/recordings'),
   scores: () => request<Score[]>('GET', '/api/scores'),
   curricula: () => request<CurriculumEntry[]>('GET', '/api/curricula'),
+  progress: () => request<Progress>('GET', '/api/progress'),
 };

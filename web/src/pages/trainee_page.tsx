@@ -3,6 +3,7 @@ import { useUser } from '../auth';
 import { BookingForm } from '../components/booking_form';
 import { BookingsTable } from '../components/bookings_table';
 import { Card } from '../components/card';
+import { CurriculumProgress } from '../components/curriculum_progress';
 import { ResourceView } from '../components/resource_view';
 import { StartSession } from '../components/start_session';
 import { TrainingRecord } from '../components/training_record';
@@ -12,6 +13,7 @@ export function TraineePage() {
   const user = useUser();
   // Shared by the start form (today's bookings), the booking form (reload) and the list.
   const bookings = useResource(api.bookings);
+  const progress = useResource(api.progress);
 
   return (
     <main className="page">
@@ -29,6 +31,10 @@ export function TraineePage() {
           </ResourceView>
         </Card>
       </div>
+      <Card id="curriculum" title="My curriculum">
+        {progress.error && <p role="alert">Could not load your progress: {progress.error}</p>}
+        {progress.data && <CurriculumProgress progress={progress.data} />}
+      </Card>
       <TrainingRecord whose="own" />
     </main>
   );
