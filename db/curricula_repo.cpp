@@ -27,4 +27,22 @@ std::vector<CurriculumRecord> CurriculaRepo::list() {
   return out;
 }
 
+std::optional<CurriculumRecord> CurriculaRepo::find(std::int64_t id) {
+  auto q = db_.prepare("SELECT id, name, definition, created_at FROM curricula WHERE id = ?");
+  q.bind(1, id);
+  if (!q.step()) return std::nullopt;
+  return CurriculumRecord{q.int64(0), q.text(1), q.text(2), q.int64(3)};
+}
+
+void CurriculaRepo::update(std::int64_t id, const std::string& name,
+                           const std::string& definition_json) {
+  try {
+    auto q = db_.prepare("UPDATE curricula SET name = ?, definition = ? WHERE id = ?");
+    q.bind(1, name).bind(2, definition_json).bind(3, id).run();
+  } catch (const ConstraintError&) {
+    throw Conflict("a curriculum named '" + name + "' already exists");
+  }
+  if (db_.changes() == 0) throw NotFound("curriculum " + std::to_string(id) + " does not exist");
+}
+
 }  // namespace incise::db

@@ -30,6 +30,12 @@ ApiResponse export_scores_csv(ApiContext& ctx);
 // Proficiency-based progression: the caller's own, or (instructors, admins, the trainee
 // themself) a trainee's: per task attempts, the current run of passes, mastered, unlocked.
 ApiResponse my_progress(ApiContext& ctx);
+// Curricula as JSON files (curriculum/curriculum_json.h): import (admin, 201; 422 naming the
+// path of the first problem; 409 for a taken name), replace (admin: edit thresholds, tasks),
+// export (admin, instructor: the definition as a download). Audited.
+ApiResponse import_curriculum(ApiContext& ctx);
+ApiResponse update_curriculum(ApiContext& ctx);
+ApiResponse export_curriculum(ApiContext& ctx);
 ApiResponse trainee_progress(ApiContext& ctx);
 // admin: the latest 200 audit entries, newest first.
 ApiResponse list_audit(ApiContext& ctx);

@@ -2,9 +2,12 @@
 #include <string>
 #include <string_view>
 
+#include "curriculum/curriculum_error.h"
+#include "curriculum/curriculum_json.h"
 #include "db/audit_repo.h"
 #include "db/curricula_repo.h"
 #include "db/training_repo.h"
+#include "server/api/api_error.h"
 #include "server/api/handlers.h"
 #include "server/api/json_views.h"
 #include "server/time_text.h"
@@ -97,6 +100,57 @@ ApiResponse list_audit(ApiContext& ctx) {
                    {"detail", e.detail}});
   }
   return {http::status::ok, std::move(out)};
+}
+
+namespace {
+
+// The request body as a validated curriculum, or a 422 naming the path of the first problem.
+curriculum::Curriculum curriculum_of(ApiContext& ctx) {
+  try {
+    return curriculum::parse_curriculum(ctx.json_body());
+  } catch (const curriculum::CurriculumError& e) {
+    throw ApiError(http::status::unprocessable_entity, e.what());
+  }
+}
+
+nlohmann::json curriculum_json(const db::CurriculumRecord& record) {
+  return {{"id", record.id},
+          {"name", record.name},
+          {"definition", nlohmann::json::parse(record.definition_json)}};
+}
+
+}  // namespace
+
+ApiResponse import_curriculum(ApiContext& ctx) {
+  const auto& admin = ctx.require_role({db::Role::admin});
+  const auto plan = curriculum_of(ctx);
+  const auto record =
+      db::CurriculaRepo(ctx.app.db()).create(plan.name, curriculum::to_json(plan).dump(), ctx.now);
+  db::AuditRepo(ctx.app.db()).record(admin.id, "curriculum.import", plan.name, ctx.now);
+  return {http::status::created, curriculum_json(record)};
+}
+
+ApiResponse update_curriculum(ApiContext& ctx) {
+  const auto& admin = ctx.require_role({db::Role::admin});
+  const auto plan = curriculum_of(ctx);
+  db::CurriculaRepo curricula(ctx.app.db());
+  curricula.update(ctx.path_id, plan.name, curriculum::to_json(plan).dump());
+  db::AuditRepo(ctx.app.db()).record(admin.id, "curriculum.update", plan.name, ctx.now);
+  return {http::status::ok, curriculum_json(*curricula.find(ctx.path_id))};
+}
+
+ApiResponse export_curriculum(ApiContext& ctx) {
+  ctx.require_role({db::Role::admin, db::Role::instructor});
+  const auto record = db::CurriculaRepo(ctx.app.db()).find(ctx.path_id);
+  if (!record) {
+    throw ApiError(http::status::not_found,
+                   "curriculum " + std::to_string(ctx.path_id) + " does not exist");
+  }
+  // The file an admin imports again: the definition itself, as a download.
+  ApiResponse out{http::status::ok, nlohmann::json::parse(record->definition_json)};
+  out.headers = {{"Content-Disposition",
+                  "attachment; filename=\"curriculum-" + std::to_string(record->id) + ".json\""}};
+  return out;
 }
 
 ApiResponse list_curricula(ApiContext& ctx) {

@@ -48,6 +48,9 @@ constexpr std::array kRoutes = {
     Route{http::verb::get, "/api/progress", api::my_progress},
     Route{http::verb::get, "/api/trainees/{id}/progress", api::trainee_progress},
     Route{http::verb::get, "/api/curricula", api::list_curricula},
+    Route{http::verb::post, "/api/curricula", api::import_curriculum},
+    Route{http::verb::put, "/api/curricula/{id}", api::update_curriculum},
+    Route{http::verb::get, "/api/curricula/{id}/export", api::export_curriculum},
 };
 
 // Matches `path` against `pattern` segment by segment; fills `id` for "{id}".

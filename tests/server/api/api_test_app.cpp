@@ -80,6 +80,11 @@ Response ApiTest::post(const std::string& target, const nlohmann::json& body,
   return call({http::verb::post, target, body.dump(), token});
 }
 
+Response ApiTest::put(const std::string& target, const nlohmann::json& body,
+                      const std::string& token) {
+  return call({http::verb::put, target, body.dump(), token});
+}
+
 Response ApiTest::del(const std::string& target, const std::string& token) {
   return call({http::verb::delete_, target, std::nullopt, token});
 }

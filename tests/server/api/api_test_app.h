@@ -55,6 +55,7 @@ class ApiTest : public ::testing::Test {
   Response call(const Call& call);
   Response get(const std::string& target, const std::string& token);
   Response post(const std::string& target, const nlohmann::json& body, const std::string& token);
+  Response put(const std::string& target, const nlohmann::json& body, const std::string& token);
   Response del(const std::string& target, const std::string& token);
 
   // A new session of `who` (empty for nobody), as if they had just logged in.

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "api/api_test_app.h"
+#include "curriculum/curriculum_json.h"
 #include "db/auth_sessions_repo.h"
 #include "db/training_repo.h"
 #include "server/time_text.h"
@@ -255,6 +256,44 @@ TEST_F(RecordsApi, ProgressUnlocksTheNextTaskAfterEnoughConsecutivePasses) {
             json_of(get("/api/progress", token))["tasks"]);
   EXPECT_EQ(get(path, session_of(Who::trainee)).result_int(), 403);
   EXPECT_EQ(get("/api/trainees/999999/progress", session_of(Who::admin)).result_int(), 404);
+}
+
+TEST_F(RecordsApi, AdminsImportEditAndExportCurriculaWithPreciseErrors) {
+  const auto admin = session_of(Who::admin);
+  const auto demo = json_of(get("/api/curricula", admin))[0];
+  auto definition = demo["definition"];
+  definition["name"] = "Advanced skills";
+
+  for (const Who who : {Who::trainee, Who::instructor}) {
+    EXPECT_EQ(post("/api/curricula", definition, session_of(who)).result_int(), 403);
+  }
+  // A bad file is refused with the path of its first problem, and nothing is stored.
+  auto bad = definition;
+  bad["modules"][0]["tasks"][1]["metrics"][0]["threshold"]["op"] = "<";
+  const auto refused = post("/api/curricula", bad, admin);
+  EXPECT_TRUE(is_error(refused, http::status::unprocessable_entity,
+                       "modules[0].tasks[1].metrics[0].threshold.op: must be \"<=\" or \">=\""))
+      << refused.body();
+  EXPECT_EQ(count("curricula"), 1);
+
+  const auto created = post("/api/curricula", definition, admin);
+  ASSERT_EQ(created.result_int(), 201) << created.body();
+  const auto id = json_of(created)["id"].get<std::int64_t>();
+  EXPECT_EQ(post("/api/curricula", definition, admin).result_int(), 409);  // the name is taken
+
+  // Edit a threshold: the export is the edited definition, and it imports back as it is.
+  definition["modules"][0]["tasks"][0]["metrics"][2]["threshold"]["value"] = 3.5;
+  const auto path = "/api/curricula/" + std::to_string(id);
+  ASSERT_EQ(put(path, definition, admin).result_int(), 200);
+  const auto exported = get(path + "/export", session_of(Who::instructor));
+  ASSERT_EQ(exported.result_int(), 200);
+  EXPECT_EQ(exported["Content-Disposition"],
+            "attachment; filename=\"curriculum-" + std::to_string(id) + ".json\"");
+  const auto file = json_of(exported);
+  EXPECT_EQ(file["modules"][0]["tasks"][0]["metrics"][2]["threshold"]["value"], 3.5);
+  EXPECT_EQ(curriculum::parse_curriculum(file), curriculum::parse_curriculum(definition));
+  EXPECT_EQ(put("/api/curricula/999999", definition, admin).result_int(), 404);
+  EXPECT_EQ(count("audit_log WHERE action IN ('curriculum.import', 'curriculum.update')"), 2);
 }
 
 }  // namespace
