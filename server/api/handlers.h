@@ -30,6 +30,8 @@ ApiResponse export_scores_csv(ApiContext& ctx);
 // Proficiency-based progression: the caller's own, or (instructors, admins, the trainee
 // themself) a trainee's: per task attempts, the current run of passes, mastered, unlocked.
 ApiResponse my_progress(ApiContext& ctx);
+// Any role: every metric a task may score, with its unit and one-line definition.
+ApiResponse list_metrics(ApiContext& ctx);
 // Curricula as JSON files (curriculum/curriculum_json.h): import (admin, 201; 422 naming the
 // path of the first problem; 409 for a taken name), replace (admin: edit thresholds, tasks),
 // export (admin, instructor: the definition as a download). Audited.

@@ -10,6 +10,7 @@
 #include "server/api/api_error.h"
 #include "server/api/handlers.h"
 #include "server/api/json_views.h"
+#include "server/live/scoring.h"
 #include "server/time_text.h"
 
 namespace incise::server::api {
@@ -151,6 +152,15 @@ ApiResponse export_curriculum(ApiContext& ctx) {
   out.headers = {{"Content-Disposition",
                   "attachment; filename=\"curriculum-" + std::to_string(record->id) + ".json\""}};
   return out;
+}
+
+ApiResponse list_metrics(ApiContext& ctx) {
+  ctx.user();
+  auto out = nlohmann::json::array();
+  for (const auto& m : live::metric_catalogue()) {
+    out.push_back({{"key", m.key}, {"unit", m.unit}, {"definition", m.definition}});
+  }
+  return {http::status::ok, std::move(out)};
 }
 
 ApiResponse list_curricula(ApiContext& ctx) {

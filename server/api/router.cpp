@@ -47,6 +47,7 @@ constexpr std::array kRoutes = {
     Route{http::verb::get, "/api/audit", api::list_audit},
     Route{http::verb::get, "/api/progress", api::my_progress},
     Route{http::verb::get, "/api/trainees/{id}/progress", api::trainee_progress},
+    Route{http::verb::get, "/api/metrics", api::list_metrics},
     Route{http::verb::get, "/api/curricula", api::list_curricula},
     Route{http::verb::post, "/api/curricula", api::import_curriculum},
     Route{http::verb::put, "/api/curricula/{id}", api::update_curriculum},

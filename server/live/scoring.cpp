@@ -1,5 +1,6 @@
 #include "server/live/scoring.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -61,12 +62,36 @@ std::vector<curriculum::MetricValue> session_metrics(const std::vector<TickRecor
     const auto left = hand_samples(ticks, tick_s, 1);
     for (auto v : curriculum::hand_metrics(left)) {
       v.key += "_left";
+      v.definition += " (Left hand.)";
       values.push_back(std::move(v));
     }
     for (auto& v : curriculum::bimanual_metrics(right, left))
       values.push_back(std::move(v));
   }
   return values;
+}
+
+std::vector<curriculum::MetricValue> metric_catalogue() {
+  // The metrics of a short two-handed recording: every key a task may score, with its unit and
+  // definition exactly as scoring reports them (the values are of no interest).
+  std::vector<TickRecord> ticks(8);
+  for (std::uint32_t i = 0; i < ticks.size(); ++i) {
+    ticks[i].tick = i;
+    ticks[i].input.position = {0.001 * i * i, 0, 0};
+    ticks[i].has_second = true;
+    ticks[i].second.input.position = {0, 0.001 * i, 0};
+  }
+  auto values = session_metrics(ticks, 0.002);
+  // Where a key comes twice (the basic metrics and a hand's), the first is the one scored.
+  std::vector<curriculum::MetricValue> catalogue;
+  for (auto& v : values) {
+    const bool seen = std::any_of(catalogue.begin(), catalogue.end(),
+                                  [&](const curriculum::MetricValue& c) { return c.key == v.key; });
+    if (seen) continue;
+    v.value = 0;
+    catalogue.push_back(std::move(v));
+  }
+  return catalogue;
 }
 
 std::vector<curriculum::MetricResult> score_session(db::Database& db, std::int64_t session_id,

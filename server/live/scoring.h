@@ -31,6 +31,9 @@ std::vector<curriculum::HandSample> hand_samples(const std::vector<TickRecord>& 
 std::vector<curriculum::MetricValue> session_metrics(const std::vector<TickRecord>& ticks,
                                                      double tick_s);
 
+// Every metric a task may score: key, unit and the one-line definition (value 0).
+std::vector<curriculum::MetricValue> metric_catalogue();
+
 // Computes the task's metrics from the recording and stores them as the session's scores (one
 // transaction). Returns the results.
 std::vector<curriculum::MetricResult> score_session(db::Database& db, std::int64_t session_id,

@@ -2,6 +2,8 @@
 // stations_api.cpp through the router.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -294,6 +296,37 @@ TEST_F(RecordsApi, AdminsImportEditAndExportCurriculaWithPreciseErrors) {
   EXPECT_EQ(curriculum::parse_curriculum(file), curriculum::parse_curriculum(definition));
   EXPECT_EQ(put("/api/curricula/999999", definition, admin).result_int(), 404);
   EXPECT_EQ(count("audit_log WHERE action IN ('curriculum.import', 'curriculum.update')"), 2);
+}
+
+TEST_F(RecordsApi, TheMetricCatalogueDefinesEveryMetricOnceWithItsUnit) {
+  EXPECT_EQ(get("/api/metrics", "").result_int(), 401);
+  const auto metrics = json_of(get("/api/metrics", session_of(Who::trainee)));
+  ASSERT_TRUE(metrics.is_array());
+  std::set<std::string> keys;
+  for (const auto& m : metrics) {
+    EXPECT_TRUE(keys.insert(m["key"].get<std::string>()).second) << "twice: " << m;
+    EXPECT_FALSE(m["definition"].get<std::string>().empty()) << m;
+    EXPECT_TRUE(m.contains("unit")) << m;
+  }
+  // The demo tasks' metrics, each hand's motion metrics and the bimanual ones are all defined.
+  for (const char* key : {"completion_time_s", "path_length_m", "peak_force_n", "rms_force_n",
+                          "contact_time_s", "economy_of_motion", "log_dimensionless_jerk",
+                          "idle_time_s", "path_length_m_left", "bimanual_dexterity"}) {
+    EXPECT_TRUE(keys.contains(key)) << key;
+  }
+  // Every metric the demo curriculum scores is in the catalogue, with the task's unit.
+  const auto curricula = json_of(get("/api/curricula", session_of(Who::trainee)));
+  for (const auto& module : curricula[0]["definition"]["modules"]) {
+    for (const auto& task : module["tasks"]) {
+      for (const auto& required : task["metrics"]) {
+        const auto it = std::find_if(metrics.begin(), metrics.end(), [&](const nlohmann::json& m) {
+          return m["key"] == required["key"];
+        });
+        ASSERT_NE(it, metrics.end()) << required;
+        EXPECT_EQ((*it)["unit"], required["unit"]) << required;
+      }
+    }
+  }
 }
 
 }  // namespace
