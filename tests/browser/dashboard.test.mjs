@@ -132,3 +132,41 @@ scenario('a trainee cannot open the admin page', async (page) => {
   const status = await page.evaluate(() => fetch('/api/users', { credentials: 'same-origin' }).then((r) => r.status));
   assert.equal(status, 403, 'GET /api/users as a trainee');
 });
+
+scenario('an admin edits a pass threshold and downloads the scores as CSV', async (page) => {
+  const login = await log_in(page, demo.admin);
+  assert.equal(login.status(), 200);
+  await page.waitForURL('**/admin');
+
+  const editor = page.getByRole('form', { name: 'Pass thresholds' });
+  const peak = editor.getByLabel('peak_force_n <=').first();
+  await sees(peak, 'the palpation peak force threshold');
+  assert.equal(await peak.inputValue(), '4', 'the demo threshold is 4 N');
+
+  await peak.fill('3.5');
+  const saved = await click_for_response(page, editor.getByRole('button', { name: 'Save thresholds' }), 'PUT', /^\/api\/curricula\/\d+$/);
+  assert.equal(saved.status(), 200, await saved.text());
+  await sees(editor.getByRole('status').filter({ hasText: 'Thresholds saved.' }), 'the saved message');
+  const sent = saved.request().postDataJSON();
+  assert.equal(sent.modules[0].tasks[0].metrics[2].threshold.value, 3.5, 'the edited value was sent');
+
+  // It sticks: after a reload the field shows it, and the curriculum the server holds has it.
+  await page.reload();
+  await sees(editor.getByLabel('peak_force_n <=').first(), 'the threshold field after a reload');
+  assert.equal(await editor.getByLabel('peak_force_n <=').first().inputValue(), '3.5');
+
+  // The scores export downloads as CSV with its header row.
+  const exports = region(page, 'Exports');
+  const csv = await page.evaluate(async (href) => {
+    const response = await fetch(href, { credentials: 'same-origin' });
+    return { status: response.status, type: response.headers.get('content-type'), text: await response.text() };
+  }, await exports.getByRole('link', { name: 'Scores and attempts (CSV)' }).getAttribute('href'));
+  assert.equal(csv.status, 200);
+  assert.equal(csv.type, 'text/csv; charset=utf-8');
+  assert.ok(csv.text.startsWith('score_id,session_id,trainee,task,metric,value,unit,passed,created_at\r\n'), csv.text.slice(0, 80));
+
+  // Back to the demo threshold for the other scenarios.
+  await editor.getByLabel('peak_force_n <=').first().fill('4');
+  const restored = await click_for_response(page, editor.getByRole('button', { name: 'Save thresholds' }), 'PUT', /^\/api\/curricula\/\d+$/);
+  assert.equal(restored.status(), 200);
+});

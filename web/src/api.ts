@@ -81,10 +81,17 @@ export interface Recording {
 }
 
 /** The part of a curriculum's definition the dashboard shows (curriculum/curriculum.h). */
+export interface MetricRequirement {
+  key: string;
+  threshold: { op: '<=' | '>='; value: number };
+  unit: string;
+}
+
 export interface CurriculumTask {
   key: string;
   name: string;
   instructions: string;
+  metrics?: MetricRequirement[];
 }
 
 /** A task of the curriculum as one trainee stands with it (GET /api/progress). */
@@ -197,4 +204,6 @@ export const api = {
   scores: () => request<Score[]>('GET', '/api/scores'),
   curricula: () => request<CurriculumEntry[]>('GET', '/api/curricula'),
   progress: () => request<Progress>('GET', '/api/progress'),
+  update_curriculum: (id: number, definition: CurriculumEntry['definition']) =>
+    request<CurriculumEntry>('PUT', `/api/curricula/${id}`, definition),
 };

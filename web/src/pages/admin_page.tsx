@@ -3,6 +3,7 @@ import { Card } from '../components/card';
 import { DataTable } from '../components/data_table';
 import { ResourceView } from '../components/resource_view';
 import { StationForm } from '../components/station_form';
+import { ThresholdEditor } from '../components/threshold_editor';
 import { UserForm } from '../components/user_form';
 import { useResource } from '../use_resource';
 import { role_label } from './access';
@@ -10,6 +11,7 @@ import { role_label } from './access';
 export function AdminPage() {
   const users = useResource(api.users);
   const stations = useResource(api.stations);
+  const curricula = useResource(api.curricula);
 
   return (
     <main className="page">
@@ -64,6 +66,28 @@ export function AdminPage() {
         </Card>
         <Card id="new-station" title="New station">
           <StationForm on_created={stations.reload} />
+        </Card>
+      </div>
+      <div className="columns">
+        <Card id="thresholds" title="Curriculum thresholds" grow>
+          {curricula.error && <p role="alert">Could not load the curricula: {curricula.error}</p>}
+          {curricula.data?.[0] && <ThresholdEditor curriculum={curricula.data[0]} on_saved={curricula.reload} />}
+        </Card>
+        <Card id="exports" title="Exports">
+          <ul>
+            <li>
+              <a href="/api/exports/scores.csv" download>
+                Scores and attempts (CSV)
+              </a>
+            </li>
+            {curricula.data?.[0] && (
+              <li>
+                <a href={`/api/curricula/${curricula.data[0].id}/export`} download>
+                  {`Curriculum “${curricula.data[0].name}” (JSON)`}
+                </a>
+              </li>
+            )}
+          </ul>
         </Card>
       </div>
     </main>
