@@ -30,6 +30,13 @@ ApiResponse export_scores_csv(ApiContext& ctx);
 // Proficiency-based progression: the caller's own, or (instructors, admins, the trainee
 // themself) a trainee's: per task attempts, the current run of passes, mastered, unlocked.
 ApiResponse my_progress(ApiContext& ctx);
+// Review of an attempt: annotations at a time of its recording and score adjustments (pass or
+// fail with a reason, audited). Read: the session's trainee, instructors, admins; write:
+// instructors, admins.
+ApiResponse list_annotations(ApiContext& ctx);
+ApiResponse add_annotation(ApiContext& ctx);
+ApiResponse list_adjustments(ApiContext& ctx);
+ApiResponse adjust_score(ApiContext& ctx);
 // Any role: every metric a task may score, with its unit and one-line definition.
 ApiResponse list_metrics(ApiContext& ctx);
 // Curricula as JSON files (curriculum/curriculum_json.h): import (admin, 201; 422 naming the

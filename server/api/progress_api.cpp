@@ -11,6 +11,7 @@
 #include "curriculum/curriculum_json.h"
 #include "curriculum/proficiency.h"
 #include "db/curricula_repo.h"
+#include "db/reviews_repo.h"
 #include "db/training_repo.h"
 #include "db/users_repo.h"
 #include "server/api/api_error.h"
@@ -32,6 +33,10 @@ nlohmann::json progress_of(db::Database& db, std::int64_t trainee_id) {
   for (const auto& score : training.scores(trainee_id)) {
     auto [it, fresh] = passed.try_emplace(score.session_id, score.passed);
     if (!fresh) it->second = it->second && score.passed;
+  }
+  // An instructor's adjustment overrides the computed result.
+  for (const auto& adjustment : db::ReviewsRepo(db).latest_adjustments(trainee_id)) {
+    passed[adjustment.session_id] = adjustment.passed;
   }
   // Finished attempts per task, oldest first (the repo lists newest first).
   auto sessions = training.sessions(trainee_id);

@@ -50,4 +50,22 @@ std::int64_t RequestFields::integer(std::string_view key) const {
   return value.get<std::int64_t>();
 }
 
+double RequestFields::number(std::string_view key) const {
+  const auto& value = required(key);
+  if (!value.is_number()) {
+    throw ApiError(status::unprocessable_entity,
+                   "field '" + std::string(key) + "' must be a number");
+  }
+  return value.get<double>();
+}
+
+bool RequestFields::boolean(std::string_view key) const {
+  const auto& value = required(key);
+  if (!value.is_boolean()) {
+    throw ApiError(status::unprocessable_entity,
+                   "field '" + std::string(key) + "' must be true or false");
+  }
+  return value.get<bool>();
+}
+
 }  // namespace incise::server

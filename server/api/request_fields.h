@@ -17,6 +17,8 @@ class RequestFields {
   std::string string(std::string_view key) const;
   std::string string_or(std::string_view key, std::string fallback) const;
   std::int64_t integer(std::string_view key) const;
+  double number(std::string_view key) const;  // any JSON number
+  bool boolean(std::string_view key) const;
 
  private:
   const nlohmann::json& required(std::string_view key) const;

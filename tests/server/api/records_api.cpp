@@ -329,5 +329,76 @@ TEST_F(RecordsApi, TheMetricCatalogueDefinesEveryMetricOnceWithItsUnit) {
   }
 }
 
+TEST_F(RecordsApi, InstructorsAnnotateAndAdjustAnAttemptWhichItsTraineeSees) {
+  db::TrainingRepo training(db());
+  const auto tess = add_trainee("tess");
+  const auto tess_token = db::AuthSessionsRepo(db()).create(tess, now(), 3600);
+  // A finished palpation attempt of 60 s that failed its peak force.
+  const auto session = training.create_session(tess, std::nullopt, "palpation", now());
+  training.set_session_state(session, "finished", now() + 60);
+  training.add_recording(session, 60.0, now() + 60);
+  training.add_score(session, "peak_force_n", 4.5, "N", false, now() + 60);
+  const auto base = "/api/sessions/" + std::to_string(session);
+  const auto instructor = session_of(Who::instructor);
+
+  // Annotations: instructors write, at a time within the recording.
+  const auto added =
+      post(base + "/annotations", {{"t_s", 12.5}, {"text", "too much force here"}}, instructor);
+  ASSERT_EQ(added.result_int(), 201) << added.body();
+  ASSERT_EQ(
+      post(base + "/annotations", {{"t_s", 3}, {"text", "good approach"}}, instructor).result_int(),
+      201);
+  EXPECT_TRUE(is_error(post(base + "/annotations", {{"t_s", 61}, {"text", "x"}}, instructor),
+                       http::status::unprocessable_entity,
+                       "t_s must be within the recording, 0 to 60.000000 s"));
+  EXPECT_TRUE(is_error(post(base + "/annotations", {{"t_s", 1}, {"text", ""}}, instructor),
+                       http::status::unprocessable_entity, "text must be 1-2000 characters"));
+  EXPECT_EQ(post(base + "/annotations", {{"t_s", 1}, {"text", "mine"}}, tess_token).result_int(),
+            403);
+  // The trainee reads them in time order; another trainee may not.
+  const auto notes = json_of(get(base + "/annotations", tess_token));
+  ASSERT_EQ(notes.size(), 2u);
+  EXPECT_EQ(notes[0]["text"], "good approach");
+  EXPECT_EQ(notes[1]["t_s"], 12.5);
+  EXPECT_EQ(notes[1]["author"], "instructor");
+  EXPECT_EQ(get(base + "/annotations", session_of(Who::trainee)).result_int(), 403);
+
+  // The attempt failed; the instructor passes it with a reason, which is audited and counts.
+  const auto task_passes = [&] {
+    const auto progress = json_of(get("/api/progress", tess_token));
+    for (const auto& task : progress["tasks"])
+      if (task["key"] == "palpation") return task["passed_attempts"].get<int>();
+    return -1;
+  };
+  EXPECT_EQ(task_passes(), 0);
+  EXPECT_TRUE(
+      is_error(post(base + "/adjustments", {{"passed", true}, {"reason", "ok"}}, instructor),
+               http::status::unprocessable_entity, "reason must be 3-500 characters"));
+  EXPECT_TRUE(is_error(
+      post(base + "/adjustments", {{"passed", "yes"}, {"reason", "the scale"}}, instructor),
+      http::status::unprocessable_entity, "field 'passed' must be true or false"));
+  EXPECT_EQ(
+      post(base + "/adjustments", {{"passed", true}, {"reason", "a sensor spike"}}, tess_token)
+          .result_int(),
+      403);
+  const auto adjusted =
+      post(base + "/adjustments", {{"passed", true}, {"reason", "a sensor spike, not the trainee"}},
+           instructor);
+  ASSERT_EQ(adjusted.result_int(), 201) << adjusted.body();
+  EXPECT_EQ(task_passes(), 1);
+  const auto history = json_of(get(base + "/adjustments", tess_token));
+  ASSERT_EQ(history.size(), 1u);
+  EXPECT_EQ(history[0]["reason"], "a sensor spike, not the trainee");
+  EXPECT_EQ(count("audit_log WHERE action = 'score.adjust'"), 1);
+
+  // Only a finished attempt is adjusted.
+  const auto running = training.create_session(tess, std::nullopt, "palpation", now());
+  training.set_session_state(running, "running", now());
+  EXPECT_EQ(post("/api/sessions/" + std::to_string(running) + "/adjustments",
+                 {{"passed", true}, {"reason", "early"}}, instructor)
+                .result_int(),
+            409);
+}
+
 }  // namespace
 }  // namespace incise::server::test

@@ -1,0 +1,85 @@
+#include "db/reviews_repo.h"
+
+#include "db/statement.h"
+
+namespace incise::db {
+namespace {
+
+ScoreAdjustment read_adjustment(Statement& q) {
+  return {q.int64(0), q.int64(1), q.int64(2), q.text(3), q.int64(4) != 0, q.text(5), q.int64(6)};
+}
+
+}  // namespace
+
+Annotation ReviewsRepo::add_annotation(std::int64_t session_id, std::int64_t author_id, double t_s,
+                                       const std::string& text, std::int64_t now) {
+  db_.prepare(
+         "INSERT INTO annotations (session_id, author_id, t_s, text, created_at) "
+         "VALUES (?, ?, ?, ?, ?)")
+      .bind(1, session_id)
+      .bind(2, author_id)
+      .bind(3, t_s)
+      .bind(4, text)
+      .bind(5, now)
+      .run();
+  const auto id = db_.last_insert_id();
+  for (auto& a : annotations(session_id))
+    if (a.id == id) return a;
+  return {};
+}
+
+std::vector<Annotation> ReviewsRepo::annotations(std::int64_t session_id) {
+  auto q = db_.prepare(
+      "SELECT a.id, a.session_id, a.author_id, u.username, a.t_s, a.text, a.created_at "
+      "FROM annotations a JOIN users u ON u.id = a.author_id WHERE a.session_id = ? "
+      "ORDER BY a.t_s, a.id");
+  q.bind(1, session_id);
+  std::vector<Annotation> out;
+  while (q.step()) {
+    out.push_back(
+        {q.int64(0), q.int64(1), q.int64(2), q.text(3), q.real(4), q.text(5), q.int64(6)});
+  }
+  return out;
+}
+
+ScoreAdjustment ReviewsRepo::adjust(std::int64_t session_id, std::int64_t author_id, bool passed,
+                                    const std::string& reason, std::int64_t now) {
+  db_.prepare(
+         "INSERT INTO score_adjustments (session_id, author_id, passed, reason, created_at) "
+         "VALUES (?, ?, ?, ?, ?)")
+      .bind(1, session_id)
+      .bind(2, author_id)
+      .bind(3, passed ? 1 : 0)
+      .bind(4, reason)
+      .bind(5, now)
+      .run();
+  return adjustments(session_id).back();
+}
+
+std::vector<ScoreAdjustment> ReviewsRepo::adjustments(std::int64_t session_id) {
+  auto q = db_.prepare(
+      "SELECT s.id, s.session_id, s.author_id, u.username, s.passed, s.reason, s.created_at "
+      "FROM score_adjustments s JOIN users u ON u.id = s.author_id WHERE s.session_id = ? "
+      "ORDER BY s.id");
+  q.bind(1, session_id);
+  std::vector<ScoreAdjustment> out;
+  while (q.step())
+    out.push_back(read_adjustment(q));
+  return out;
+}
+
+std::vector<ScoreAdjustment> ReviewsRepo::latest_adjustments(std::int64_t trainee_id) {
+  auto q = db_.prepare(
+      "SELECT s.id, s.session_id, s.author_id, u.username, s.passed, s.reason, s.created_at "
+      "FROM score_adjustments s JOIN users u ON u.id = s.author_id "
+      "JOIN sessions se ON se.id = s.session_id "
+      "WHERE se.trainee_id = ? AND s.id = (SELECT MAX(id) FROM score_adjustments "
+      "WHERE session_id = s.session_id) ORDER BY s.session_id");
+  q.bind(1, trainee_id);
+  std::vector<ScoreAdjustment> out;
+  while (q.step())
+    out.push_back(read_adjustment(q));
+  return out;
+}
+
+}  // namespace incise::db

@@ -1,0 +1,114 @@
+// Instructor review of an attempt (issue 8 item 4): time-stamped annotations on its recording and
+// score adjustments with a reason (audited). The session's trainee, instructors and admins read
+// them; instructors and admins write them.
+
+#include <cmath>
+
+#include "db/audit_repo.h"
+#include "db/recordings_repo.h"
+#include "db/reviews_repo.h"
+#include "db/training_repo.h"
+#include "server/api/api_error.h"
+#include "server/api/handlers.h"
+#include "server/api/live_access.h"
+#include "server/api/request_fields.h"
+#include "server/time_text.h"
+
+namespace incise::server::api {
+namespace {
+
+constexpr std::size_t kMaxAnnotation = 2000;
+constexpr std::size_t kMaxReason = 500;
+
+// The session of the path, which the user may see.
+db::SessionRecord visible_session(ApiContext& ctx) {
+  const auto record = db::TrainingRepo(ctx.app.db()).find_session(ctx.path_id);
+  if (!record) {
+    throw ApiError(http::status::not_found,
+                   "session " + std::to_string(ctx.path_id) + " does not exist");
+  }
+  check_session_access(ctx.user(), *record);
+  return *record;
+}
+
+nlohmann::json to_json(const db::Annotation& a) {
+  return {{"id", a.id},         {"session_id", a.session_id},
+          {"author", a.author}, {"t_s", a.t_s},
+          {"text", a.text},     {"created_at", format_utc(a.created_at)}};
+}
+
+nlohmann::json to_json(const db::ScoreAdjustment& s) {
+  return {{"id", s.id},         {"session_id", s.session_id},
+          {"author", s.author}, {"passed", s.passed},
+          {"reason", s.reason}, {"created_at", format_utc(s.created_at)}};
+}
+
+}  // namespace
+
+ApiResponse list_annotations(ApiContext& ctx) {
+  const auto session = visible_session(ctx);
+  auto out = nlohmann::json::array();
+  for (const auto& a : db::ReviewsRepo(ctx.app.db()).annotations(session.id))
+    out.push_back(to_json(a));
+  return {http::status::ok, std::move(out)};
+}
+
+ApiResponse add_annotation(ApiContext& ctx) {
+  const auto& author = ctx.require_role({db::Role::instructor, db::Role::admin});
+  const auto session = visible_session(ctx);
+  const auto body = ctx.json_body();
+  const RequestFields fields(body, {"t_s", "text"});
+  const double t_s = fields.number("t_s");
+  const auto text = fields.string("text");
+  // Within the recording: 0 .. its duration (a live session's grows; its end is now).
+  const auto recording = db::RecordingsRepo(ctx.app.db()).find_by_session(session.id);
+  const double duration = recording ? recording->duration_s : 0.0;
+  if (!std::isfinite(t_s) || t_s < 0 ||
+      (recording && recording->state == "complete" && t_s > duration)) {
+    throw ApiError(http::status::unprocessable_entity,
+                   "t_s must be within the recording, 0 to " + std::to_string(duration) + " s");
+  }
+  if (text.empty() || text.size() > kMaxAnnotation) {
+    throw ApiError(http::status::unprocessable_entity,
+                   "text must be 1-" + std::to_string(kMaxAnnotation) + " characters");
+  }
+  const auto annotation =
+      db::ReviewsRepo(ctx.app.db()).add_annotation(session.id, author.id, t_s, text, ctx.now);
+  return {http::status::created, to_json(annotation)};
+}
+
+ApiResponse list_adjustments(ApiContext& ctx) {
+  const auto session = visible_session(ctx);
+  auto out = nlohmann::json::array();
+  for (const auto& s : db::ReviewsRepo(ctx.app.db()).adjustments(session.id))
+    out.push_back(to_json(s));
+  return {http::status::ok, std::move(out)};
+}
+
+ApiResponse adjust_score(ApiContext& ctx) {
+  const auto& author = ctx.require_role({db::Role::instructor, db::Role::admin});
+  const auto session = visible_session(ctx);
+  if (session.state != "finished") {
+    throw ApiError(http::status::conflict, "session " + std::to_string(session.id) + " is " +
+                                               session.state +
+                                               ": only a finished attempt is scored");
+  }
+  const auto body = ctx.json_body();
+  const RequestFields fields(body, {"passed", "reason"});
+  const bool passed = fields.boolean("passed");
+  const auto reason = fields.string("reason");
+  if (reason.size() < 3 || reason.size() > kMaxReason) {
+    throw ApiError(http::status::unprocessable_entity,
+                   "reason must be 3-" + std::to_string(kMaxReason) + " characters");
+  }
+  const auto adjustment =
+      db::ReviewsRepo(ctx.app.db()).adjust(session.id, author.id, passed, reason, ctx.now);
+  db::AuditRepo(ctx.app.db())
+      .record(author.id, "score.adjust",
+              "session " + std::to_string(session.id) + (passed ? " passed: " : " not passed: ") +
+                  reason,
+              ctx.now);
+  return {http::status::created, to_json(adjustment)};
+}
+
+}  // namespace incise::server::api
