@@ -1,9 +1,16 @@
 #include "db/reviews_repo.h"
 
+#include <string>
+
 #include "db/statement.h"
 
 namespace incise::db {
 namespace {
+
+// The columns read_adjustment reads, with the author's username.
+constexpr const char* kAdjustmentSelect =
+    "SELECT s.id, s.session_id, s.author_id, u.username, s.passed, s.reason, s.created_at "
+    "FROM score_adjustments s JOIN users u ON u.id = s.author_id ";
 
 ScoreAdjustment read_adjustment(Statement& q) {
   return {q.int64(0), q.int64(1), q.int64(2), q.text(3), q.int64(4) != 0, q.text(5), q.int64(6)};
@@ -57,10 +64,7 @@ ScoreAdjustment ReviewsRepo::adjust(std::int64_t session_id, std::int64_t author
 }
 
 std::vector<ScoreAdjustment> ReviewsRepo::adjustments(std::int64_t session_id) {
-  auto q = db_.prepare(
-      "SELECT s.id, s.session_id, s.author_id, u.username, s.passed, s.reason, s.created_at "
-      "FROM score_adjustments s JOIN users u ON u.id = s.author_id WHERE s.session_id = ? "
-      "ORDER BY s.id");
+  auto q = db_.prepare(std::string(kAdjustmentSelect) + "WHERE s.session_id = ? ORDER BY s.id");
   q.bind(1, session_id);
   std::vector<ScoreAdjustment> out;
   while (q.step())
@@ -69,12 +73,10 @@ std::vector<ScoreAdjustment> ReviewsRepo::adjustments(std::int64_t session_id) {
 }
 
 std::vector<ScoreAdjustment> ReviewsRepo::latest_adjustments(std::int64_t trainee_id) {
-  auto q = db_.prepare(
-      "SELECT s.id, s.session_id, s.author_id, u.username, s.passed, s.reason, s.created_at "
-      "FROM score_adjustments s JOIN users u ON u.id = s.author_id "
-      "JOIN sessions se ON se.id = s.session_id "
-      "WHERE se.trainee_id = ? AND s.id = (SELECT MAX(id) FROM score_adjustments "
-      "WHERE session_id = s.session_id) ORDER BY s.session_id");
+  auto q = db_.prepare(std::string(kAdjustmentSelect) +
+                       "JOIN sessions se ON se.id = s.session_id "
+                       "WHERE se.trainee_id = ? AND s.id = (SELECT MAX(id) FROM score_adjustments "
+                       "WHERE session_id = s.session_id) ORDER BY s.session_id");
   q.bind(1, trainee_id);
   std::vector<ScoreAdjustment> out;
   while (q.step())

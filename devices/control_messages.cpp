@@ -37,6 +37,18 @@ std::string excerpt(const json& value) {
 
 // Parses a JSON object whose "type" is expected_type and whose "protocol" is ours.
 // On failure returns the error (prefixed with the message name) and leaves object untouched.
+// Parses text as a JSON object into object; returns "" or `<what>not valid JSON ...` /
+// `<what>expected a JSON object, got ...` (what ends with ": ").
+std::string parse_object(std::string_view text, const std::string& what, json& object) {
+  try {
+    object = json::parse(text);
+  } catch (const json::parse_error& e) {
+    return what + "not valid JSON (syntax error at byte " + std::to_string(e.byte) + ")";
+  }
+  if (!object.is_object()) return what + "expected a JSON object, got " + object.type_name();
+  return {};
+}
+
 std::string parse_envelope(std::string_view text, const char* expected_type, const char* speaker,
                            json& object) {
   const std::string what = expected_type;
@@ -172,15 +184,7 @@ ParseResult<SessionNotice> parse_session_notice(std::string_view text) {
   using Result = ParseResult<SessionNotice>;
   const std::string what = "session: ";
   json object;
-  try {
-    object = json::parse(text);
-  } catch (const json::parse_error& e) {
-    return Result::failure("session: not valid JSON (syntax error at byte " +
-                           std::to_string(e.byte) + ")");
-  }
-  if (!object.is_object()) {
-    return Result::failure(what + "expected a JSON object, got " + object.type_name());
-  }
+  if (auto error = parse_object(text, what, object); !error.empty()) return Result::failure(error);
   for (const char* key : {"type", "session_id", "state"}) {
     if (!object.contains(key)) return Result::failure(what + "missing key \"" + key + "\"");
   }
@@ -296,15 +300,7 @@ ParseResult<LinkReport> parse_link_report(std::string_view text) {
   using Result = ParseResult<LinkReport>;
   const std::string what = "link: ";
   json object;
-  try {
-    object = json::parse(text);
-  } catch (const json::parse_error& e) {
-    return Result::failure(what + "not valid JSON (syntax error at byte " + std::to_string(e.byte) +
-                           ")");
-  }
-  if (!object.is_object()) {
-    return Result::failure(what + "expected a JSON object, got " + object.type_name());
-  }
+  if (auto error = parse_object(text, what, object); !error.empty()) return Result::failure(error);
   if (message_type(text) != "link") return Result::failure(what + "\"type\" must be \"link\"");
   LinkReport report;
   for (auto [key, target, high] : {std::tuple{"loop_hz", &report.loop_hz, 1e5},

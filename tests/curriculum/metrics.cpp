@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "metric_lookup.h"
+
 namespace incise::curriculum {
 namespace {
 
@@ -19,13 +21,7 @@ using Vec = std::array<double, 3>;
 
 const double pi = std::numbers::pi;
 
-// The value of the metric with this key; fails the test when it is missing.
-double metric(const std::vector<MetricValue>& values, const std::string& key) {
-  for (const auto& v : values)
-    if (v.key == key) return v.value;
-  ADD_FAILURE() << "no metric " << key;
-  return std::numeric_limits<double>::quiet_NaN();
-}
+using testing::metric;
 
 // The error message basic_metrics throws for these samples ("" if it does not throw).
 std::string error_of(const std::vector<ToolSample>& samples) {

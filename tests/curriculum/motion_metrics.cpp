@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "metric_lookup.h"
+
 namespace incise::curriculum {
 namespace {
 
@@ -20,13 +22,7 @@ using Vec = std::array<double, 3>;
 
 const double pi = std::numbers::pi;
 
-// The value of the metric with this key; fails the test when it is missing.
-double metric(const std::vector<MetricValue>& values, const std::string& key) {
-  for (const auto& v : values)
-    if (v.key == key) return v.value;
-  ADD_FAILURE() << "no metric " << key;
-  return std::numeric_limits<double>::quiet_NaN();
-}
+using testing::metric;
 
 // #steps + 1 samples at t = T i / steps of a tip moving along #tip(t); orientation identity, jaw
 // closed, no force.
