@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -32,6 +33,26 @@ struct MetricRequirement {
   bool operator==(const MetricRequirement&) const = default;
 };
 
+// A sphere of the scene a task cares about, in scene coordinates: a structure the tool tip must
+// keep out of (a protected zone, e.g. a vessel beside the target) or a landmark it must visit (a
+// target, e.g. a spot to inspect in an arthroscopy).
+struct Zone {
+  std::string name;  // shown in events and results, e.g. "vessel"
+  std::array<double, 3> center_m{};
+  double radius_m = 0;  // > 0
+
+  bool operator==(const Zone&) const = default;
+};
+
+// A protected zone: entering it is a collision; entering a zone marked never is a never event,
+// which fails the attempt outright whatever its metrics.
+struct ProtectedZone {
+  Zone zone;
+  bool never = false;
+
+  bool operator==(const ProtectedZone&) const = default;
+};
+
 // One exercise: a scene to run, the tools it needs, and the metric thresholds an attempt must
 // meet. A task is mastered after consecutive_passes_required passing attempts in a row.
 struct Task {
@@ -43,6 +64,15 @@ struct Task {
   std::vector<MetricRequirement> metrics;
   int consecutive_passes_required = 1;
   std::vector<std::string> prerequisites;  // keys of tasks to master first
+  std::vector<ProtectedZone> protected_zones;
+  std::vector<Zone> targets;  // landmarks to visit (targets_visited, target events)
+  // Force on tissue above which it is overloaded (tissue_damage_ns accumulates the excess) [N].
+  double safe_force_n = 3.0;
+  // A force above this is a never event (tearing); 0: no such limit [N].
+  double never_force_n = 0.0;
+
+  // True if something in this task can be a never event (a never zone or a never force).
+  bool has_never_events() const;
 
   bool operator==(const Task&) const = default;
 };

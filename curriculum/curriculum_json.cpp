@@ -1,6 +1,7 @@
 #include "curriculum/curriculum_json.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <initializer_list>
 #include <string>
@@ -71,6 +72,22 @@ class ObjectReader {
     return value->get_ref<const json::array_t&>();
   }
 
+  // The member's number, or #fallback if it is absent and optional.
+  double number(std::string_view key, Presence presence, double fallback = 0) const {
+    const json* value = find(key, presence);
+    if (value == nullptr) return fallback;
+    if (!value->is_number()) throw CurriculumError(path(key), "must be a number");
+    return value->get<double>();
+  }
+
+  // The member's truth value; false if it is absent and optional.
+  bool boolean(std::string_view key, Presence presence) const {
+    const json* value = find(key, presence);
+    if (value == nullptr) return false;
+    if (!value->is_boolean()) throw CurriculumError(path(key), "must be true or false");
+    return value->get<bool>();
+  }
+
   std::vector<std::string> strings(std::string_view key, Presence presence) const {
     const json::array_t& values = array(key, presence);
     std::vector<std::string> result;
@@ -112,6 +129,43 @@ MetricRequirement parse_metric(const json& value, const std::string& path) {
   return metric;
 }
 
+// A point in scene coordinates: exactly three numbers (finiteness is validate()'s).
+std::array<double, 3> parse_point(const json& value, const std::string& path) {
+  if (!value.is_array() || value.size() != 3)
+    throw CurriculumError(path, "must be an array of 3 numbers");
+  std::array<double, 3> point{};
+  for (std::size_t i = 0; i < 3; ++i) {
+    if (!value[i].is_number()) throw CurriculumError(element(path, i), "must be a number");
+    point[i] = value[i].get<double>();
+  }
+  return point;
+}
+
+// The members a protected zone shares with a target.
+Zone parse_zone(const ObjectReader& reader) {
+  Zone zone;
+  zone.name = reader.string("name", required);
+  zone.center_m = parse_point(*reader.find("center_m", required), reader.path("center_m"));
+  zone.radius_m = reader.number("radius_m", required);
+  return zone;
+}
+
+ProtectedZone parse_protected_zone(const json& value, const std::string& path) {
+  const ObjectReader reader(value, path, {"name", "center_m", "radius_m", "never"});
+  ProtectedZone zone;
+  zone.zone = parse_zone(reader);
+  zone.never = reader.boolean("never", optional);
+  return zone;
+}
+
+Zone parse_target(const json& value, const std::string& path) {
+  return parse_zone(ObjectReader(value, path, {"name", "center_m", "radius_m"}));
+}
+
+json zone_json(const Zone& zone) {
+  return {{"name", zone.name}, {"center_m", zone.center_m}, {"radius_m", zone.radius_m}};
+}
+
 int parse_consecutive_passes(const json& value, const std::string& path) {
   const std::string message =
       "must be an integer from 1 to " + std::to_string(max_consecutive_passes);
@@ -125,9 +179,10 @@ int parse_consecutive_passes(const json& value, const std::string& path) {
 }
 
 Task parse_task(const json& value, const std::string& path) {
-  const ObjectReader reader(value, path,
-                            {"key", "name", "scene", "instructions", "tools", "metrics",
-                             "consecutive_passes_required", "prerequisites"});
+  const ObjectReader reader(
+      value, path,
+      {"key", "name", "scene", "instructions", "tools", "metrics", "consecutive_passes_required",
+       "prerequisites", "protected_zones", "targets", "safe_force_n", "never_force_n"});
   Task task;
   task.key = reader.string("key", required);
   task.name = reader.string("name", required);
@@ -142,6 +197,17 @@ Task parse_task(const json& value, const std::string& path) {
       parse_consecutive_passes(*reader.find("consecutive_passes_required", required),
                                reader.path("consecutive_passes_required"));
   task.prerequisites = reader.strings("prerequisites", optional);
+  const json::array_t& zones = reader.array("protected_zones", optional);
+  for (std::size_t i = 0; i < zones.size(); ++i) {
+    task.protected_zones.push_back(
+        parse_protected_zone(zones[i], element(reader.path("protected_zones"), i)));
+  }
+  const json::array_t& targets = reader.array("targets", optional);
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    task.targets.push_back(parse_target(targets[i], element(reader.path("targets"), i)));
+  }
+  task.safe_force_n = reader.number("safe_force_n", optional, Task{}.safe_force_n);
+  task.never_force_n = reader.number("never_force_n", optional, Task{}.never_force_n);
   return task;
 }
 
@@ -195,6 +261,15 @@ json to_json(const Curriculum& curriculum) {
                              {"value", metric.threshold.value}}},
                            {"unit", metric.unit}});
       }
+      json zones = json::array();
+      for (const ProtectedZone& zone : task.protected_zones) {
+        json item = zone_json(zone.zone);
+        item["never"] = zone.never;
+        zones.push_back(std::move(item));
+      }
+      json targets = json::array();
+      for (const Zone& target : task.targets)
+        targets.push_back(zone_json(target));
       tasks.push_back({{"key", task.key},
                        {"name", task.name},
                        {"scene", task.scene},
@@ -202,7 +277,11 @@ json to_json(const Curriculum& curriculum) {
                        {"tools", task.tools},
                        {"metrics", metrics},
                        {"consecutive_passes_required", task.consecutive_passes_required},
-                       {"prerequisites", task.prerequisites}});
+                       {"prerequisites", task.prerequisites},
+                       {"protected_zones", zones},
+                       {"targets", targets},
+                       {"safe_force_n", task.safe_force_n},
+                       {"never_force_n", task.never_force_n}});
     }
     modules.push_back({{"key", module.key}, {"name", module.name}, {"tasks", tasks}});
   }

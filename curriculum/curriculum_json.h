@@ -13,10 +13,14 @@ namespace incise::curriculum {
 //   {"name", "description"?, "modules": [{"key", "name", "tasks": [{"key", "name", "scene",
 //    "instructions"?, "tools"?: [string], "metrics": [{"key", "threshold": {"op": "<=" | ">=",
 //    "value": number}, "unit"?}], "consecutive_passes_required": integer,
-//    "prerequisites"?: [task key]}]}]}
-// Members marked ? may be left out (empty). Unknown members are rejected, so that a misspelt
-// optional member is not silently ignored. After the shape, validate() runs.
-// Throws CurriculumError naming the JSON path of the first problem, e.g.
+//    "prerequisites"?: [task key],
+//    "protected_zones"?: [{"name", "center_m": [x, y, z], "radius_m", "never"?: bool}],
+//    "targets"?: [{"name", "center_m": [x, y, z], "radius_m"}],
+//    "safe_force_n"?: number, "never_force_n"?: number}]}]}
+// Members marked ? may be left out (empty, false, or for the forces Task's defaults: 3 N, and 0
+// for no never force). Lengths in metres, forces in newtons. Unknown members are rejected, so that
+// a misspelt optional member is not silently ignored. After the shape, validate() runs. Throws
+// CurriculumError naming the JSON path of the first problem, e.g.
 //   modules[0].tasks[1].metrics[0].threshold.op: must be "<=" or ">="
 Curriculum parse_curriculum(const nlohmann::json& json);
 

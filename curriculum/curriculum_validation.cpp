@@ -1,11 +1,14 @@
 #include "curriculum/curriculum_validation.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <set>
 #include <string>
 #include <vector>
+
+#include "curriculum/number_text.h"
 
 namespace incise::curriculum {
 namespace {
@@ -42,6 +45,42 @@ void require_distinct_names(const std::string& path, const std::vector<std::stri
   }
 }
 
+// A zone or target at #path; its name must be new in #names (name -> path of its first use),
+// since events and results name zones and targets alike.
+void check_zone(const Zone& zone, const std::string& path,
+                std::map<std::string, std::string>& names) {
+  const std::string name_path = member(path, "name");
+  require_text(name_path, zone.name);
+  const auto [first, inserted] = names.emplace(zone.name, path);
+  if (!inserted) {
+    throw CurriculumError(name_path, "duplicate zone or target name \"" + zone.name +
+                                         "\" (first at " + first->second + ")");
+  }
+  for (std::size_t i = 0; i < zone.center_m.size(); ++i) {
+    if (!std::isfinite(zone.center_m[i])) {
+      throw CurriculumError(element(member(path, "center_m"), i), "must be a finite number");
+    }
+  }
+  if (!std::isfinite(zone.radius_m) || zone.radius_m <= 0) {
+    throw CurriculumError(member(path, "radius_m"), "must be a finite number above 0");
+  }
+}
+
+void check_forces(const Task& task, const std::string& path) {
+  if (!std::isfinite(task.safe_force_n) || task.safe_force_n <= 0) {
+    throw CurriculumError(member(path, "safe_force_n"), "must be a finite number above 0");
+  }
+  const std::string never_path = member(path, "never_force_n");
+  if (!std::isfinite(task.never_force_n) || task.never_force_n < 0) {
+    throw CurriculumError(never_path, "must be a finite number, 0 (no limit) or more");
+  }
+  // A never limit at or below the safe force would fail attempts that never overloaded tissue.
+  if (task.never_force_n > 0 && task.never_force_n <= task.safe_force_n) {
+    throw CurriculumError(never_path, "must be 0 (no limit) or above safe_force_n " +
+                                          shortest_text(task.safe_force_n));
+  }
+}
+
 struct TaskRef {
   const Task* task;
   std::string path;  // "modules[i].tasks[j]"
@@ -74,6 +113,14 @@ void check_task(const Task& task, const std::string& path) {
                           "must be an integer from 1 to " + std::to_string(max_consecutive_passes));
   }
   require_distinct_names(member(path, "prerequisites"), task.prerequisites);
+  std::map<std::string, std::string> zone_names;
+  for (std::size_t z = 0; z < task.protected_zones.size(); ++z) {
+    check_zone(task.protected_zones[z].zone, element(member(path, "protected_zones"), z),
+               zone_names);
+  }
+  for (std::size_t t = 0; t < task.targets.size(); ++t)
+    check_zone(task.targets[t], element(member(path, "targets"), t), zone_names);
+  check_forces(task, path);
 }
 
 // Depth-first search along prerequisite edges; a task met again while still on the stack closes

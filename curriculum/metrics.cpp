@@ -82,9 +82,18 @@ std::vector<MetricValue> basic_metrics(std::span<const ToolSample> samples) {
 }
 
 std::vector<MetricResult> score_attempt(const Task& task, std::span<const MetricValue> values) {
+  // A never event fails the attempt outright: a task that can have one is also scored on
+  // never_events <= 0, unless it names that metric itself.
+  std::vector<MetricRequirement> requirements = task.metrics;
+  const bool names_never =
+      std::any_of(requirements.begin(), requirements.end(),
+                  [](const MetricRequirement& r) { return r.key == kNeverEventsKey; });
+  if (task.has_never_events() && !names_never) {
+    requirements.push_back({std::string(kNeverEventsKey), {ThresholdOp::at_most, 0.0}, "count"});
+  }
   std::vector<MetricResult> results;
-  results.reserve(task.metrics.size());
-  for (const MetricRequirement& requirement : task.metrics) {
+  results.reserve(requirements.size());
+  for (const MetricRequirement& requirement : requirements) {
     const auto found = std::find_if(values.begin(), values.end(),
                                     [&](const MetricValue& v) { return v.key == requirement.key; });
     MetricResult result;

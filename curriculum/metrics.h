@@ -6,6 +6,7 @@
 #include <array>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "curriculum/curriculum.h"
@@ -59,7 +60,12 @@ struct MetricResult {
                          // (then passed = false)
 };
 
-// One result per metric the task requires, in the task's order. For each requirement the first
+// The metric counting never events (run_events.h).
+inline constexpr std::string_view kNeverEventsKey = "never_events";
+
+// One result per metric the task requires, in the task's order, and when the task can have never
+// events (Task::has_never_events) but does not name kNeverEventsKey, one more for never_events <= 0
+// at the end: a never event fails the attempt outright. For each requirement the first
 // value in #values with the same key is scored (meets_threshold: the boundary passes, NaN fails);
 // values the task does not ask for are ignored.
 std::vector<MetricResult> score_attempt(const Task& task, std::span<const MetricValue> values);

@@ -1,7 +1,6 @@
 #include "curriculum/motion_metrics.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -9,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+
+#include "curriculum/number_text.h"
 
 namespace incise::curriculum {
 
@@ -38,13 +39,6 @@ bool all_finite(const std::array<double, N>& v) {
   return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
 }
 
-// The shortest text that reads back as exactly #x: a message names the very value rejected.
-std::string str(double x) {
-  std::array<char, 32> text{};
-  const auto end = std::to_chars(text.data(), text.data() + text.size(), x).ptr;
-  return std::string(text.data(), end);
-}
-
 [[noreturn]] void bad_sample(std::string_view hand, std::size_t index, std::string_view reason) {
   std::ostringstream message;
   message << hand << "sample " << index << ": " << reason;
@@ -55,7 +49,7 @@ void check_threshold(std::string_view name, double value) {
   if (!std::isfinite(value))
     throw std::invalid_argument("thresholds: " + std::string(name) + " is not finite");
   if (value < 0)
-    throw std::invalid_argument("thresholds: " + std::string(name) + " " + str(value) +
+    throw std::invalid_argument("thresholds: " + std::string(name) + " " + shortest_text(value) +
                                 " is negative");
 }
 
@@ -66,8 +60,8 @@ void check_thresholds(const MotionThresholds& th) {
   check_threshold("smoothing_s", th.smoothing_s);
   // Without this the hysteresis would re-arm while the hand is still moving.
   if (th.still_speed_m_s > th.moving_speed_m_s)
-    throw std::invalid_argument("thresholds: still_speed_m_s " + str(th.still_speed_m_s) +
-                                " is above moving_speed_m_s " + str(th.moving_speed_m_s));
+    throw std::invalid_argument("thresholds: still_speed_m_s " + shortest_text(th.still_speed_m_s) +
+                                " is above moving_speed_m_s " + shortest_text(th.moving_speed_m_s));
 }
 
 // Checked before any arithmetic, so that a NaN cannot hide inside a max or a sum. #hand is "" or
@@ -81,13 +75,15 @@ void check_samples(std::span<const HandSample> samples, std::string_view hand) {
     if (!std::isfinite(s.jaw)) bad_sample(hand, i, "jaw is not finite");
     if (!all_finite(s.force_n)) bad_sample(hand, i, "force_n is not finite");
     if (i > 0 && s.t_s < samples[i - 1].t_s)
-      bad_sample(
-          hand, i,
-          "t_s " + str(s.t_s) + " is before the previous sample's " + str(samples[i - 1].t_s));
+      bad_sample(hand, i,
+                 "t_s " + shortest_text(s.t_s) + " is before the previous sample's " +
+                     shortest_text(samples[i - 1].t_s));
     const double q_norm = norm(s.orientation);
     if (std::abs(q_norm - 1) > kUnitQuaternionTolerance)
-      bad_sample(hand, i, "orientation is not a unit quaternion (norm " + str(q_norm) + ")");
-    if (s.jaw < 0 || s.jaw > 1) bad_sample(hand, i, "jaw " + str(s.jaw) + " is outside [0, 1]");
+      bad_sample(hand, i,
+                 "orientation is not a unit quaternion (norm " + shortest_text(q_norm) + ")");
+    if (s.jaw < 0 || s.jaw > 1)
+      bad_sample(hand, i, "jaw " + shortest_text(s.jaw) + " is outside [0, 1]");
   }
 }
 
@@ -315,7 +311,8 @@ std::vector<MetricValue> hand_metrics(std::span<const HandSample> hand,
       {"movements", movements, "count",
        "Number of separate movements: the tip sped up after having come to rest."},
       {"idle_time_s", idle_time, "s",
-       "Time the tip stood still in pauses of at least " + str(thresholds.min_idle_s) + " s."},
+       "Time the tip stood still in pauses of at least " + shortest_text(thresholds.min_idle_s) +
+           " s."},
       {"mean_speed_m_s", duration > 0 ? length / duration : 0.0, "m/s",
        "Path length divided by the duration of the run."},
       {"log_dimensionless_jerk", log_dimensionless_jerk(profile.path, profile.raw), "",
@@ -329,10 +326,12 @@ std::vector<MetricValue> hand_metrics(std::span<const HandSample> hand,
   };
 }
 
-std::vector<MetricValue> bimanual_metrics(std::span<const HandSample> right,
-                                          std::span<const HandSample> left,
-                                          const MotionThresholds& thresholds) {
-  check_thresholds(thresholds);
+void check_hand_samples(std::span<const HandSample> right, std::span<const HandSample> left,
+                        bool two_handed) {
+  if (!two_handed) {
+    check_samples(right, "");
+    return;
+  }
   check_samples(right, "right ");
   check_samples(left, "left ");
   if (right.size() != left.size())
@@ -341,7 +340,15 @@ std::vector<MetricValue> bimanual_metrics(std::span<const HandSample> right,
   for (std::size_t i = 0; i < right.size(); ++i)
     if (left[i].t_s != right[i].t_s)
       bad_sample("", i,
-                 "left t_s " + str(left[i].t_s) + " differs from right t_s " + str(right[i].t_s));
+                 "left t_s " + shortest_text(left[i].t_s) + " differs from right t_s " +
+                     shortest_text(right[i].t_s));
+}
+
+std::vector<MetricValue> bimanual_metrics(std::span<const HandSample> right,
+                                          std::span<const HandSample> left,
+                                          const MotionThresholds& thresholds) {
+  check_thresholds(thresholds);
+  check_hand_samples(right, left, true);
 
   // Aligned times give both hands the same distinct times and sample durations.
   const SpeedProfile r = speed_profile(right, thresholds);

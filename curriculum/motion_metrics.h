@@ -3,6 +3,7 @@
 // and how smoothly the tool moved, how often it stopped, how hard it pressed, and how the two hands
 // worked together (issue 8). Pure functions over plain sample streams, like metrics.h.
 #include <array>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -17,6 +18,7 @@ struct HandSample {
   std::array<double, 4> orientation{1, 0, 0, 0};  // tool orientation, unit quaternion w, x, y, z
   double jaw = 0;                                 // jaw opening, 0 closed .. 1 open
   std::array<double, 3> force_n{};                // force on the tool [N]
+  std::uint8_t buttons = 0;                       // bit i set = button i pressed
 };
 
 // How the speed of the tip is turned into "moving" and "still".
@@ -91,5 +93,11 @@ std::vector<MetricValue> hand_metrics(std::span<const HandSample> hand,
 std::vector<MetricValue> bimanual_metrics(std::span<const HandSample> right,
                                           std::span<const HandSample> left,
                                           const MotionThresholds& thresholds = {});
+
+// The sample checks of hand_metrics (one hand: #right, messages without a hand prefix; #left is
+// ignored) or of bimanual_metrics (two hands: each hand's samples, then their alignment), with the
+// same messages: every metric over the same recording refuses it in the same words.
+void check_hand_samples(std::span<const HandSample> right, std::span<const HandSample> left,
+                        bool two_handed);
 
 }  // namespace incise::curriculum

@@ -84,4 +84,35 @@ std::vector<ScoreAdjustment> ReviewsRepo::latest_adjustments(std::int64_t traine
   return out;
 }
 
+void ReviewsRepo::set_expert_run(std::int64_t session_id, bool expert, std::int64_t by,
+                                 std::int64_t now) {
+  if (expert) {
+    db_.prepare(
+           "INSERT OR IGNORE INTO expert_runs (session_id, marked_by, marked_at) VALUES (?, ?, ?)")
+        .bind(1, session_id)
+        .bind(2, by)
+        .bind(3, now)
+        .run();
+  } else {
+    db_.prepare("DELETE FROM expert_runs WHERE session_id = ?").bind(1, session_id).run();
+  }
+}
+
+bool ReviewsRepo::is_expert_run(std::int64_t session_id) {
+  auto q = db_.prepare("SELECT 1 FROM expert_runs WHERE session_id = ?");
+  q.bind(1, session_id);
+  return q.step();
+}
+
+std::vector<ExpertScore> ReviewsRepo::expert_scores() {
+  auto q = db_.prepare(
+      "SELECT sc.session_id, se.task, sc.metric, sc.unit, sc.value FROM expert_runs e "
+      "JOIN sessions se ON se.id = e.session_id JOIN scores sc ON sc.session_id = e.session_id "
+      "ORDER BY se.task, sc.metric, sc.session_id");
+  std::vector<ExpertScore> out;
+  while (q.step())
+    out.push_back({q.int64(0), q.text(1), q.text(2), q.text(3), q.real(4)});
+  return out;
+}
+
 }  // namespace incise::db

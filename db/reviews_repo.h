@@ -1,6 +1,7 @@
 #pragma once
-// Instructor review of attempts: annotations at a time of the recording, and score adjustments
-// (an instructor decides the attempt passed or not, with a reason; the latest one counts).
+// Instructor review of attempts: annotations at a time of the recording, score adjustments (an
+// instructor decides the attempt passed or not, with a reason; the latest one counts), and the
+// expert runs that make the tasks' benchmarks.
 
 #include <cstdint>
 #include <optional>
@@ -31,6 +32,15 @@ struct ScoreAdjustment {
   std::int64_t created_at = 0;
 };
 
+// One metric of one expert run.
+struct ExpertScore {
+  std::int64_t session_id = 0;
+  std::string task;
+  std::string metric;
+  std::string unit;
+  double value = 0;
+};
+
 class ReviewsRepo {
  public:
   explicit ReviewsRepo(Database& db) : db_(db) {}
@@ -46,6 +56,13 @@ class ReviewsRepo {
   std::vector<ScoreAdjustment> adjustments(std::int64_t session_id);
   // The adjustment in force per session, for every session of a trainee.
   std::vector<ScoreAdjustment> latest_adjustments(std::int64_t trainee_id);
+
+  // Expert runs: attempts whose scores make their task's benchmark. Marking twice, or unmarking
+  // an unmarked session, changes nothing.
+  void set_expert_run(std::int64_t session_id, bool expert, std::int64_t by, std::int64_t now);
+  bool is_expert_run(std::int64_t session_id);
+  // Every score of every expert run: task, metric, unit, value, oldest first.
+  std::vector<ExpertScore> expert_scores();
 
  private:
   Database& db_;

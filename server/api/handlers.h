@@ -37,6 +37,13 @@ ApiResponse list_annotations(ApiContext& ctx);
 ApiResponse add_annotation(ApiContext& ctx);
 ApiResponse list_adjustments(ApiContext& ctx);
 ApiResponse adjust_score(ApiContext& ctx);
+// The review of an attempt (its trainee, instructors, admins): events and signal timelines from
+// the recording, results against thresholds and the expert benchmark; 409 while it records.
+ApiResponse session_review(ApiContext& ctx);
+// admin: marks a finished, scored attempt as an expert run (or unmarks it); audited.
+ApiResponse set_expert_run(ApiContext& ctx);
+// Any role: per task and metric, the expert runs' n, mean, SD, median, p10, p90.
+ApiResponse list_benchmarks(ApiContext& ctx);
 // Any role: every metric a task may score, with its unit and one-line definition.
 ApiResponse list_metrics(ApiContext& ctx);
 // Curricula as JSON files (curriculum/curriculum_json.h): import (admin, 201; 422 naming the
@@ -46,6 +53,9 @@ ApiResponse import_curriculum(ApiContext& ctx);
 ApiResponse update_curriculum(ApiContext& ctx);
 ApiResponse export_curriculum(ApiContext& ctx);
 ApiResponse trainee_progress(ApiContext& ctx);
+// instructors, admins: every trainee's progress (as trainee_progress) with their names, for the
+// progress-at-a-glance table.
+ApiResponse progress_overview(ApiContext& ctx);
 // admin: the latest 200 audit entries, newest first.
 ApiResponse list_audit(ApiContext& ctx);
 ApiResponse list_curricula(ApiContext& ctx);

@@ -1,11 +1,24 @@
 #pragma once
-// Who may see and control a session: its trainee, instructors and admins (docs/api.md).
+// Who may see and control a session: its trainee, instructors and admins (docs/api.md); and the
+// curriculum task a session ran.
+#include <optional>
+#include <string>
+
+#include "curriculum/curriculum.h"
 #include "db/training_repo.h"
 #include "db/users_repo.h"
+#include "server/api/api_context.h"
 
 namespace incise::server::api {
 
 // Throws ApiError 403 unless user may see the session.
 void check_session_access(const db::User& user, const db::SessionRecord& session);
+
+// The session of the request's path id, which the caller may see. Throws ApiError 404 for no such
+// session, 403 as check_session_access does.
+db::SessionRecord visible_session(ApiContext& ctx);
+
+// The curriculum task with this key, from the first curriculum that has it.
+std::optional<curriculum::Task> find_curriculum_task(db::Database& db, const std::string& key);
 
 }  // namespace incise::server::api

@@ -41,15 +41,6 @@ ApiResponse session_response(ApiContext& ctx, std::int64_t session_id, const nlo
   return {status, out, {}};
 }
 
-// The curriculum task with this key, from the first curriculum that has it.
-std::optional<curriculum::Task> find_task(db::Database& db, const std::string& key) {
-  for (const auto& record : db::CurriculaRepo(db).list()) {
-    const auto c = curriculum::parse_curriculum_text(record.definition_json);
-    if (const auto* task = curriculum::find_task(c, key)) return *task;
-  }
-  return std::nullopt;
-}
-
 // The live session behind the URL, for its owner, instructors and admins.
 std::shared_ptr<live::LiveSession> controllable_session(ApiContext& ctx) {
   const auto& user = ctx.user();
@@ -77,7 +68,7 @@ ApiResponse start_session(ApiContext& ctx) {
   if (!station) {
     throw ApiError(http::status::not_found, "no station " + std::to_string(station_id));
   }
-  const auto task = find_task(db, task_key);
+  const auto task = find_curriculum_task(db, task_key);
   if (!task) throw ApiError(http::status::not_found, "no task \"" + task_key + "\"");
   if (user.role == db::Role::trainee) {
     bool booked = false;

@@ -95,4 +95,17 @@ ApiResponse trainee_progress(ApiContext& ctx) {
   return {http::status::ok, progress_of(ctx.app.db(), ctx.path_id)};
 }
 
+ApiResponse progress_overview(ApiContext& ctx) {
+  ctx.require_role({db::Role::instructor, db::Role::admin});
+  auto out = nlohmann::json::array();
+  for (const auto& user : db::UsersRepo(ctx.app.db()).list()) {
+    if (user.role != db::Role::trainee) continue;
+    auto row = progress_of(ctx.app.db(), user.id);
+    row["username"] = user.username;
+    row["display_name"] = user.display_name;
+    out.push_back(std::move(row));
+  }
+  return {http::status::ok, std::move(out)};
+}
+
 }  // namespace incise::server::api

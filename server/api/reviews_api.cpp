@@ -20,17 +20,6 @@ namespace {
 constexpr std::size_t kMaxAnnotation = 2000;
 constexpr std::size_t kMaxReason = 500;
 
-// The session of the path, which the user may see.
-db::SessionRecord visible_session(ApiContext& ctx) {
-  const auto record = db::TrainingRepo(ctx.app.db()).find_session(ctx.path_id);
-  if (!record) {
-    throw ApiError(http::status::not_found,
-                   "session " + std::to_string(ctx.path_id) + " does not exist");
-  }
-  check_session_access(ctx.user(), *record);
-  return *record;
-}
-
 nlohmann::json to_json(const db::Annotation& a) {
   return {{"id", a.id},         {"session_id", a.session_id},
           {"author", a.author}, {"t_s", a.t_s},

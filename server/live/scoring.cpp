@@ -45,21 +45,31 @@ std::vector<curriculum::HandSample> hand_samples(const std::vector<TickRecord>& 
                        {s.position.x, s.position.y, s.position.z},
                        {s.orientation.w, s.orientation.x, s.orientation.y, s.orientation.z},
                        static_cast<double>(s.jaw),
-                       {f[0], f[1], f[2]}});
+                       {f[0], f[1], f[2]},
+                       s.buttons});
   }
   return samples;
 }
 
+namespace {
+
+bool two_handed(const std::vector<TickRecord>& ticks) {
+  return !ticks.empty() && ticks.front().has_second;
+}
+
+}  // namespace
+
 std::vector<curriculum::MetricValue> session_metrics(const std::vector<TickRecord>& ticks,
-                                                     double tick_s) {
+                                                     double tick_s, const curriculum::Task& task) {
   // The basic metrics first: where a motion metric has the same key, score_attempt takes the
   // first.
   auto values = curriculum::basic_metrics(tool_samples(ticks, tick_s));
   const auto right = hand_samples(ticks, tick_s, 0);
   for (auto& v : curriculum::hand_metrics(right))
     values.push_back(std::move(v));
-  if (!ticks.empty() && ticks.front().has_second) {
-    const auto left = hand_samples(ticks, tick_s, 1);
+  std::vector<curriculum::HandSample> left;
+  if (two_handed(ticks)) {
+    left = hand_samples(ticks, tick_s, 1);
     for (auto v : curriculum::hand_metrics(left)) {
       v.key += "_left";
       v.definition += " (Left hand.)";
@@ -68,7 +78,19 @@ std::vector<curriculum::MetricValue> session_metrics(const std::vector<TickRecor
     for (auto& v : curriculum::bimanual_metrics(right, left))
       values.push_back(std::move(v));
   }
+  const auto events = curriculum::run_events(task, right, left);
+  for (auto& v : curriculum::event_metrics(task, right, left, events))
+    values.push_back(std::move(v));
   return values;
+}
+
+SessionReview review_session(const std::vector<TickRecord>& ticks, double tick_s,
+                             const curriculum::Task& task, double interval_s) {
+  const auto right = hand_samples(ticks, tick_s, 0);
+  std::vector<curriculum::HandSample> left;
+  if (two_handed(ticks)) left = hand_samples(ticks, tick_s, 1);
+  return {curriculum::run_events(task, right, left),
+          curriculum::run_timeline(task, right, left, interval_s)};
 }
 
 std::vector<curriculum::MetricValue> metric_catalogue() {
@@ -81,7 +103,7 @@ std::vector<curriculum::MetricValue> metric_catalogue() {
     ticks[i].has_second = true;
     ticks[i].second.input.position = {0, 0.001 * i, 0};
   }
-  auto values = session_metrics(ticks, 0.002);
+  auto values = session_metrics(ticks, 0.002, curriculum::Task{});
   // Where a key comes twice (the basic metrics and a hand's), the first is the one scored.
   std::vector<curriculum::MetricValue> catalogue;
   for (auto& v : values) {
@@ -98,7 +120,7 @@ std::vector<curriculum::MetricResult> score_session(db::Database& db, std::int64
                                                     std::int64_t recording_id,
                                                     const curriculum::Task& task, double tick_s,
                                                     std::int64_t now) {
-  const auto values = session_metrics(load_tick_records(db, recording_id), tick_s);
+  const auto values = session_metrics(load_tick_records(db, recording_id), tick_s, task);
   auto results = curriculum::score_attempt(task, values);
   std::vector<db::ScoreInput> scores;
   for (const auto& r : results) {

@@ -8,6 +8,7 @@
 #include "curriculum/curriculum.h"
 #include "curriculum/metrics.h"
 #include "curriculum/motion_metrics.h"
+#include "curriculum/run_events.h"
 #include "db/database.h"
 #include "server/live/tick_record.h"
 
@@ -27,9 +28,19 @@ std::vector<curriculum::HandSample> hand_samples(const std::vector<TickRecord>& 
                                                  double tick_s, int hand);
 
 // Every metric of a recording: the basic ones, each hand's motion metrics (the second hand's
-// keys end in "_left") and, with two hands, the bimanual ones. A task scores those it names.
+// keys end in "_left"), with two hands the bimanual ones, and the event metrics of the task's
+// zones and forces (run_events.h). A task scores those it names.
 std::vector<curriculum::MetricValue> session_metrics(const std::vector<TickRecord>& ticks,
-                                                     double tick_s);
+                                                     double tick_s, const curriculum::Task& task);
+
+// What the review page plots under a replay: the recording's events and its signals in bins of
+// interval_s.
+struct SessionReview {
+  std::vector<curriculum::RunEvent> events;
+  curriculum::Timeline timeline;
+};
+SessionReview review_session(const std::vector<TickRecord>& ticks, double tick_s,
+                             const curriculum::Task& task, double interval_s);
 
 // Every metric a task may score: key, unit and the one-line definition (value 0).
 std::vector<curriculum::MetricValue> metric_catalogue();

@@ -59,8 +59,20 @@ TEST(CurriculumJson, DemoFileParses) {
       {"completion_time_s", {ThresholdOp::at_most, 120.0}, "s"},
       {"path_length_m", {ThresholdOp::at_most, 1.5}, "m"},
       {"peak_force_n", {ThresholdOp::at_most, 4.0}, "N"},
-      {"contact_time_s", {ThresholdOp::at_least, 5.0}, "s"}};
+      {"contact_time_s", {ThresholdOp::at_least, 5.0}, "s"},
+      {"protected_collisions", {ThresholdOp::at_most, 2.0}, "count"}};
   EXPECT_EQ(task.metrics, metrics);
+  // Palpation keeps off a nerve and must never touch the artery or press above 12 N.
+  ASSERT_EQ(task.protected_zones.size(), 2u);
+  EXPECT_EQ(task.protected_zones[0].zone.name, "nerve");
+  EXPECT_FALSE(task.protected_zones[0].never);
+  EXPECT_EQ(task.protected_zones[1].zone.name, "artery");
+  EXPECT_TRUE(task.protected_zones[1].never);
+  EXPECT_EQ(task.targets.size(), 3u);
+  EXPECT_EQ(task.safe_force_n, 3.0);
+  EXPECT_EQ(task.never_force_n, 12.0);
+  EXPECT_TRUE(bimanual.protected_zones.empty());
+  EXPECT_EQ(bimanual.never_force_n, 0.0);
   EXPECT_EQ(parse_curriculum(to_json(curriculum)), curriculum);
 }
 
@@ -68,8 +80,62 @@ TEST(CurriculumJson, RoundTripIsExact) {
   const Curriculum curriculum = parse_curriculum(sample_curriculum_json());
   EXPECT_EQ(parse_curriculum(to_json(curriculum)), curriculum);
   EXPECT_EQ(parse_curriculum_text(to_json(curriculum).dump()), curriculum);
-  // Every member is written out, so the full-form sample comes back unchanged.
-  EXPECT_EQ(to_json(curriculum), sample_curriculum_json());
+  // Every member is written out, so the sample comes back unchanged apart from the members it
+  // leaves to their defaults.
+  json full = sample_curriculum_json();
+  for (json& module : full["modules"]) {
+    for (json& task : module["tasks"]) {
+      task["protected_zones"] = json::array();
+      task["targets"] = json::array();
+      task["safe_force_n"] = 3.0;
+      task["never_force_n"] = 0.0;
+    }
+  }
+  EXPECT_EQ(to_json(curriculum), full);
+}
+
+// The sample's first task with two protected zones (one never), a target and both forces.
+json with_zones() {
+  return changed([](json& value) {
+    json& task = value["modules"][0]["tasks"][0];
+    task["protected_zones"] = json::parse(R"([
+      {"name": "vessel", "center_m": [0.01, -0.02, 0.1], "radius_m": 0.004},
+      {"name": "nerve", "center_m": [0, 0, 0.05], "radius_m": 0.002, "never": true}])");
+    task["targets"] = json::parse(R"([{"name": "polyp", "center_m": [0.02, 0, 0.08],
+                                       "radius_m": 0.005}])");
+    task["safe_force_n"] = 2.5;
+    task["never_force_n"] = 6;
+  });
+}
+
+TEST(CurriculumJson, ZonesTargetsAndForcesAreRead) {
+  const Curriculum curriculum = parse_curriculum(with_zones());
+  const Task& task = curriculum.modules[0].tasks[0];
+  const std::vector<ProtectedZone> zones = {{{"vessel", {0.01, -0.02, 0.1}, 0.004}, false},
+                                            {{"nerve", {0, 0, 0.05}, 0.002}, true}};
+  EXPECT_EQ(task.protected_zones, zones);
+  EXPECT_EQ(task.targets, (std::vector<Zone>{{"polyp", {0.02, 0, 0.08}, 0.005}}));
+  EXPECT_EQ(task.safe_force_n, 2.5);
+  EXPECT_EQ(task.never_force_n, 6.0);
+  EXPECT_TRUE(task.has_never_events());
+  // Left out: no zones or targets, the default safe force, no never force.
+  const Task& plain = curriculum.modules[0].tasks[1];
+  EXPECT_TRUE(plain.protected_zones.empty());
+  EXPECT_TRUE(plain.targets.empty());
+  EXPECT_EQ(plain.safe_force_n, 3.0);
+  EXPECT_EQ(plain.never_force_n, 0.0);
+  EXPECT_FALSE(plain.has_never_events());
+}
+
+TEST(CurriculumJson, RoundTripKeepsZonesTargetsAndForces) {
+  Curriculum curriculum = parse_curriculum(with_zones());
+  curriculum.modules[0].tasks[0].protected_zones[0].zone.center_m[1] = 0.1 + 0.2;
+  curriculum.modules[0].tasks[0].targets[0].radius_m = 1e-300;
+  curriculum.modules[1].tasks[0].safe_force_n = 1.0 / 3;
+  EXPECT_EQ(parse_curriculum(to_json(curriculum)), curriculum);
+  EXPECT_EQ(parse_curriculum_text(to_json(curriculum).dump()), curriculum);
+  // never is written out even when false.
+  EXPECT_EQ(to_json(curriculum)["modules"][0]["tasks"][0]["protected_zones"][0]["never"], false);
 }
 
 TEST(CurriculumJson, RoundTripKeepsAwkwardValues) {
@@ -110,7 +176,8 @@ TEST(CurriculumJson, ShapeErrorsNameTheirPath) {
       {[](json& v) { v["modules"][0].erase("tasks"); }, "modules[0].tasks: is required"},
       {[](json& v) { v["modules"][0]["tasks"][1]["scenery"] = "x"; },
        "modules[0].tasks[1].scenery: unknown key (expected one of: key, name, scene, "
-       "instructions, tools, metrics, consecutive_passes_required, prerequisites)"},
+       "instructions, tools, metrics, consecutive_passes_required, prerequisites, "
+       "protected_zones, targets, safe_force_n, never_force_n)"},
       {[](json& v) { v["modules"][0]["tasks"][1]["tools"][1] = nullptr; },
        "modules[0].tasks[1].tools[1]: must be a string"},
       {[](json& v) { v["modules"][0]["tasks"][1]["prerequisites"] = "palpation"; },
@@ -140,6 +207,82 @@ TEST(CurriculumJson, ShapeErrorsNameTheirPath) {
   };
   for (const auto& [change, expected] : cases)
     expect_error(changed(change), expected);
+}
+
+TEST(CurriculumJson, ZoneShapeErrorsNameTheirPath) {
+  const std::string task = "modules[0].tasks[0]";
+  const std::string zone = task + ".protected_zones[1]";
+  const std::vector<std::pair<std::function<void(json&)>, std::string>> cases = {
+      {[](json& t) { t["protected_zones"] = json::object(); },
+       task + ".protected_zones: must be an array"},
+      {[](json& t) { t["protected_zones"][1] = "nerve"; }, zone + ": must be an object"},
+      {[](json& t) { t["protected_zones"][1]["colour"] = "red"; },
+       zone + ".colour: unknown key (expected one of: name, center_m, radius_m, never)"},
+      {[](json& t) { t["protected_zones"][1].erase("name"); }, zone + ".name: is required"},
+      {[](json& t) { t["protected_zones"][1].erase("center_m"); }, zone + ".center_m: is required"},
+      {[](json& t) {
+         t["protected_zones"][1]["center_m"] = {0, 0};
+       },
+       zone + ".center_m: must be an array of 3 numbers"},
+      {[](json& t) {
+         t["protected_zones"][1]["center_m"] = {0, 0, 0, 0};
+       },
+       zone + ".center_m: must be an array of 3 numbers"},
+      {[](json& t) { t["protected_zones"][1]["center_m"] = 0.1; },
+       zone + ".center_m: must be an array of 3 numbers"},
+      {[](json& t) { t["protected_zones"][1]["center_m"][2] = "0.05"; },
+       zone + ".center_m[2]: must be a number"},
+      {[](json& t) { t["protected_zones"][1]["radius_m"] = "2 mm"; },
+       zone + ".radius_m: must be a number"},
+      {[](json& t) { t["protected_zones"][1]["never"] = 1; },
+       zone + ".never: must be true or false"},
+      {[](json& t) { t["targets"][0]["never"] = true; },
+       task + ".targets[0].never: unknown key (expected one of: name, center_m, radius_m)"},
+      {[](json& t) { t["targets"][0].erase("radius_m"); },
+       task + ".targets[0].radius_m: is required"},
+      {[](json& t) { t["safe_force_n"] = "3"; }, task + ".safe_force_n: must be a number"},
+      {[](json& t) { t["never_force_n"] = nullptr; }, task + ".never_force_n: must be a number"},
+  };
+  for (const auto& [change, expected] : cases) {
+    json value = with_zones();
+    change(value["modules"][0]["tasks"][0]);
+    expect_error(value, expected);
+  }
+}
+
+TEST(CurriculumJson, ZoneValidationErrorsNameTheirPath) {
+  const std::string task = "modules[0].tasks[0]";
+  const std::vector<std::pair<std::function<void(json&)>, std::string>> cases = {
+      {[](json& t) { t["protected_zones"][0]["name"] = ""; },
+       task + ".protected_zones[0].name: must not be empty"},
+      {[](json& t) { t["protected_zones"][1]["name"] = "vessel"; },
+       task + ".protected_zones[1].name: duplicate zone or target name \"vessel\" (first at " +
+           task + ".protected_zones[0])"},
+      {[](json& t) { t["targets"][0]["name"] = "nerve"; },
+       task + ".targets[0].name: duplicate zone or target name \"nerve\" (first at " + task +
+           ".protected_zones[1])"},
+      {[](json& t) { t["protected_zones"][1]["radius_m"] = 0; },
+       task + ".protected_zones[1].radius_m: must be a finite number above 0"},
+      {[](json& t) { t["targets"][0]["radius_m"] = -0.005; },
+       task + ".targets[0].radius_m: must be a finite number above 0"},
+      {[](json& t) { t["safe_force_n"] = 0; },
+       task + ".safe_force_n: must be a finite number above 0"},
+      {[](json& t) { t["never_force_n"] = -1; },
+       task + ".never_force_n: must be a finite number, 0 (no limit) or more"},
+      {[](json& t) { t["never_force_n"] = 2.5; },
+       task + ".never_force_n: must be 0 (no limit) or above safe_force_n 2.5"},
+      {[](json& t) { t["never_force_n"] = 2; },
+       task + ".never_force_n: must be 0 (no limit) or above safe_force_n 2.5"},
+  };
+  for (const auto& [change, expected] : cases) {
+    json value = with_zones();
+    change(value["modules"][0]["tasks"][0]);
+    expect_error(value, expected);
+  }
+  // The same name in two tasks is fine: names are per task.
+  json value = with_zones();
+  value["modules"][0]["tasks"][1]["targets"] = value["modules"][0]["tasks"][0]["targets"];
+  EXPECT_NO_THROW(parse_curriculum(value));
 }
 
 TEST(CurriculumJson, ValidationErrorsNameTheirPath) {

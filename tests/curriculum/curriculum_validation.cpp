@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <limits>
 #include <string>
 
@@ -77,6 +78,60 @@ TEST(CurriculumValidation, ReferencesAreCheckedAfterEveryTaskIsKnown) {
   curriculum.modules[0].tasks[0].prerequisites = {};
   curriculum.modules[0].tasks[1].prerequisites = {"incision"};
   curriculum.modules[1].tasks[0].prerequisites = {"palpation"};
+  EXPECT_NO_THROW(validate(curriculum));
+}
+
+TEST(CurriculumValidation, ZonesAndTargetsMustBeFiniteSpheres) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  Curriculum curriculum = sample();
+  Task& task = curriculum.modules[1].tasks[0];
+  task.protected_zones = {{{"artery", {0, 0, 0.1}, 0.003}, true}};
+  task.targets = {{"mark_a", {0.01, 0, 0.1}, 0.002}, {"mark_b", {0.02, 0, 0.1}, 0.002}};
+  EXPECT_NO_THROW(validate(curriculum));
+  task.targets[1].center_m[1] = nan;
+  expect_error(curriculum, "modules[1].tasks[0].targets[1].center_m[1]: must be a finite number");
+  task.targets[1].center_m[1] = 0;
+  task.protected_zones[0].zone.center_m[0] = -inf;
+  expect_error(curriculum,
+               "modules[1].tasks[0].protected_zones[0].center_m[0]: must be a finite number");
+  task.protected_zones[0].zone.center_m[0] = 0;
+  task.protected_zones[0].zone.radius_m = inf;
+  expect_error(curriculum,
+               "modules[1].tasks[0].protected_zones[0].radius_m: must be a finite number above 0");
+  task.protected_zones[0].zone.radius_m = nan;
+  expect_error(curriculum,
+               "modules[1].tasks[0].protected_zones[0].radius_m: must be a finite number above 0");
+  task.protected_zones[0].zone.radius_m = 0.003;
+  task.targets[1].name = "mark_a";
+  expect_error(curriculum,
+               "modules[1].tasks[0].targets[1].name: duplicate zone or target name \"mark_a\" "
+               "(first at modules[1].tasks[0].targets[0])");
+  task.targets[1].name = "";
+  expect_error(curriculum, "modules[1].tasks[0].targets[1].name: must not be empty");
+}
+
+TEST(CurriculumValidation, ForcesMustBeFiniteAndTheNeverForceAboveTheSafeOne) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  Curriculum curriculum = sample();
+  Task& task = curriculum.modules[0].tasks[1];
+  task.safe_force_n = nan;
+  expect_error(curriculum, "modules[0].tasks[1].safe_force_n: must be a finite number above 0");
+  task.safe_force_n = -3;
+  expect_error(curriculum, "modules[0].tasks[1].safe_force_n: must be a finite number above 0");
+  task.safe_force_n = 3;
+  task.never_force_n = nan;
+  expect_error(curriculum,
+               "modules[0].tasks[1].never_force_n: must be a finite number, 0 (no limit) or more");
+  task.never_force_n = std::numeric_limits<double>::infinity();
+  expect_error(curriculum,
+               "modules[0].tasks[1].never_force_n: must be a finite number, 0 (no limit) or more");
+  task.never_force_n = 3;
+  expect_error(curriculum,
+               "modules[0].tasks[1].never_force_n: must be 0 (no limit) or above safe_force_n 3");
+  task.never_force_n = std::nextafter(3.0, 4.0);  // just above the safe force: allowed
+  EXPECT_NO_THROW(validate(curriculum));
+  task.never_force_n = 0;
   EXPECT_NO_THROW(validate(curriculum));
 }
 

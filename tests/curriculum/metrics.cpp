@@ -281,6 +281,49 @@ TEST(ScoreAttempt, NanValueFails) {
   EXPECT_FALSE(attempt_passed(results));
 }
 
+// A never event fails the attempt outright: a task that can have one is scored on never_events
+// <= 0 as well, whether it names that metric or not; a task that cannot have one is not.
+TEST(ScoreAttempt, ANeverEventFailsAnAttemptWhoseNamedMetricsPass) {
+  const std::vector<MetricValue> passing = {{"completion_time_s", 30.0, "s", ""},
+                                            {"peak_force_n", 3.0, "N", ""},
+                                            {"targets_reached", 1.0, "", ""}};
+  EXPECT_TRUE(attempt_passed(score_attempt(probing_task(), passing)));
+
+  for (const bool never_zone : {true, false}) {
+    SCOPED_TRACE(never_zone ? "a never zone" : "a never force");
+    Task task = probing_task();
+    if (never_zone) {
+      task.protected_zones = {{{"artery", {0, 0, 0}, 0.005}, true}};
+    } else {
+      task.never_force_n = 10;
+    }
+    ASSERT_TRUE(task.has_never_events());
+    for (const double never_events : {0.0, 1.0}) {
+      auto values = passing;
+      values.push_back({"never_events", never_events, "count", ""});
+      const auto results = score_attempt(task, values);
+      ASSERT_EQ(results.size(), 4u);
+      EXPECT_EQ(results[3].key, "never_events");
+      EXPECT_EQ(results[3].threshold, (Threshold{ThresholdOp::at_most, 0.0}));
+      EXPECT_EQ(attempt_passed(results), never_events == 0.0);
+    }
+    // Not measured at all: the attempt cannot prove it had none.
+    EXPECT_FALSE(attempt_passed(score_attempt(task, passing)));
+    // Named by the task: scored once, on the task's own threshold.
+    task.metrics.push_back({"never_events", {ThresholdOp::at_most, 0.0}, "count"});
+    auto values = passing;
+    values.push_back({"never_events", 1.0, "count", ""});
+    const auto named = score_attempt(task, values);
+    EXPECT_EQ(named.size(), 4u);
+    EXPECT_FALSE(attempt_passed(named));
+  }
+  // A protected zone that is not a never zone does not add the requirement.
+  Task gentle = probing_task();
+  gentle.protected_zones = {{{"nerve", {0, 0, 0}, 0.005}, false}};
+  EXPECT_FALSE(gentle.has_never_events());
+  EXPECT_EQ(score_attempt(gentle, passing).size(), 3u);
+}
+
 TEST(ScoreAttempt, AnAttemptScoredOnNothingDoesNotPass) {
   Task no_metrics;
   no_metrics.key = "empty";

@@ -258,6 +258,16 @@ TEST_F(RecordsApi, ProgressUnlocksTheNextTaskAfterEnoughConsecutivePasses) {
             json_of(get("/api/progress", token))["tasks"]);
   EXPECT_EQ(get(path, session_of(Who::trainee)).result_int(), 403);
   EXPECT_EQ(get("/api/trainees/999999/progress", session_of(Who::admin)).result_int(), 404);
+  // The overview has every trainee's, tess's the same as her own view.
+  const auto overview = json_of(get("/api/trainees/progress", session_of(Who::instructor)));
+  ASSERT_TRUE(overview.is_array());
+  bool found = false;
+  for (const auto& row : overview) {
+    if (row["username"] != "tess") continue;
+    found = true;
+    EXPECT_EQ(row["tasks"], json_of(get("/api/progress", token))["tasks"]);
+  }
+  EXPECT_TRUE(found);
 }
 
 TEST_F(RecordsApi, AdminsImportEditAndExportCurriculaWithPreciseErrors) {

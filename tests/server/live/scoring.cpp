@@ -167,7 +167,7 @@ TEST_F(ScoreSession, TwoHandedRecordingsScoreEachHandAndTheirCoordination) {
       r.second.input.device_index = 1;
       r.second.input.position = {left_moves ? x : 0.01, 0.02, 0.04};
     }
-    const auto values = session_metrics(records, kTickS);
+    const auto values = session_metrics(records, kTickS, curriculum::Task{});
     // The right hand: a straight line, 0.05 m/s for 999 ticks.
     EXPECT_NEAR(value_of(values, "path_length_m"), 0.05 * 999 * kTickS, 1e-12);
     EXPECT_NEAR(value_of(values, "economy_of_motion"), 1.0, 1e-12);
@@ -192,6 +192,53 @@ TEST_F(ScoreSession, TwoHandedRecordingsScoreEachHandAndTheirCoordination) {
     const auto results = score_session(db_, session, recording, task, kTickS, kNow + 60);
     ASSERT_EQ(results.size(), 1u);
     EXPECT_EQ(results[0].passed, left_moves);
+  }
+}
+
+// A never event fails the attempt outright: the tip passes through a never zone on its way, every
+// metric the task names passes, and the attempt fails on never_events alone. The same run beside
+// the zone passes.
+TEST_F(ScoreSession, ANeverEventFailsAnAttemptWhoseMetricsAllPass) {
+  curriculum::Task task;
+  task.metrics = {{"path_length_m", {curriculum::ThresholdOp::at_most, 1.0}, "m"}};
+  task.protected_zones = {{{"vessel", {0.05, 0.0, 0.04}, 0.005}, true}};
+  for (const double y : {0.0, 0.02}) {
+    SCOPED_TRACE(y == 0.0 ? "through the zone" : "beside the zone");
+    std::vector<TickRecord> records(1000);
+    for (std::uint32_t i = 0; i < records.size(); ++i) {
+      records[i].tick = i;
+      records[i].input.position = {0.1 * i * kTickS, y, 0.04};  // 0 to 0.2 m along x
+    }
+    const auto session = db::TrainingRepo(db_).create_session(trainee_, std::nullopt, "t", kNow);
+    const auto recording = recordings_.create(session, "scenes/palpation.json", "0123456789abcdef",
+                                              0, 1 / kTickS, kNow);
+    std::vector<std::uint8_t> chunk;
+    for (const auto& r : records)
+      append_tick_record(r, chunk);
+    recordings_.append_chunk(recording, 0, 0, chunk, 1000 * kTickS);
+    const auto results = score_session(db_, session, recording, task, kTickS, kNow + 60);
+    ASSERT_EQ(results.size(), 2u);
+    EXPECT_TRUE(results[0].passed);
+    EXPECT_EQ(results[1].key, "never_events");
+    EXPECT_EQ(results[1].value, y == 0.0 ? 1.0 : 0.0);
+    EXPECT_EQ(curriculum::attempt_passed(results), y != 0.0);
+
+    // The review shows the event where the tip crossed into the zone (x = 0.045 m at 0.1 m/s:
+    // 0.45 s).
+    const auto review = review_session(records, kTickS, task, 0.1);
+    const auto never = std::count_if(review.events.begin(), review.events.end(), [](const auto& e) {
+      return e.kind == curriculum::EventKind::never_event;
+    });
+    EXPECT_EQ(never, y == 0.0 ? 1 : 0);
+    if (y == 0.0) {
+      const auto& e = *std::find_if(review.events.begin(), review.events.end(), [](const auto& e) {
+        return e.kind == curriculum::EventKind::never_event;
+      });
+      // The first tick strictly inside: x > 0.045 m, i.e. the tick at 0.45 s or the next.
+      EXPECT_GE(e.t_s, 0.45 - 1e-9);
+      EXPECT_LE(e.t_s, 0.45 + kTickS + 1e-9);
+    }
+    EXPECT_EQ(review.timeline.t_s.size(), 20u);  // 1.998 s in bins of 0.1 s
   }
 }
 

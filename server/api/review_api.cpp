@@ -1,0 +1,166 @@
+// The review page of an attempt (issue 8 items 2 and 4): its events and signal timelines computed
+// from the recording, its results against the task's thresholds and the experts, and the expert
+// runs that make the benchmarks.
+
+#include <cmath>
+#include <map>
+#include <utility>
+#include <vector>
+
+#include "curriculum/benchmarks.h"
+#include "curriculum/metrics.h"
+#include "db/audit_repo.h"
+#include "db/recordings_repo.h"
+#include "db/reviews_repo.h"
+#include "db/training_repo.h"
+#include "server/api/api_error.h"
+#include "server/api/handlers.h"
+#include "server/api/live_access.h"
+#include "server/api/request_fields.h"
+#include "server/live/scoring.h"
+
+namespace incise::server::api {
+namespace {
+
+// One bin per 50 ms: a two-minute attempt plots 2,400 points per signal, fine enough to see a
+// force spike's time to a frame and small enough to send at once.
+constexpr double kTimelineInterval = 0.05;
+
+using BenchmarkKey = std::pair<std::string, std::string>;  // task, metric
+
+std::map<BenchmarkKey, std::pair<std::string, curriculum::BenchmarkStats>> benchmarks(
+    db::Database& db) {
+  std::map<BenchmarkKey, std::pair<std::string, std::vector<double>>> values;
+  for (const auto& s : db::ReviewsRepo(db).expert_scores()) {
+    auto& [unit, list] = values[{s.task, s.metric}];
+    unit = s.unit;
+    list.push_back(s.value);
+  }
+  std::map<BenchmarkKey, std::pair<std::string, curriculum::BenchmarkStats>> out;
+  for (const auto& [key, entry] : values)
+    out[key] = {entry.first, curriculum::summarize(entry.second)};
+  return out;
+}
+
+nlohmann::json to_json(const curriculum::BenchmarkStats& b) {
+  return {{"n", b.n},           {"mean", b.mean}, {"sd", b.sd},
+          {"median", b.median}, {"p10", b.p10},   {"p90", b.p90}};
+}
+
+// A number, or null where it is undefined (JSON has no NaN).
+nlohmann::json finite_or_null(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
+nlohmann::json timeline_json(const curriculum::Timeline& t) {
+  auto hands = nlohmann::json::array();
+  for (int h = 0; h < 2; ++h) {
+    if (t.peak_force_n[h].empty() && h > 0) break;
+    hands.push_back({{"peak_force_n", t.peak_force_n[h]}, {"speed_m_s", t.speed_m_s[h]}});
+  }
+  return {
+      {"interval_s", t.interval_s}, {"t_s", t.t_s}, {"hands", hands}, {"damage_ns", t.damage_ns}};
+}
+
+// The session's stored scores with the thresholds the task sets now and the experts' benchmark.
+nlohmann::json results_json(db::Database& db, const db::SessionRecord& session,
+                            const curriculum::Task* task) {
+  const auto experts = benchmarks(db);
+  auto out = nlohmann::json::array();
+  for (const auto& score : db::TrainingRepo(db).scores(session.trainee_id)) {
+    if (score.session_id != session.id) continue;
+    nlohmann::json row = {{"metric", score.metric}, {"value", score.value}, {"unit", score.unit},
+                          {"passed", score.passed}, {"threshold", nullptr}, {"expert", nullptr}};
+    if (task) {
+      for (const auto& m : task->metrics) {
+        if (m.key != score.metric) continue;
+        row["threshold"] = {{"op", curriculum::threshold_op_symbol(m.threshold.op)},
+                            {"value", m.threshold.value}};
+      }
+    }
+    const auto expert = experts.find({session.task, score.metric});
+    if (expert != experts.end()) {
+      row["expert"] = to_json(expert->second.second);
+      row["expert"]["z"] =
+          finite_or_null(curriculum::relative_score(score.value, expert->second.second));
+    }
+    out.push_back(std::move(row));
+  }
+  return out;
+}
+
+}  // namespace
+
+ApiResponse session_review(ApiContext& ctx) {
+  auto& db = ctx.app.db();
+  const auto session = visible_session(ctx);
+  const auto name = "session " + std::to_string(session.id);
+  const auto recording = db::RecordingsRepo(db).find_by_session(session.id);
+  if (!recording) throw ApiError(http::status::conflict, name + " has no recording");
+  if (recording->state != "complete") {
+    throw ApiError(http::status::conflict, name + " is still being recorded");
+  }
+  // A task since removed from every curriculum still has its motion and force events; only its
+  // zones and thresholds are gone.
+  const auto task = find_curriculum_task(db, session.task);
+  curriculum::Task events_task = task.value_or(curriculum::Task{});
+  const auto ticks = live::load_tick_records(db, recording->id);
+  const auto tick_s = recording->tick_hz > 0 ? 1.0 / recording->tick_hz : 0.002;
+  const auto review = live::review_session(ticks, tick_s, events_task, kTimelineInterval);
+
+  auto events = nlohmann::json::array();
+  for (const auto& e : review.events) {
+    events.push_back({{"t_s", e.t_s},
+                      {"kind", curriculum::event_kind_name(e.kind)},
+                      {"hand", e.hand},
+                      {"label", e.label}});
+  }
+  return {http::status::ok,
+          {{"session_id", session.id},
+           {"task", session.task},
+           {"trainee_id", session.trainee_id},
+           {"recording_id", recording->id},
+           {"duration_s", recording->duration_s},
+           {"expert_run", db::ReviewsRepo(db).is_expert_run(session.id)},
+           {"events", std::move(events)},
+           {"timeline", timeline_json(review.timeline)},
+           {"results", results_json(db, session, task ? &*task : nullptr)}}};
+}
+
+ApiResponse set_expert_run(ApiContext& ctx) {
+  const auto& admin = ctx.require_role({db::Role::admin});
+  const auto session = visible_session(ctx);
+  const auto body = ctx.json_body();
+  const RequestFields fields(body, {"expert"});
+  const bool expert = fields.boolean("expert");
+  auto& db = ctx.app.db();
+  if (expert) {
+    bool scored = false;
+    for (const auto& s : db::TrainingRepo(db).scores(session.trainee_id))
+      scored = scored || s.session_id == session.id;
+    if (session.state != "finished" || !scored) {
+      throw ApiError(http::status::conflict, "session " + std::to_string(session.id) +
+                                                 " is not a finished, scored attempt");
+    }
+  }
+  db::ReviewsRepo(db).set_expert_run(session.id, expert, admin.id, ctx.now);
+  db::AuditRepo(db).record(admin.id, expert ? "benchmark.add" : "benchmark.remove",
+                           "session " + std::to_string(session.id) + " task " + session.task,
+                           ctx.now);
+  return {http::status::ok, {{"session_id", session.id}, {"expert_run", expert}}};
+}
+
+ApiResponse list_benchmarks(ApiContext& ctx) {
+  ctx.user();
+  auto out = nlohmann::json::array();
+  for (const auto& [key, entry] : benchmarks(ctx.app.db())) {
+    auto row = to_json(entry.second);
+    row["task"] = key.first;
+    row["metric"] = key.second;
+    row["unit"] = entry.first;
+    out.push_back(std::move(row));
+  }
+  return {http::status::ok, std::move(out)};
+}
+
+}  // namespace incise::server::api

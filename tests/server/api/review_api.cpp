@@ -1,0 +1,159 @@
+// The review of an attempt (GET /api/sessions/{id}/review) and the expert benchmarks
+// (PUT /api/sessions/{id}/expert, GET /api/benchmarks), through the router on a real SQLite file
+// with a real recording.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "api/api_test_app.h"
+#include "curriculum/benchmarks.h"
+#include "db/auth_sessions_repo.h"
+#include "db/recordings_repo.h"
+#include "db/training_repo.h"
+#include "server/live/tick_record.h"
+
+namespace incise::server::test {
+namespace {
+
+constexpr double kTickHz = 500;
+
+class ReviewApi : public ApiTest {
+ protected:
+  // A finished palpation attempt of tess: `seconds` of the probe pressing down with a force
+  // rising linearly from 0 to peak_n, scored with one peak_force_n value.
+  std::int64_t attempt(double seconds, double peak_n, double score) {
+    db::TrainingRepo training(db());
+    const auto session = training.create_session(tess_, std::nullopt, "palpation", now());
+    db::RecordingsRepo recordings(db());
+    const auto recording =
+        recordings.create(session, "scenes/palpation.json", "v", 0, kTickHz, now());
+    std::vector<std::uint8_t> chunk;
+    const auto ticks = static_cast<std::uint32_t>(seconds * kTickHz);
+    for (std::uint32_t i = 0; i < ticks; ++i) {
+      live::TickRecord r;
+      r.tick = i;
+      r.input.position = {0.04, 0.04, 0.03};
+      r.force[2] = static_cast<float>(peak_n * i / (ticks - 1));
+      live::append_tick_record(r, chunk);
+    }
+    recordings.append_chunk(recording, 0, 0, chunk, seconds);
+    recordings.finish(recording, seconds);
+    training.set_session_state(session, "finished", now() + 60);
+    training.add_score(session, "peak_force_n", score, "N", score <= 4, now() + 60);
+    return session;
+  }
+
+  void SetUp() override {
+    ApiTest::SetUp();
+    tess_ = add_trainee("tess");
+    tess_token_ = db::AuthSessionsRepo(db()).create(tess_, now(), 3600);
+  }
+
+  std::int64_t tess_ = 0;
+  std::string tess_token_;
+};
+
+TEST_F(ReviewApi, TheReviewShowsEventsTimelinesAndResultsAgainstThresholds) {
+  const auto session = attempt(2.0, 2.0, 3.0);
+  const auto review =
+      json_of(get("/api/sessions/" + std::to_string(session) + "/review", tess_token_));
+  ASSERT_TRUE(review.is_object()) << review;
+  EXPECT_EQ(review["task"], "palpation");
+  EXPECT_EQ(review["expert_run"], false);
+  // The force passes 0.05 N (contact) at tick ceil(0.05 / 2 * 999) = 25, i.e. 0.05 s.
+  // The tip rests on the demo task's "centre" target: reached in the first sample.
+  const auto& events = review["events"];
+  ASSERT_EQ(events.size(), 2u) << events;
+  EXPECT_EQ(events[0]["kind"], "target");
+  EXPECT_EQ(events[0]["t_s"], 0.0);
+  EXPECT_EQ(events[0]["label"], "reached target \"centre\"");
+  const auto& contact = events[1];
+  EXPECT_EQ(contact["kind"], "contact");
+  EXPECT_EQ(contact["hand"], 0);
+  EXPECT_NEAR(contact["t_s"].get<double>(), 25 / kTickHz, 1e-9);
+  // 2 s in bins of 50 ms; the force is a ramp, so each bin's peak is its last sample's.
+  const auto& timeline = review["timeline"];
+  ASSERT_EQ(timeline["t_s"].size(), 40u);
+  ASSERT_EQ(timeline["hands"].size(), 1u);
+  const auto& force = timeline["hands"][0]["peak_force_n"];
+  EXPECT_NEAR(force[39].get<double>(), 2.0, 1e-6);
+  EXPECT_NEAR(force[0].get<double>(), 2.0 * 24 / 999, 1e-6);
+  // Below the task's safe force (3 N), the tissue is never overloaded.
+  EXPECT_EQ(timeline["damage_ns"][39].get<double>(), 0.0);
+  // The stored score, with the threshold the demo task sets.
+  ASSERT_EQ(review["results"].size(), 1u);
+  const auto& result = review["results"][0];
+  EXPECT_EQ(result["metric"], "peak_force_n");
+  EXPECT_EQ(result["threshold"]["op"], "<=");
+  EXPECT_EQ(result["threshold"]["value"], 4.0);
+  EXPECT_TRUE(result["expert"].is_null());
+}
+
+TEST_F(ReviewApi, AdminsMarkExpertRunsWhoseScoresMakeTheBenchmark) {
+  const auto admin = session_of(Who::admin);
+  const std::vector<double> expert_values = {1.5, 2.0, 2.9};
+  std::vector<std::int64_t> experts;
+  for (const double v : expert_values)
+    experts.push_back(attempt(0.5, 1.0, v));
+  for (const auto s : experts) {
+    const auto marked =
+        put("/api/sessions/" + std::to_string(s) + "/expert", {{"expert", true}}, admin);
+    ASSERT_EQ(marked.result_int(), 200) << marked.body();
+  }
+  // Marking twice changes nothing; a running attempt cannot be an expert run.
+  EXPECT_EQ(
+      put("/api/sessions/" + std::to_string(experts[0]) + "/expert", {{"expert", true}}, admin)
+          .result_int(),
+      200);
+  db::TrainingRepo training(db());
+  const auto running = training.create_session(tess_, std::nullopt, "palpation", now());
+  EXPECT_TRUE(is_error(
+      put("/api/sessions/" + std::to_string(running) + "/expert", {{"expert", true}}, admin),
+      http::status::conflict));
+  EXPECT_TRUE(is_error(
+      put("/api/sessions/" + std::to_string(experts[0]) + "/expert", {{"expert", "yes"}}, admin),
+      http::status::unprocessable_entity));
+  EXPECT_EQ(count("audit_log WHERE action = 'benchmark.add'"), 4);
+
+  const auto stats = curriculum::summarize(expert_values);
+  const auto benchmarks = json_of(get("/api/benchmarks", tess_token_));
+  ASSERT_EQ(benchmarks.size(), 1u) << benchmarks;
+  EXPECT_EQ(benchmarks[0]["task"], "palpation");
+  EXPECT_EQ(benchmarks[0]["metric"], "peak_force_n");
+  EXPECT_EQ(benchmarks[0]["n"], 3);
+  EXPECT_NEAR(benchmarks[0]["mean"].get<double>(), (1.5 + 2.0 + 2.9) / 3, 1e-12);
+  EXPECT_NEAR(benchmarks[0]["sd"].get<double>(), stats.sd, 1e-12);
+
+  // A trainee's attempt is scored relative to the experts: (value - mean) / sd.
+  const auto mine = attempt(0.5, 1.0, 3.6);
+  const auto review =
+      json_of(get("/api/sessions/" + std::to_string(mine) + "/review", tess_token_));
+  const auto& expert = review["results"][0]["expert"];
+  EXPECT_EQ(expert["n"], 3);
+  EXPECT_NEAR(expert["z"].get<double>(), (3.6 - stats.mean) / stats.sd, 1e-12);
+
+  // Unmarking takes a run out of the benchmark.
+  ASSERT_EQ(
+      put("/api/sessions/" + std::to_string(experts[2]) + "/expert", {{"expert", false}}, admin)
+          .result_int(),
+      200);
+  EXPECT_EQ(json_of(get("/api/benchmarks", tess_token_))[0]["n"], 2);
+}
+
+TEST_F(ReviewApi, AnAttemptWithoutACompleteRecordingHasNoReview) {
+  db::TrainingRepo training(db());
+  const auto session = training.create_session(tess_, std::nullopt, "palpation", now());
+  const auto path = "/api/sessions/" + std::to_string(session) + "/review";
+  EXPECT_TRUE(is_error(get(path, tess_token_), http::status::conflict,
+                       "session " + std::to_string(session) + " has no recording"));
+  db::RecordingsRepo(db()).create(session, "scenes/palpation.json", "v", 0, kTickHz, now());
+  EXPECT_TRUE(is_error(get(path, tess_token_), http::status::conflict,
+                       "session " + std::to_string(session) + " is still being recorded"));
+  EXPECT_TRUE(is_error(get("/api/sessions/999999/review", tess_token_), http::status::not_found));
+}
+
+}  // namespace
+}  // namespace incise::server::test
