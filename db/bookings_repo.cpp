@@ -86,6 +86,18 @@ std::vector<Booking> BookingsRepo::list(std::optional<std::int64_t> user_id) {
   return out;
 }
 
+std::vector<Booking> BookingsRepo::station_schedule(std::int64_t station_id, std::int64_t since) {
+  auto q = db_.prepare(std::string(kSelect) +
+                       "WHERE b.station_id = ? AND b.status = 'active' AND b.ends_at > ? "
+                       "ORDER BY b.starts_at, b.id");
+  q.bind(1, station_id);
+  q.bind(2, since);
+  std::vector<Booking> out;
+  while (q.step())
+    out.push_back(read_booking(q));
+  return out;
+}
+
 void BookingsRepo::cancel(std::int64_t id, std::int64_t now) {
   Transaction tx(db_);
   auto booking = find(id);

@@ -50,6 +50,8 @@ class BookingsRepo {
   std::optional<Booking> find(std::int64_t id);
   // Newest first by start time; `user_id` restricts to one person's bookings.
   std::vector<Booking> list(std::optional<std::int64_t> user_id = std::nullopt);
+  // The active bookings of a station that end after #since, earliest first: its calendar.
+  std::vector<Booking> station_schedule(std::int64_t station_id, std::int64_t since);
   // Throws NotFound for an unknown id, Conflict when already cancelled.
   void cancel(std::int64_t id, std::int64_t now);
 

@@ -1,4 +1,5 @@
 #include "db/audit_repo.h"
+#include "db/stations_repo.h"
 #include "server/api/api_error.h"
 #include "server/api/handlers.h"
 #include "server/api/json_views.h"
@@ -35,6 +36,29 @@ ApiResponse list_bookings(ApiContext& ctx) {
   for (const auto& b : db::BookingsRepo(ctx.app.db()).list(filter))
     out.push_back(to_json(b));
   return {http::status::ok, out, {}};
+}
+
+ApiResponse station_schedule(ApiContext& ctx) {
+  const auto& user = ctx.user();
+  auto& db = ctx.app.db();
+  if (!db::StationsRepo(db).find(ctx.path_id)) {
+    throw ApiError(http::status::not_found,
+                   "station " + std::to_string(ctx.path_id) + " does not exist");
+  }
+  // From a week back, so that the calendar's current week shows its past slots too. A trainee
+  // sees that a slot is taken, not by whom: ids and names of others' bookings stay hidden.
+  constexpr std::int64_t kWeek = 7 * 24 * 3600;
+  const bool staff = user.role != db::Role::trainee;
+  auto out = nlohmann::json::array();
+  for (const auto& b : db::BookingsRepo(db).station_schedule(ctx.path_id, ctx.now - kWeek)) {
+    const bool mine = b.user_id == user.id;
+    out.push_back({{"id", mine || staff ? nlohmann::json(b.id) : nlohmann::json(nullptr)},
+                   {"starts_at", format_utc(b.starts_at)},
+                   {"ends_at", format_utc(b.ends_at)},
+                   {"mine", mine},
+                   {"username", staff ? nlohmann::json(b.username) : nlohmann::json(nullptr)}});
+  }
+  return {http::status::ok, std::move(out), {}};
 }
 
 ApiResponse create_booking(ApiContext& ctx) {

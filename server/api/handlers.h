@@ -19,6 +19,9 @@ ApiResponse get_station_calibration(ApiContext& ctx);  // admin, instructor
 ApiResponse put_station_calibration(ApiContext& ctx);  // admin; 422 with the first problem
 
 ApiResponse list_bookings(ApiContext& ctx);
+// Any role: a station's active bookings from a week ago on, for its calendar; a trainee sees
+// others' as taken slots only (no id, no name).
+ApiResponse station_schedule(ApiContext& ctx);
 ApiResponse create_booking(ApiContext& ctx);
 ApiResponse cancel_booking(ApiContext& ctx);
 

@@ -2,6 +2,7 @@
 // from the recording, its results against the task's thresholds and the experts, and the expert
 // runs that make the benchmarks.
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <utility>
@@ -62,21 +63,33 @@ nlohmann::json timeline_json(const curriculum::Timeline& t) {
       {"interval_s", t.interval_s}, {"t_s", t.t_s}, {"hands", hands}, {"damage_ns", t.damage_ns}};
 }
 
-// The session's stored scores with the thresholds the task sets now and the experts' benchmark.
+// The session's stored scores in the order the task scores them (others after), with the
+// thresholds the task sets now and the experts' benchmark.
 nlohmann::json results_json(db::Database& db, const db::SessionRecord& session,
                             const curriculum::Task* task) {
   const auto experts = benchmarks(db);
+  const auto requirements =
+      task ? curriculum::scored_requirements(*task) : std::vector<curriculum::MetricRequirement>{};
+  std::vector<db::ScoreRecord> scores;
+  for (auto& score : db::TrainingRepo(db).scores(session.trainee_id))
+    if (score.session_id == session.id) scores.push_back(std::move(score));
+  const auto rank = [&](const std::string& metric) {
+    const auto it = std::find_if(requirements.begin(), requirements.end(),
+                                 [&](const auto& r) { return r.key == metric; });
+    return it - requirements.begin();
+  };
+  std::stable_sort(scores.begin(), scores.end(),
+                   [&](const auto& a, const auto& b) { return rank(a.metric) < rank(b.metric); });
+
   auto out = nlohmann::json::array();
-  for (const auto& score : db::TrainingRepo(db).scores(session.trainee_id)) {
-    if (score.session_id != session.id) continue;
+  for (const auto& score : scores) {
     nlohmann::json row = {{"metric", score.metric}, {"value", score.value}, {"unit", score.unit},
                           {"passed", score.passed}, {"threshold", nullptr}, {"expert", nullptr}};
-    if (task) {
-      for (const auto& m : task->metrics) {
-        if (m.key != score.metric) continue;
-        row["threshold"] = {{"op", curriculum::threshold_op_symbol(m.threshold.op)},
-                            {"value", m.threshold.value}};
-      }
+    const auto r = static_cast<std::size_t>(rank(score.metric));
+    if (r < requirements.size()) {
+      const auto& threshold = requirements[r].threshold;
+      row["threshold"] = {{"op", curriculum::threshold_op_symbol(threshold.op)},
+                          {"value", threshold.value}};
     }
     const auto expert = experts.find({session.task, score.metric});
     if (expert != experts.end()) {

@@ -32,6 +32,7 @@ constexpr std::array kRoutes = {
     Route{http::verb::post, "/api/stations", api::create_station},
     Route{http::verb::get, "/api/stations/{id}/calibration", api::get_station_calibration},
     Route{http::verb::put, "/api/stations/{id}/calibration", api::put_station_calibration},
+    Route{http::verb::get, "/api/stations/{id}/schedule", api::station_schedule},
     Route{http::verb::get, "/api/bookings", api::list_bookings},
     Route{http::verb::post, "/api/bookings", api::create_booking},
     Route{http::verb::delete_, "/api/bookings/{id}", api::cancel_booking},

@@ -2,13 +2,13 @@
 // Each scenario asserts what a person sees, and the API status behind it where that matters.
 // Needs web/dist (npm run build in web/) and the server binary; see support.mjs.
 import assert from 'node:assert/strict';
-import { browser_suite, click_for_response, demo, log_in, region, sees } from './support.mjs';
+import { browser_suite, click_for_response, demo, log_in, region, sees, snap } from './support.mjs';
 
 // The browser runs in a zone with a half-hour offset and no daylight saving, so that the local
 // time shown and the UTC time sent are different and predictable.
 const time_zone = 'Asia/Kolkata'; // UTC+05:30
 
-const { scenario } = browser_suite({ time_zone });
+const { env, scenario } = browser_suite({ time_zone });
 
 /** "YYYY-MM-DD" of tomorrow in the browser's zone. */
 function tomorrow_in_zone() {
@@ -169,4 +169,85 @@ scenario('an admin edits a pass threshold and downloads the scores as CSV', asyn
   await editor.getByLabel('peak_force_n <=').first().fill('4');
   const restored = await click_for_response(page, editor.getByRole('button', { name: 'Save thresholds' }), 'PUT', /^\/api\/curricula\/\d+$/);
   assert.equal(restored.status(), 200);
+});
+
+scenario('a trainee books from the station calendar, meets a clear conflict and follows their progress', async (page) => {
+  assert.equal((await log_in(page, demo.trainee)).status(), 200);
+  await page.waitForURL('**/trainee');
+  const calendar = region(page, 'Station calendar');
+  await sees(calendar.getByTestId('booking-calendar'), 'the station calendar');
+  const station_select = calendar.getByLabel('Station', { exact: true });
+  await station_select.selectOption(await station_select.locator('option', { hasText: 'Station 1' }).getAttribute('value'));
+  // Next week's Tuesday is in the future whatever today is.
+  await calendar.getByRole('button', { name: 'Next week' }).click();
+
+  const booked = await click_for_response(
+    page,
+    calendar.getByRole('button', { name: 'Book Station 1 Tuesday 10:00-10:30', exact: true }),
+    'POST',
+    /^\/api\/bookings$/,
+  );
+  assert.equal(booked.status(), 201, await booked.text());
+  const mine = await booked.json();
+  // 10:00 in UTC+05:30 is 04:30Z, half an hour long.
+  assert.match(mine.starts_at, /T04:30:00Z$/);
+  assert.equal(Date.parse(mine.ends_at) - Date.parse(mine.starts_at), 30 * 60 * 1000);
+  await sees(calendar.getByRole('button', { name: 'Cancel my booking Station 1 Tuesday 10:00' }), 'the slot shown as mine');
+
+  // Someone else books 11:00 meanwhile (an instructor, in their own browser); the trainee's
+  // calendar still offers it, and booking it shows the server's conflict.
+  const other = await env.browser.newContext({ baseURL: env.server.url });
+  const other_page = await other.newPage();
+  assert.equal((await log_in(other_page, demo.instructor)).status(), 200);
+  const eleven = new Date(Date.parse(mine.starts_at) + 3600 * 1000);
+  const taken = await other_page.evaluate(
+    async (body) => {
+      const response = await fetch('/api/bookings', {
+        method: 'POST',
+        headers: { 'Content-Type': 'application/json' },
+        body: JSON.stringify(body),
+      });
+      return { status: response.status, text: await response.text() };
+    },
+    {
+      station_id: mine.station_id,
+      starts_at: eleven.toISOString().replace('.000Z', 'Z'),
+      ends_at: new Date(eleven.getTime() + 1800 * 1000).toISOString().replace('.000Z', 'Z'),
+    },
+  );
+  await other.close();
+  assert.equal(taken.status, 201, taken.text);
+  const conflict = await click_for_response(
+    page,
+    calendar.getByRole('button', { name: 'Book Station 1 Tuesday 11:00-11:30', exact: true }),
+    'POST',
+    /^\/api\/bookings$/,
+  );
+  assert.equal(conflict.status(), 409);
+  await sees(calendar.getByRole('alert').filter({ hasText: /^Could not book the slot: .*already booked/ }), 'the conflict in the calendar');
+  // The calendar reloads and shows the slot taken, without saying by whom.
+  const taken_cell = calendar.getByTestId(`slot-${mine.station_id}-${eleven.toISOString().replace('.000Z', 'Z')}`);
+  await sees(taken_cell.filter({ hasText: /^Taken$/ }), 'the 11:00 slot taken');
+  await snap(page, 'trainee-calendar-conflict');
+
+  // Cancel from the calendar: the slot is free again.
+  const cancelled = await click_for_response(
+    page,
+    calendar.getByRole('button', { name: 'Cancel my booking Station 1 Tuesday 10:00' }),
+    'DELETE',
+    /^\/api\/bookings\/\d+$/,
+  );
+  assert.equal(cancelled.status(), 204);
+  await sees(calendar.getByRole('button', { name: 'Book Station 1 Tuesday 10:00-10:30', exact: true }), 'the slot free again');
+
+  // The progress chart draws the demo attempt, with its numbers readable as a table.
+  const progress = region(page, 'My progress over attempts');
+  await sees(progress.getByTestId('progress-chart').locator('canvas'), 'the progress chart');
+  const scores = await page.evaluate(async () => (await fetch('/api/scores')).json());
+  const metric = await progress.getByTestId('progress-metric').inputValue();
+  const value = scores.find((s) => s.metric === metric)?.value;
+  assert.ok(value !== undefined, `the chart's metric ${metric} is one of the trainee's scores`);
+  await progress.getByText('Show the numbers').click();
+  await sees(progress.getByTestId('progress-table').getByRole('row').nth(1), 'the first attempt in the table');
+  await snap(page, 'trainee-home');
 });

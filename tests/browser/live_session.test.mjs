@@ -2,7 +2,7 @@
 // incise-agent (node --test): what the trainee sees while training, then what an instructor sees
 // when replaying the recording. Needs web/dist, the server and agent binaries; see support.mjs.
 import assert from 'node:assert/strict';
-import { browser_suite, click_for_response, demo, log_in, region, sees } from './support.mjs';
+import { browser_suite, click_for_response, demo, log_in, region, sees, snap } from './support.mjs';
 
 const { scenario } = browser_suite({ time_zone: 'Asia/Kolkata', with_agent: true });
 
@@ -135,8 +135,11 @@ scenario(
     await sees(metric(page, 'link').filter({ hasText: /^round trip [0-9.]+ ms/ }), 'the link round trip');
     await sees(metric(page, 'haptic_devices').filter({ hasText: /^0: [0-9]+ ms/ }), 'device 0 in the link report');
 
-    // Long enough a session that the middle of its recording is far from its start.
-    await wait_for_canvas(page, 'live-canvas', { time_min: 6 }, 'six simulated seconds', 30_000);
+    // Long enough a session that the middle of its recording is far from its start, and that the
+    // looping 20 s script of the simulated device touches the tissue in it wherever it started
+    // (its longest stretch off the tissue is under 8 s).
+    await wait_for_canvas(page, 'live-canvas', { time_min: 12 }, 'twelve simulated seconds', 40_000);
+    await snap(page, 'trainee-live-session');
     page.once('dialog', (dialog) => dialog.accept());
     const stopped = await click_for_response(
       page,
@@ -158,6 +161,7 @@ scenario(
     for (const score of scores) {
       await sees(result.getByRole('row').filter({ hasText: score.metric }), `the score "${score.metric}" in the result`);
     }
+    await snap(page, 'trainee-session-result');
 
     // --- The instructor opens the recording from the recordings list. ---
     await click_for_response(page, page.getByRole('button', { name: 'Log out' }), 'POST', /^\/api\/logout$/);
@@ -197,6 +201,59 @@ scenario(
     const paused_at = (await canvas_state(page, 'replay-canvas')).sim_time;
     await page.waitForTimeout(1_000);
     assert.equal((await canvas_state(page, 'replay-canvas')).sim_time, paused_at, 'a paused replay does not advance');
+
+    // --- Review: an event marker jumps the replay to its event. ---
+    const review = (await api_call(page, 'GET', `/api/sessions/${session.id}/review`)).body;
+    assert.ok(review.events.some((e) => e.kind === 'contact'), `the probe touched the tissue: ${JSON.stringify(review.events)}`);
+    // The event farthest from where the replay stands, so that the jump cannot be mistaken for it.
+    const event = review.events.reduce((far, e) => (Math.abs(e.t_s - paused_at) > Math.abs(far.t_s - paused_at) ? e : far));
+    assert.ok(Math.abs(event.t_s - paused_at) > 1, `an event ${event.t_s} s away from the replay's ${paused_at} s`);
+    const markers = region(page, 'Events').getByTestId('event-marker');
+    assert.equal(await markers.count(), review.events.length, 'one marker per event');
+    await sees(page.getByTestId('timeline-force').locator('canvas'), 'the force timeline');
+    await sees(page.getByTestId('timeline-damage').locator('canvas'), 'the damage timeline');
+    const before_jump = await canvas_state(page, 'replay-canvas');
+    await markers.filter({ hasText: `${event.t_s.toFixed(1)} s` }).first().click();
+    await wait_for_canvas(
+      page,
+      'replay-canvas',
+      { after_frame: before_jump.frame, time_min: event.t_s - 0.05, time_max: event.t_s + 0.5 },
+      `the replay at the ${event.kind} marker (${event.t_s} s)`,
+      8_000,
+    );
+    await snap(page, 'instructor-review');
+
+    // --- An annotation at the replay's position, and a score adjustment with a reason. ---
+    const at = (await canvas_state(page, 'replay-canvas')).sim_time;
+    const notes = region(page, 'Annotations');
+    await notes.getByLabel(/^Note at /).fill('Approach the tissue more slowly here.');
+    const noted = await click_for_response(
+      page,
+      notes.getByRole('button', { name: 'Add annotation' }),
+      'POST',
+      new RegExp(`^/api/sessions/${session.id}/annotations$`),
+    );
+    assert.equal(noted.status(), 201, await noted.text());
+    assert.ok(Math.abs(noted.request().postDataJSON().t_s - at) < 0.5, 'the note is at the replay position');
+    await sees(notes.getByTestId('annotations').filter({ hasText: 'Approach the tissue more slowly here.' }), 'the new annotation');
+
+    const adjust = region(page, 'Score adjustments');
+    await adjust.getByLabel('Result').selectOption('fail');
+    await adjust.getByLabel('Reason').fill('Rushed the approach; repeat with a slower descent.');
+    const adjusted = await click_for_response(
+      page,
+      adjust.getByRole('button', { name: 'Adjust score' }),
+      'POST',
+      new RegExp(`^/api/sessions/${session.id}/adjustments$`),
+    );
+    assert.equal(adjusted.status(), 201, await adjusted.text());
+    await sees(adjust.getByTestId('adjustments').filter({ hasText: '(in force)' }), 'the adjustment in force');
+    await snap(page, 'instructor-review-notes');
+
+    // The instructor's overview counts the adjusted attempt as not passed.
+    await page.goto('/instructor');
+    await sees(page.getByTestId('progress-overview'), "the trainees' progress at a glance");
+    await snap(page, 'instructor-home');
   },
   { timeout_ms: 150_000 },
 );

@@ -29,6 +29,17 @@ export interface Booking {
   created_at: string;
 }
 
+/** One active booking of a station as its calendar shows it (GET /api/stations/{id}/schedule). */
+export interface ScheduleEntry {
+  /** null for another person's booking seen by a trainee. */
+  id: number | null;
+  starts_at: string;
+  ends_at: string;
+  mine: boolean;
+  /** Who booked it: for instructors and admins only. */
+  username: string | null;
+}
+
 export interface Session {
   id: number;
   trainee_id: number;
@@ -114,10 +125,89 @@ export interface Progress {
   tasks: TaskProgress[];
 }
 
+/** One trainee's progress with their name (GET /api/trainees/progress, for instructors). */
+export interface TraineeProgress extends Progress {
+  username: string;
+  display_name: string;
+}
+
 export interface CurriculumEntry {
   id: number;
   name: string;
   definition: { name: string; description: string; modules: { key: string; name: string; tasks: CurriculumTask[] }[] };
+}
+
+/** An expert benchmark of one metric of one task (GET /api/benchmarks). */
+export interface BenchmarkStats {
+  n: number;
+  mean: number;
+  sd: number;
+  median: number;
+  p10: number;
+  p90: number;
+}
+
+export interface Benchmark extends BenchmarkStats {
+  task: string;
+  metric: string;
+  unit: string;
+}
+
+export type EventKind = 'contact' | 'grasp' | 'cut' | 'collision' | 'never_event' | 'target';
+
+export interface RunEvent {
+  t_s: number;
+  kind: EventKind;
+  /** 0: device 0 (right hand), 1: device 1 (left hand). */
+  hand: number;
+  label: string;
+}
+
+/** One metric of an attempt against its threshold and the experts (GET /api/sessions/{id}/review). */
+export interface ReviewResult {
+  metric: string;
+  value: number;
+  unit: string;
+  passed: boolean;
+  threshold: { op: '<=' | '>='; value: number } | null;
+  /** z: (value - mean) / sd, null without spread. */
+  expert: (BenchmarkStats & { z: number | null }) | null;
+}
+
+export interface Review {
+  session_id: number;
+  task: string;
+  trainee_id: number;
+  recording_id: number;
+  duration_s: number;
+  expert_run: boolean;
+  events: RunEvent[];
+  timeline: {
+    interval_s: number;
+    /** Bin starts; each hand's values and the cumulative damage per bin. */
+    t_s: number[];
+    hands: { peak_force_n: number[]; speed_m_s: number[] }[];
+    damage_ns: number[];
+  };
+  results: ReviewResult[];
+}
+
+export interface Annotation {
+  id: number;
+  session_id: number;
+  author: string;
+  t_s: number;
+  text: string;
+  created_at: string;
+}
+
+export interface ScoreAdjustment {
+  id: number;
+  session_id: number;
+  author: string;
+  passed: boolean;
+  reason: string;
+  created_at: string;
 }
 
 export class ApiError extends Error {
@@ -185,6 +275,7 @@ export const api = {
     request<{ station: Station; token: string }>('POST', '/api/stations', { name, location }),
 
   bookings: () => request<Booking[]>('GET', '/api/bookings'),
+  station_schedule: (station_id: number) => request<ScheduleEntry[]>('GET', `/api/stations/${station_id}/schedule`),
   create_booking: (station_id: number, starts_at: string, ends_at: string) =>
     request<Booking>('POST', '/api/bookings', { station_id, starts_at, ends_at }),
   cancel_booking: (id: number) => request<void>('DELETE', `/api/bookings/${id}`),
@@ -204,6 +295,17 @@ export const api = {
   scores: () => request<Score[]>('GET', '/api/scores'),
   curricula: () => request<CurriculumEntry[]>('GET', '/api/curricula'),
   progress: () => request<Progress>('GET', '/api/progress'),
+  progress_overview: () => request<TraineeProgress[]>('GET', '/api/trainees/progress'),
+  benchmarks: () => request<Benchmark[]>('GET', '/api/benchmarks'),
+  review: (session_id: number) => request<Review>('GET', `/api/sessions/${session_id}/review`),
+  set_expert_run: (session_id: number, expert: boolean) =>
+    request<{ session_id: number; expert_run: boolean }>('PUT', `/api/sessions/${session_id}/expert`, { expert }),
+  annotations: (session_id: number) => request<Annotation[]>('GET', `/api/sessions/${session_id}/annotations`),
+  add_annotation: (session_id: number, t_s: number, text: string) =>
+    request<Annotation>('POST', `/api/sessions/${session_id}/annotations`, { t_s, text }),
+  adjustments: (session_id: number) => request<ScoreAdjustment[]>('GET', `/api/sessions/${session_id}/adjustments`),
+  adjust_score: (session_id: number, passed: boolean, reason: string) =>
+    request<ScoreAdjustment>('POST', `/api/sessions/${session_id}/adjustments`, { passed, reason }),
   update_curriculum: (id: number, definition: CurriculumEntry['definition']) =>
     request<CurriculumEntry>('PUT', `/api/curricula/${id}`, definition),
 };

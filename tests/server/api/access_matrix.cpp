@@ -87,6 +87,7 @@ TEST_F(AccessMatrix, EveryEndpointRoleAndOwnership) {
       {http::verb::post, "/api/stations", R"({"name": "Bench 5"})", kAdmin},
       {http::verb::get, "/api/stations/" + station + "/calibration", "", kStaff},
       {http::verb::put, "/api/stations/" + station + "/calibration", calibration, kAdmin},
+      {http::verb::get, "/api/stations/" + station + "/schedule", "", kAnyone},
       {http::verb::get, "/api/bookings", "", kAnyone},
       {http::verb::get, "/api/sessions", "", kAnyone},
       {http::verb::get, "/api/sessions/" + own, "", kAnyone},

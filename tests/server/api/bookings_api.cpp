@@ -154,6 +154,41 @@ TEST_F(BookingsApi, TraineesSeeOnlyTheirOwnBookings) {
   }
 }
 
+// The calendar's view of a station: a trainee sees every active booking as a taken slot, but
+// the id and name only of their own; staff see whose each is. Cancelled ones and other stations'
+// are left out, and so is what ended more than a week ago.
+TEST_F(BookingsApi, AStationsScheduleShowsTakenSlotsWithoutNamingOthersToTrainees) {
+  const auto other = add_trainee("trainee2");
+  db::BookingsRepo bookings(db());
+  const auto theirs = bookings.create(station_, other, t_, t_ + kHour, now());
+  ASSERT_EQ(book(t_ + kHour, t_ + 2 * kHour, trainee_).result(), http::status::created);
+  const auto cancelled = bookings.create(station_, other, t_ + 3 * kHour, t_ + 4 * kHour, now());
+  bookings.cancel(cancelled.id, now());
+  bookings.create(second_station(), other, t_ + 5 * kHour, t_ + 6 * kHour, now());
+  const auto path = "/api/stations/" + std::to_string(station_) + "/schedule";
+
+  const auto seen = json_of(get(path, trainee_));
+  ASSERT_EQ(seen.size(), 2u) << seen;
+  EXPECT_EQ(seen[0], (nlohmann::json{{"id", nullptr},
+                                     {"starts_at", format_utc(t_)},
+                                     {"ends_at", format_utc(t_ + kHour)},
+                                     {"mine", false},
+                                     {"username", nullptr}}));
+  EXPECT_TRUE(seen[1]["mine"].get<bool>());
+  EXPECT_TRUE(seen[1]["id"].is_number_integer());
+  EXPECT_TRUE(seen[1]["username"].is_null());
+  const auto staff = json_of(get(path, instructor_));
+  ASSERT_EQ(staff.size(), 2u);
+  EXPECT_EQ(staff[0]["id"], theirs.id);
+  EXPECT_EQ(staff[0]["username"], "trainee2");
+
+  // Eight days on, both have ended more than a week ago.
+  set_now(t_ + 2 * kHour + 8 * kDay);
+  EXPECT_TRUE(json_of(get(path, session_of(Who::trainee))).empty());
+  EXPECT_TRUE(
+      is_error(get("/api/stations/999/schedule", session_of(Who::admin)), http::status::not_found));
+}
+
 TEST_F(BookingsApi, OnlyTheOwnerOrAnAdminCancels) {
   const auto other = add_trainee("trainee2");
   const auto foreign = db::BookingsRepo(db()).create(station_, other, t_, t_ + kHour, now()).id;

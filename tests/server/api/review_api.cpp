@@ -58,6 +58,8 @@ class ReviewApi : public ApiTest {
 
 TEST_F(ReviewApi, TheReviewShowsEventsTimelinesAndResultsAgainstThresholds) {
   const auto session = attempt(2.0, 2.0, 3.0);
+  // Stored after peak_force_n, listed after it: results come in the order the task scores them.
+  db::TrainingRepo(db()).add_score(session, "never_events", 0, "count", true, now() + 60);
   const auto review =
       json_of(get("/api/sessions/" + std::to_string(session) + "/review", tess_token_));
   ASSERT_TRUE(review.is_object()) << review;
@@ -83,13 +85,17 @@ TEST_F(ReviewApi, TheReviewShowsEventsTimelinesAndResultsAgainstThresholds) {
   EXPECT_NEAR(force[0].get<double>(), 2.0 * 24 / 999, 1e-6);
   // Below the task's safe force (3 N), the tissue is never overloaded.
   EXPECT_EQ(timeline["damage_ns"][39].get<double>(), 0.0);
-  // The stored score, with the threshold the demo task sets.
-  ASSERT_EQ(review["results"].size(), 1u);
+  // The stored scores, with the thresholds the demo task sets: the artery is a never zone, so
+  // never_events is scored too.
+  ASSERT_EQ(review["results"].size(), 2u);
   const auto& result = review["results"][0];
   EXPECT_EQ(result["metric"], "peak_force_n");
   EXPECT_EQ(result["threshold"]["op"], "<=");
   EXPECT_EQ(result["threshold"]["value"], 4.0);
   EXPECT_TRUE(result["expert"].is_null());
+  const auto& never = review["results"][1];
+  EXPECT_EQ(never["metric"], "never_events");
+  EXPECT_EQ(never["threshold"], (nlohmann::json{{"op", "<="}, {"value", 0.0}}));
 }
 
 TEST_F(ReviewApi, AdminsMarkExpertRunsWhoseScoresMakeTheBenchmark) {

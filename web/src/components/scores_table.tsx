@@ -1,14 +1,7 @@
 import type { Score } from '../api';
 import { format_date_time } from '../time';
 import { DataTable } from './data_table';
-
-const large_format = new Intl.NumberFormat(undefined, { maximumFractionDigits: 2 });
-const small_format = new Intl.NumberFormat(undefined, { maximumSignificantDigits: 3 });
-
-function format_value(value: number, unit: string): string {
-  const shown = (Math.abs(value) >= 1 ? large_format : small_format).format(value);
-  return unit ? `${shown} ${unit}` : shown;
-}
+import { format_value } from './format';
 
 export function ScoresTable({ scores, show_trainee }: { scores: Score[]; show_trainee: boolean }) {
   return (

@@ -1,15 +1,20 @@
+import { useCallback, useMemo, useState } from 'react';
 import { api, type Recording } from '../api';
+import { useUser } from '../auth';
+import { AttemptReview } from '../components/attempt_review';
+import { ReviewNotes } from '../components/review_notes';
 import { ErrorAlert } from '../components/alerts';
 import { ReplayControls } from '../components/replay_controls';
 import { StreamView } from '../components/stream_view';
 import { format_date_time } from '../time';
 import { useFrameStream } from '../use_frame_stream';
-import { useResource } from '../use_resource';
+import { error_text, useResource } from '../use_resource';
 
 /**
- * `/recordings/{id}`: replays a recorded session. The recording is looked up in the list first: the
- * server refuses the replay socket of an unknown or foreign recording before the upgrade, and a
- * browser cannot read why.
+ * `/recordings/{id}`: replays a recorded session for review: the replay, its events and timelines
+ * (which seek it), its results against thresholds and experts, annotations and score adjustments.
+ * The recording is looked up in the list first: the server refuses the replay socket of an unknown
+ * or foreign recording before the upgrade, and a browser cannot read why.
  */
 export function RecordingPage({ id }: { id: number }) {
   const recordings = useResource(api.recordings);
@@ -33,7 +38,11 @@ export function RecordingPage({ id }: { id: number }) {
 }
 
 function ReplayView({ recording }: { recording: Recording }) {
+  const viewer = useUser();
   const stream = useFrameStream(`/api/recordings/${recording.id}/replay`);
+  const { send } = stream;
+  const position_s = stream.metrics?.sim_time_s ?? 0;
+  const seek = useCallback((t_s: number) => send({ type: 'seek', t: t_s }), [send]);
   return (
     <>
       <p className="muted">
@@ -47,8 +56,49 @@ function ReplayView({ recording }: { recording: Recording }) {
           label={`Replay of session ${recording.session_id}`}
           replay
         />
-        <ReplayControls metrics={stream.metrics} duration_s={recording.duration_s} send={stream.send} />
+        <ReplayControls metrics={stream.metrics} duration_s={recording.duration_s} send={send} />
       </section>
+      <AttemptReview session_id={recording.session_id} position_s={position_s} on_seek={seek} />
+      <ReviewNotes session_id={recording.session_id} viewer={viewer} position_s={position_s} on_seek={seek} />
+      {viewer.role === 'admin' && <ExpertRunToggle session_id={recording.session_id} />}
     </>
+  );
+}
+
+/** Admins choose the expert runs whose scores make each task's benchmark. */
+function ExpertRunToggle({ session_id }: { session_id: number }) {
+  const load = useMemo(() => () => api.review(session_id), [session_id]);
+  const review = useResource(load);
+  const [error, set_error] = useState<string | null>(null);
+  const [busy, set_busy] = useState(false);
+  if (!review.data) return null;
+  const expert = review.data.expert_run;
+
+  async function toggle() {
+    set_busy(true);
+    set_error(null);
+    try {
+      await api.set_expert_run(session_id, !expert);
+      review.reload();
+    } catch (reason) {
+      set_error(`Could not change the expert run: ${error_text(reason)}`);
+    } finally {
+      set_busy(false);
+    }
+  }
+
+  return (
+    <section className="card" aria-labelledby="expert-title">
+      <h2 id="expert-title">Expert benchmark</h2>
+      <p>
+        {expert
+          ? 'This attempt is an expert run: its scores are part of the task’s benchmark.'
+          : 'Mark this attempt as an expert run to add its scores to the task’s benchmark.'}
+      </p>
+      <ErrorAlert message={error} />
+      <button type="button" disabled={busy} onClick={() => void toggle()}>
+        {expert ? 'Remove from the benchmark' : 'Mark as expert run'}
+      </button>
+    </section>
   );
 }

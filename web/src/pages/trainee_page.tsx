@@ -1,4 +1,6 @@
 import { api } from '../api';
+import { BookingCalendar } from '../components/booking_calendar';
+import { ProgressChart } from '../components/progress_chart';
 import { useUser } from '../auth';
 import { BookingForm } from '../components/booking_form';
 import { BookingsTable } from '../components/bookings_table';
@@ -14,6 +16,10 @@ export function TraineePage() {
   // Shared by the start form (today's bookings), the booking form (reload) and the list.
   const bookings = useResource(api.bookings);
   const progress = useResource(api.progress);
+  const stations = useResource(api.stations);
+  const scores = useResource(api.scores);
+  const curricula = useResource(api.curricula);
+  const benchmarks = useResource(api.benchmarks);
 
   return (
     <main className="page">
@@ -31,9 +37,19 @@ export function TraineePage() {
           </ResourceView>
         </Card>
       </div>
+      <Card id="calendar" title="Station calendar">
+        {stations.data && (
+          <BookingCalendar stations={stations.data} viewer={user} on_changed={bookings.reload} reload_on={bookings.data} />
+        )}
+      </Card>
       <Card id="curriculum" title="My curriculum">
         {progress.error && <p role="alert">Could not load your progress: {progress.error}</p>}
         {progress.data && <CurriculumProgress progress={progress.data} />}
+      </Card>
+      <Card id="progress" title="My progress over attempts">
+        {scores.data && curricula.data && benchmarks.data && (
+          <ProgressChart scores={scores.data} curricula={curricula.data} benchmarks={benchmarks.data} />
+        )}
       </Card>
       <TrainingRecord whose="own" />
     </main>

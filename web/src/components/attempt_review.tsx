@@ -1,0 +1,169 @@
+import { useMemo } from 'react';
+import { api, type Review, type ReviewResult, type RunEvent } from '../api';
+import { useResource } from '../use_resource';
+import { ErrorAlert } from './alerts';
+import './review.css';
+import { DataTable } from './data_table';
+import { format_seconds, format_value } from './format';
+import { event_colors, TimelineChart, type TimelineSeries } from './timeline_chart';
+
+const event_names: Record<RunEvent['kind'], string> = {
+  contact: 'Contact',
+  grasp: 'Grasp',
+  cut: 'Cut',
+  collision: 'Collision',
+  never_event: 'Never event',
+  target: 'Target reached',
+};
+
+const hand_names = ['right hand', 'left hand'];
+const hand_colors = ['#2f6fb3', '#d9822b'];
+
+/**
+ * An attempt's events and signals under its replay: event markers that jump the replay, force,
+ * speed and tissue damage over time, and each metric against its threshold and the experts.
+ */
+export function AttemptReview({
+  session_id,
+  position_s,
+  on_seek,
+}: {
+  session_id: number;
+  position_s: number;
+  on_seek: (t_s: number) => void;
+}) {
+  const load = useMemo(() => () => api.review(session_id), [session_id]);
+  const review = useResource(load);
+  return (
+    <>
+      <ErrorAlert message={review.error && `Could not load the review: ${review.error}`} />
+      {review.loading && !review.data && (
+        <p className="muted" role="status">
+          Loading the review…
+        </p>
+      )}
+      {review.data && <ReviewBody review={review.data} position_s={position_s} on_seek={on_seek} />}
+    </>
+  );
+}
+
+function ReviewBody({ review, position_s, on_seek }: { review: Review; position_s: number; on_seek: (t: number) => void }) {
+  const { timeline } = review;
+  // Stable arrays: a new one would rebuild the charts on every frame's metrics.
+  const charts = useMemo(() => {
+    const per_hand = (pick: (h: Review['timeline']['hands'][number]) => number[], scale = 1): TimelineSeries[] =>
+      timeline.hands.map((h, i) => ({
+        label: hand_names[i] ?? `hand ${i}`,
+        values: pick(h).map((v) => v * scale),
+        color: hand_colors[i] ?? '#555',
+      }));
+    return {
+      force: per_hand((h) => h.peak_force_n),
+      speed: per_hand((h) => h.speed_m_s, 1000),
+      damage: [{ label: 'cumulative', values: timeline.damage_ns, color: '#c0392b' }],
+    };
+  }, [timeline]);
+
+  return (
+    <>
+      <section className="card" aria-labelledby="events-title">
+        <h2 id="events-title">Events</h2>
+        {review.events.length === 0 ? (
+          <p className="muted">No events in this attempt.</p>
+        ) : (
+          <ul className="event-list" aria-label="Event markers">
+            {review.events.map((e, i) => (
+              <li key={i}>
+                <button
+                  type="button"
+                  className="event-marker"
+                  data-testid="event-marker"
+                  data-kind={e.kind}
+                  style={{ borderColor: event_colors[e.kind] }}
+                  aria-label={`Jump to ${event_names[e.kind].toLowerCase()} at ${format_seconds(e.t_s)}: ${e.label}`}
+                  onClick={() => on_seek(e.t_s)}
+                >
+                  <span className="event-dot" style={{ background: event_colors[e.kind] }} />
+                  {event_names[e.kind]} · {format_seconds(e.t_s)} · {hand_names[e.hand] ?? `hand ${e.hand}`}
+                </button>
+              </li>
+            ))}
+          </ul>
+        )}
+      </section>
+      <section className="card" aria-labelledby="timelines-title">
+        <h2 id="timelines-title">Timelines</h2>
+        <p className="hint">Click a chart to jump the replay there; the black line is the replay's position.</p>
+        <TimelineChart
+          title="Peak force"
+          unit="N"
+          t_s={timeline.t_s}
+          series={charts.force}
+          events={review.events}
+          position_s={position_s}
+          on_seek={on_seek}
+          test_id="timeline-force"
+        />
+        <TimelineChart
+          title="Tip speed"
+          unit="mm/s"
+          t_s={timeline.t_s}
+          series={charts.speed}
+          events={review.events}
+          position_s={position_s}
+          on_seek={on_seek}
+          test_id="timeline-speed"
+        />
+        <TimelineChart
+          title="Tissue damage (overload impulse)"
+          unit="N s"
+          t_s={timeline.t_s}
+          series={charts.damage}
+          events={review.events}
+          position_s={position_s}
+          on_seek={on_seek}
+          test_id="timeline-damage"
+        />
+      </section>
+      <section className="card" aria-labelledby="results-title">
+        <h2 id="results-title">Results</h2>
+        <ResultsTable results={review.results} />
+      </section>
+    </>
+  );
+}
+
+function expert_text(r: ReviewResult): string {
+  if (!r.expert) return '—';
+  const { mean, sd, n, z } = r.expert;
+  const spread = n > 1 ? ` ± ${format_value(sd, '')}` : '';
+  const relative = z === null ? '' : ` (${z >= 0 ? '+' : ''}${z.toFixed(1)} SD)`;
+  return `${format_value(mean, r.unit)}${spread}, n = ${n}${relative}`;
+}
+
+function ResultsTable({ results }: { results: ReviewResult[] }) {
+  if (results.length === 0) return <p className="muted">This attempt has no scores.</p>;
+  return (
+    <DataTable<ReviewResult>
+      rows={results}
+      row_key={(r) => r.metric}
+      labelled_by="results-title"
+      columns={[
+        { header: 'Metric', cell: (r) => r.metric },
+        { header: 'Value', className: 'numeric', cell: (r) => format_value(r.value, r.unit) },
+        {
+          header: 'Threshold',
+          className: 'numeric',
+          cell: (r) => (r.threshold ? `${r.threshold.op} ${format_value(r.threshold.value, r.unit)}` : '—'),
+        },
+        {
+          header: 'Result',
+          cell: (r) => (
+            <span className={`badge ${r.passed ? 'badge-pass' : 'badge-fail'}`}>{r.passed ? 'Passed' : 'Not passed'}</span>
+          ),
+        },
+        { header: 'Experts (mean ± SD)', cell: expert_text },
+      ]}
+    />
+  );
+}
