@@ -81,9 +81,7 @@ std::vector<MetricValue> basic_metrics(std::span<const ToolSample> samples) {
   };
 }
 
-std::vector<MetricResult> score_attempt(const Task& task, std::span<const MetricValue> values) {
-  // A never event fails the attempt outright: a task that can have one is also scored on
-  // never_events <= 0, unless it names that metric itself.
+std::vector<MetricRequirement> scored_requirements(const Task& task) {
   std::vector<MetricRequirement> requirements = task.metrics;
   const bool names_never =
       std::any_of(requirements.begin(), requirements.end(),
@@ -91,6 +89,11 @@ std::vector<MetricResult> score_attempt(const Task& task, std::span<const Metric
   if (task.has_never_events() && !names_never) {
     requirements.push_back({std::string(kNeverEventsKey), {ThresholdOp::at_most, 0.0}, "count"});
   }
+  return requirements;
+}
+
+std::vector<MetricResult> score_attempt(const Task& task, std::span<const MetricValue> values) {
+  const auto requirements = scored_requirements(task);
   std::vector<MetricResult> results;
   results.reserve(requirements.size());
   for (const MetricRequirement& requirement : requirements) {

@@ -63,11 +63,14 @@ struct MetricResult {
 // The metric counting never events (run_events.h).
 inline constexpr std::string_view kNeverEventsKey = "never_events";
 
-// One result per metric the task requires, in the task's order, and when the task can have never
-// events (Task::has_never_events) but does not name kNeverEventsKey, one more for never_events <= 0
-// at the end: a never event fails the attempt outright. For each requirement the first
-// value in #values with the same key is scored (meets_threshold: the boundary passes, NaN fails);
-// values the task does not ask for are ignored.
+// The metrics an attempt at the task is scored on: the task's, in its order, and when the task can
+// have never events (Task::has_never_events) but does not name kNeverEventsKey, one more for
+// never_events <= 0 at the end: a never event fails the attempt outright.
+std::vector<MetricRequirement> scored_requirements(const Task& task);
+
+// One result per scored requirement (scored_requirements), in that order. For each requirement the
+// first value in #values with the same key is scored (meets_threshold: the boundary passes, NaN
+// fails); values the task does not ask for are ignored.
 std::vector<MetricResult> score_attempt(const Task& task, std::span<const MetricValue> values);
 
 // True if every metric passed and there was at least one: an attempt scored on nothing proves
