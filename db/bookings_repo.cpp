@@ -76,10 +76,10 @@ std::optional<Booking> BookingsRepo::find(std::int64_t id) {
   return read_booking(q);
 }
 
-std::vector<Booking> BookingsRepo::list(std::optional<std::int64_t> user_id) {
-  auto q = db_.prepare(std::string(kSelect) + (user_id ? "WHERE b.user_id = ? " : "") +
+std::vector<Booking> BookingsRepo::list(const TraineeScope& scope) {
+  auto q = db_.prepare(std::string(kSelect) + scope.where("b.user_id") +
                        "ORDER BY b.starts_at DESC, b.id DESC");
-  if (user_id) q.bind(1, *user_id);
+  if (scope.binds()) q.bind(1, scope.user_id);
   std::vector<Booking> out;
   while (q.step())
     out.push_back(read_booking(q));

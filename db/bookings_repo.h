@@ -9,6 +9,7 @@
 
 #include "db/database.h"
 #include "db/db_error.h"
+#include "db/trainee_scope.h"
 
 namespace incise::db {
 
@@ -49,7 +50,11 @@ class BookingsRepo {
                  std::int64_t ends_at, std::int64_t now);
   std::optional<Booking> find(std::int64_t id);
   // Newest first by start time; `user_id` restricts to one person's bookings.
-  std::vector<Booking> list(std::optional<std::int64_t> user_id = std::nullopt);
+  std::vector<Booking> list(std::optional<std::int64_t> user_id = std::nullopt) {
+    return list(user_id ? TraineeScope::of_trainee(*user_id) : TraineeScope::everyone());
+  }
+  // Newest first by start, of the people in scope (a booking's user as the trainee).
+  std::vector<Booking> list(const TraineeScope& scope);
   // The active bookings of a station that end after #since, earliest first: its calendar.
   std::vector<Booking> station_schedule(std::int64_t station_id, std::int64_t since);
   // Throws NotFound for an unknown id, Conflict when already cancelled.

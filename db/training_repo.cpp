@@ -121,25 +121,24 @@ std::optional<SessionRecord> TrainingRepo::find_session(std::int64_t id) {
   return read_session(q);
 }
 
-std::vector<SessionRecord> TrainingRepo::sessions(std::optional<std::int64_t> trainee_id) {
-  auto q =
-      db_.prepare(std::string(session_columns) + (trainee_id ? "WHERE se.trainee_id = ? " : "") +
-                  "ORDER BY se.created_at DESC, se.id DESC");
-  if (trainee_id) q.bind(1, *trainee_id);
+std::vector<SessionRecord> TrainingRepo::sessions(const TraineeScope& scope) {
+  auto q = db_.prepare(std::string(session_columns) + scope.where("se.trainee_id") +
+                       "ORDER BY se.created_at DESC, se.id DESC");
+  if (scope.binds()) q.bind(1, scope.user_id);
   std::vector<SessionRecord> out;
   while (q.step())
     out.push_back(read_session(q));
   return out;
 }
 
-std::vector<RecordingRecord> TrainingRepo::recordings(std::optional<std::int64_t> trainee_id) {
+std::vector<RecordingRecord> TrainingRepo::recordings(const TraineeScope& scope) {
   auto q = db_.prepare(
       std::string(
           "SELECT r.id, r.session_id, u.username, se.task, r.duration_s, r.created_at, r.state "
           "FROM recordings r JOIN sessions se ON se.id = r.session_id "
           "JOIN users u ON u.id = se.trainee_id ") +
-      (trainee_id ? "WHERE se.trainee_id = ? " : "") + "ORDER BY r.created_at DESC, r.id DESC");
-  if (trainee_id) q.bind(1, *trainee_id);
+      scope.where("se.trainee_id") + "ORDER BY r.created_at DESC, r.id DESC");
+  if (scope.binds()) q.bind(1, scope.user_id);
   std::vector<RecordingRecord> out;
   while (q.step()) {
     out.push_back(RecordingRecord{q.int64(0), q.int64(1), q.text(2), q.text(3), q.real(4),
@@ -148,13 +147,13 @@ std::vector<RecordingRecord> TrainingRepo::recordings(std::optional<std::int64_t
   return out;
 }
 
-std::vector<ScoreRecord> TrainingRepo::scores(std::optional<std::int64_t> trainee_id) {
+std::vector<ScoreRecord> TrainingRepo::scores(const TraineeScope& scope) {
   auto q = db_.prepare(
       std::string("SELECT sc.id, sc.session_id, u.username, se.task, sc.metric, sc.value, sc.unit, "
                   "sc.passed, sc.created_at FROM scores sc JOIN sessions se ON se.id = "
                   "sc.session_id JOIN users u ON u.id = se.trainee_id ") +
-      (trainee_id ? "WHERE se.trainee_id = ? " : "") + "ORDER BY sc.created_at DESC, sc.id DESC");
-  if (trainee_id) q.bind(1, *trainee_id);
+      scope.where("se.trainee_id") + "ORDER BY sc.created_at DESC, sc.id DESC");
+  if (scope.binds()) q.bind(1, scope.user_id);
   std::vector<ScoreRecord> out;
   while (q.step()) {
     out.push_back(ScoreRecord{q.int64(0), q.int64(1), q.text(2), q.text(3), q.text(4), q.real(5),

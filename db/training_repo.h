@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "db/database.h"
+#include "db/trainee_scope.h"
 
 namespace incise::db {
 
@@ -72,11 +73,26 @@ class TrainingRepo {
   std::optional<SessionRecord> find_session(std::int64_t id);
 
   // `trainee_id` restricts to one trainee's records. Newest first.
-  std::vector<SessionRecord> sessions(std::optional<std::int64_t> trainee_id = std::nullopt);
-  std::vector<RecordingRecord> recordings(std::optional<std::int64_t> trainee_id = std::nullopt);
-  std::vector<ScoreRecord> scores(std::optional<std::int64_t> trainee_id = std::nullopt);
+  // Newest first, of the trainees in scope.
+  std::vector<SessionRecord> sessions(const TraineeScope& scope);
+  std::vector<RecordingRecord> recordings(const TraineeScope& scope);
+  std::vector<ScoreRecord> scores(const TraineeScope& scope);
+  // Everyone's (no trainee_id) or one trainee's.
+  std::vector<SessionRecord> sessions(std::optional<std::int64_t> trainee_id = std::nullopt) {
+    return sessions(scope_of(trainee_id));
+  }
+  std::vector<RecordingRecord> recordings(std::optional<std::int64_t> trainee_id = std::nullopt) {
+    return recordings(scope_of(trainee_id));
+  }
+  std::vector<ScoreRecord> scores(std::optional<std::int64_t> trainee_id = std::nullopt) {
+    return scores(scope_of(trainee_id));
+  }
 
  private:
+  static TraineeScope scope_of(std::optional<std::int64_t> trainee_id) {
+    return trainee_id ? TraineeScope::of_trainee(*trainee_id) : TraineeScope::everyone();
+  }
+
   Database& db_;
 };
 

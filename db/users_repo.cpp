@@ -2,6 +2,7 @@
 
 #include "db/password.h"
 #include "db/statement.h"
+#include "db/transaction.h"
 
 namespace incise::db {
 
@@ -88,6 +89,38 @@ std::vector<User> UsersRepo::list() {
   while (q.step())
     users.push_back(read_user(q));
   return users;
+}
+
+void UsersRepo::set_instructors(std::int64_t trainee_id,
+                                const std::vector<std::int64_t>& instructor_ids, std::int64_t now) {
+  db_.prepare("DELETE FROM trainee_instructors WHERE trainee_id = ?").bind(1, trainee_id).run();
+  for (const auto instructor : instructor_ids) {
+    db_.prepare(
+           "INSERT OR IGNORE INTO trainee_instructors (trainee_id, instructor_id, assigned_at) "
+           "VALUES (?, ?, ?)")
+        .bind(1, trainee_id)
+        .bind(2, instructor)
+        .bind(3, now)
+        .run();
+  }
+}
+
+std::vector<std::int64_t> UsersRepo::instructors_of(std::int64_t trainee_id) {
+  auto q = db_.prepare(
+      "SELECT instructor_id FROM trainee_instructors WHERE trainee_id = ? ORDER BY instructor_id");
+  q.bind(1, trainee_id);
+  std::vector<std::int64_t> out;
+  while (q.step())
+    out.push_back(q.int64(0));
+  return out;
+}
+
+bool UsersRepo::teaches(std::int64_t instructor_id, std::int64_t trainee_id) {
+  auto q =
+      db_.prepare("SELECT 1 FROM trainee_instructors WHERE instructor_id = ? AND trainee_id = ?");
+  q.bind(1, instructor_id);
+  q.bind(2, trainee_id);
+  return q.step();
 }
 
 std::int64_t UsersRepo::count() {

@@ -43,6 +43,14 @@ class UsersRepo {
   std::vector<User> list();
   std::int64_t count();
 
+  // Instructor assignments (trainee_instructors): an instructor sees the records of the trainees
+  // assigned to them. set_instructors replaces a trainee's set; callers run it in a transaction
+  // with what goes with it.
+  void set_instructors(std::int64_t trainee_id, const std::vector<std::int64_t>& instructor_ids,
+                       std::int64_t now);
+  std::vector<std::int64_t> instructors_of(std::int64_t trainee_id);
+  bool teaches(std::int64_t instructor_id, std::int64_t trainee_id);
+
  private:
   Database& db_;
 };

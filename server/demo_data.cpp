@@ -18,12 +18,15 @@ bool seed_demo_data(db::Database& db, std::int64_t now) {
   db::Transaction tx(db);
   const char* display_names[] = {"Ada Admin", "Ines Instructor", "Theo Trainee"};
   std::int64_t trainee_id = 0;
+  std::int64_t instructor_id = 0;
   for (std::size_t i = 0; i < std::size(kDemoLogins); ++i) {
     const auto& login = kDemoLogins[i];
     const auto user = users.create(
         {login.username, display_names[i], *db::parse_role(login.role), login.password}, now);
     if (user.role == db::Role::trainee) trainee_id = user.id;
+    if (user.role == db::Role::instructor) instructor_id = user.id;
   }
+  users.set_instructors(trainee_id, {instructor_id}, now);
   const auto station =
       db::StationsRepo(db).create("Station 1", "Skills lab, room 2", kDemoStationToken, now);
 

@@ -3,6 +3,7 @@
 #include "server/api/api_error.h"
 #include "server/api/handlers.h"
 #include "server/api/json_views.h"
+#include "server/api/live_access.h"
 #include "server/api/request_fields.h"
 #include "server/booking_rules.h"
 #include "server/time_text.h"
@@ -31,9 +32,8 @@ std::string conflict_message(const db::BookingConflict& c) {
 
 ApiResponse list_bookings(ApiContext& ctx) {
   const auto& user = ctx.user();
-  const auto filter = user.role == db::Role::trainee ? std::optional(user.id) : std::nullopt;
   auto out = nlohmann::json::array();
-  for (const auto& b : db::BookingsRepo(ctx.app.db()).list(filter))
+  for (const auto& b : db::BookingsRepo(ctx.app.db()).list(visible_scope(user)))
     out.push_back(to_json(b));
   return {http::status::ok, out, {}};
 }

@@ -12,6 +12,8 @@ ApiResponse me(ApiContext& ctx);
 
 ApiResponse list_users(ApiContext& ctx);
 ApiResponse create_user(ApiContext& ctx);
+// admin: replaces the instructors of a trainee ({"instructor_ids": [...]}); audited.
+ApiResponse set_trainee_instructors(ApiContext& ctx);
 
 ApiResponse list_stations(ApiContext& ctx);
 ApiResponse create_station(ApiContext& ctx);

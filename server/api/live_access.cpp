@@ -6,11 +6,30 @@
 
 namespace incise::server::api {
 
-void check_session_access(const db::User& user, const db::SessionRecord& session) {
-  if (user.role == db::Role::trainee && session.trainee_id != user.id) {
-    throw ApiError(boost::beast::http::status::forbidden,
-                   "session " + std::to_string(session.id) + " belongs to another trainee");
+db::TraineeScope visible_scope(const db::User& user) {
+  switch (user.role) {
+    case db::Role::trainee:
+      return db::TraineeScope::of_trainee(user.id);
+    case db::Role::instructor:
+      return db::TraineeScope::of_instructor(user.id);
+    case db::Role::admin:
+      break;
   }
+  return db::TraineeScope::everyone();
+}
+
+bool may_see_trainee(db::Database& db, const db::User& user, std::int64_t trainee_id) {
+  if (user.role == db::Role::admin || user.id == trainee_id) return true;
+  return user.role == db::Role::instructor && db::UsersRepo(db).teaches(user.id, trainee_id);
+}
+
+void check_session_access(db::Database& db, const db::User& user,
+                          const db::SessionRecord& session) {
+  if (may_see_trainee(db, user, session.trainee_id)) return;
+  throw ApiError(
+      boost::beast::http::status::forbidden,
+      "session " + std::to_string(session.id) + " belongs to " +
+          (user.role == db::Role::trainee ? "another trainee" : "a trainee you do not teach"));
 }
 
 db::SessionRecord visible_session(ApiContext& ctx) {
@@ -19,7 +38,7 @@ db::SessionRecord visible_session(ApiContext& ctx) {
     throw ApiError(boost::beast::http::status::not_found,
                    "session " + std::to_string(ctx.path_id) + " does not exist");
   }
-  check_session_access(ctx.user(), *record);
+  check_session_access(ctx.app.db(), ctx.user(), *record);
   return *record;
 }
 

@@ -1,18 +1,26 @@
 #pragma once
-// Who may see and control a session: its trainee, instructors and admins (docs/api.md); and the
-// curriculum task a session ran.
+// Who may see and control a session: its trainee, the trainee's instructors and admins
+// (docs/api.md); and the curriculum task a session ran.
 #include <optional>
 #include <string>
 
 #include "curriculum/curriculum.h"
+#include "db/trainee_scope.h"
 #include "db/training_repo.h"
 #include "db/users_repo.h"
 #include "server/api/api_context.h"
 
 namespace incise::server::api {
 
+// Whose records #user sees (issue 8, security): a trainee their own, an instructor their own and
+// their trainees' (trainee_instructors), an admin everyone's.
+db::TraineeScope visible_scope(const db::User& user);
+
+// True if #user may see the records of user #trainee_id (see visible_scope).
+bool may_see_trainee(db::Database& db, const db::User& user, std::int64_t trainee_id);
+
 // Throws ApiError 403 unless user may see the session.
-void check_session_access(const db::User& user, const db::SessionRecord& session);
+void check_session_access(db::Database& db, const db::User& user, const db::SessionRecord& session);
 
 // The session of the request's path id, which the caller may see. Throws ApiError 404 for no such
 // session, 403 as check_session_access does.

@@ -46,7 +46,7 @@ std::shared_ptr<live::LiveSession> controllable_session(ApiContext& ctx) {
   const auto& user = ctx.user();
   const auto record = db::TrainingRepo(ctx.app.db()).find_session(ctx.path_id);
   if (!record) throw ApiError(http::status::not_found, "no session " + std::to_string(ctx.path_id));
-  check_session_access(user, *record);
+  check_session_access(ctx.app.db(), user, *record);
   auto session = ctx.app.live_sessions().find(ctx.path_id);
   if (!session || session->state() == live::LiveState::finished) {
     throw ApiError(http::status::conflict, "session " + std::to_string(ctx.path_id) +
@@ -137,7 +137,7 @@ ApiResponse get_session(ApiContext& ctx) {
   const auto& user = ctx.user();
   const auto record = db::TrainingRepo(ctx.app.db()).find_session(ctx.path_id);
   if (!record) throw ApiError(http::status::not_found, "no session " + std::to_string(ctx.path_id));
-  check_session_access(user, *record);
+  check_session_access(ctx.app.db(), user, *record);
   return session_response(ctx, ctx.path_id, live_json(ctx.app.live_sessions().find(ctx.path_id)));
 }
 

@@ -16,6 +16,7 @@
 #include "db/users_repo.h"
 #include "server/api/api_error.h"
 #include "server/api/handlers.h"
+#include "server/api/live_access.h"
 
 namespace incise::server::api {
 namespace {
@@ -92,14 +93,17 @@ ApiResponse trainee_progress(ApiContext& ctx) {
     throw ApiError(http::status::not_found,
                    "trainee " + std::to_string(ctx.path_id) + " does not exist");
   }
+  if (!may_see_trainee(ctx.app.db(), user, trainee->id)) {
+    throw ApiError(http::status::forbidden, "you do not teach trainee " + trainee->username);
+  }
   return {http::status::ok, progress_of(ctx.app.db(), ctx.path_id)};
 }
 
 ApiResponse progress_overview(ApiContext& ctx) {
-  ctx.require_role({db::Role::instructor, db::Role::admin});
+  const auto& viewer = ctx.require_role({db::Role::instructor, db::Role::admin});
   auto out = nlohmann::json::array();
   for (const auto& user : db::UsersRepo(ctx.app.db()).list()) {
-    if (user.role != db::Role::trainee) continue;
+    if (user.role != db::Role::trainee || !may_see_trainee(ctx.app.db(), viewer, user.id)) continue;
     auto row = progress_of(ctx.app.db(), user.id);
     row["username"] = user.username;
     row["display_name"] = user.display_name;

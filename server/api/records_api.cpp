@@ -10,16 +10,17 @@
 #include "server/api/api_error.h"
 #include "server/api/handlers.h"
 #include "server/api/json_views.h"
+#include "server/api/live_access.h"
 #include "server/live/scoring.h"
 #include "server/time_text.h"
 
 namespace incise::server::api {
 
 namespace {
-// Trainees see only their own records; instructors and admins see everyone's.
-std::optional<std::int64_t> visible_trainee(ApiContext& ctx) {
-  const auto& user = ctx.user();
-  return user.role == db::Role::trainee ? std::optional(user.id) : std::nullopt;
+// Trainees see only their own records, instructors their own and their trainees', admins
+// everyone's.
+db::TraineeScope visible_trainee(ApiContext& ctx) {
+  return visible_scope(ctx.user());
 }
 
 template <class Records>

@@ -19,9 +19,11 @@ class RequestFields {
   std::int64_t integer(std::string_view key) const;
   double number(std::string_view key) const;  // any JSON number
   bool boolean(std::string_view key) const;
+  // The field's JSON as sent, for shapes the readers above do not cover (e.g. an array); 422
+  // when it is missing.
+  const nlohmann::json& required(std::string_view key) const;
 
  private:
-  const nlohmann::json& required(std::string_view key) const;
   const nlohmann::json& body_;
 };
 

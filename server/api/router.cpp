@@ -28,6 +28,7 @@ constexpr std::array kRoutes = {
     Route{http::verb::get, "/api/me", api::me},
     Route{http::verb::get, "/api/users", api::list_users},
     Route{http::verb::post, "/api/users", api::create_user},
+    Route{http::verb::put, "/api/users/{id}/instructors", api::set_trainee_instructors},
     Route{http::verb::get, "/api/stations", api::list_stations},
     Route{http::verb::post, "/api/stations", api::create_station},
     Route{http::verb::get, "/api/stations/{id}/calibration", api::get_station_calibration},

@@ -1,6 +1,9 @@
 #include <algorithm>
+#include <string>
+#include <vector>
 
 #include "db/audit_repo.h"
+#include "db/transaction.h"
 #include "server/api/api_error.h"
 #include "server/api/handlers.h"
 #include "server/api/json_views.h"
@@ -19,20 +22,82 @@ void check_username(const std::string& name) {
                    "username must be 3-32 characters of a-z, 0-9, '.', '_' or '-'");
   }
 }
+// The instructor ids of a request body: distinct ids of users whose role is instructor.
+std::vector<std::int64_t> instructor_ids(db::Database& db, const nlohmann::json& value) {
+  const auto fail = [](const std::string& why) {
+    throw ApiError(http::status::unprocessable_entity, "instructor_ids " + why);
+  };
+  if (!value.is_array()) fail("must be an array of user ids");
+  std::vector<std::int64_t> ids;
+  db::UsersRepo users(db);
+  for (const auto& v : value) {
+    if (!v.is_number_integer()) fail("must hold user ids (integers)");
+    const auto id = v.get<std::int64_t>();
+    const auto user = users.find(id);
+    if (!user || user->role != db::Role::instructor) {
+      fail("must name instructors; user " + std::to_string(id) + " is not one");
+    }
+    if (std::find(ids.begin(), ids.end(), id) != ids.end()) {
+      fail("names user " + std::to_string(id) + " twice");
+    }
+    ids.push_back(id);
+  }
+  return ids;
+}
+
+nlohmann::json user_json(db::UsersRepo& users, const db::User& user) {
+  auto out = to_json(user);
+  if (user.role == db::Role::trainee) out["instructor_ids"] = users.instructors_of(user.id);
+  return out;
+}
+
+std::string id_list(const std::vector<std::int64_t>& ids) {
+  std::string text;
+  for (const auto id : ids)
+    text += (text.empty() ? "" : ", ") + std::to_string(id);
+  return "[" + text + "]";
+}
+
 }  // namespace
 
 ApiResponse list_users(ApiContext& ctx) {
   ctx.require_role({db::Role::admin});
+  db::UsersRepo users(ctx.app.db());
   auto out = nlohmann::json::array();
-  for (const auto& u : db::UsersRepo(ctx.app.db()).list())
-    out.push_back(to_json(u));
+  for (const auto& u : users.list())
+    out.push_back(user_json(users, u));
   return {http::status::ok, out, {}};
+}
+
+ApiResponse set_trainee_instructors(ApiContext& ctx) {
+  const auto& admin = ctx.require_role({db::Role::admin});
+  auto& db = ctx.app.db();
+  db::UsersRepo users(db);
+  const auto trainee = users.find(ctx.path_id);
+  if (!trainee) {
+    throw ApiError(http::status::not_found,
+                   "user " + std::to_string(ctx.path_id) + " does not exist");
+  }
+  if (trainee->role != db::Role::trainee) {
+    throw ApiError(http::status::unprocessable_entity,
+                   trainee->username + " is not a trainee; only trainees have instructors");
+  }
+  const auto body = ctx.json_body();
+  const RequestFields fields(body, {"instructor_ids"});
+  const auto ids = instructor_ids(db, fields.required("instructor_ids"));
+  db::Transaction tx(db);
+  users.set_instructors(trainee->id, ids, ctx.now);
+  db::AuditRepo(db).record(admin.id, "user.instructors",
+                           trainee->username + " taught by " + id_list(ids), ctx.now);
+  tx.commit();
+  return {http::status::ok, user_json(users, *trainee), {}};
 }
 
 ApiResponse create_user(ApiContext& ctx) {
   const auto& admin = ctx.require_role({db::Role::admin});
   const auto body = ctx.json_body();
-  const RequestFields fields(body, {"username", "password", "role", "display_name"});
+  const RequestFields fields(body,
+                             {"username", "password", "role", "display_name", "instructor_ids"});
   db::NewUser user;
   user.username = fields.string("username");
   check_username(user.username);
@@ -54,11 +119,24 @@ ApiResponse create_user(ApiContext& ctx) {
   if (user.password.size() > 256) {
     throw ApiError(http::status::unprocessable_entity, "password must have at most 256 characters");
   }
-  const auto created = db::UsersRepo(ctx.app.db()).create(user, ctx.now);
+  std::vector<std::int64_t> instructors;
+  if (body.contains("instructor_ids")) {
+    if (user.role != db::Role::trainee) {
+      throw ApiError(http::status::unprocessable_entity, "only trainees have instructor_ids");
+    }
+    instructors = instructor_ids(ctx.app.db(), body["instructor_ids"]);
+  }
+  db::UsersRepo users(ctx.app.db());
+  db::Transaction tx(ctx.app.db());
+  const auto created = users.create(user, ctx.now);
+  if (!instructors.empty()) users.set_instructors(created.id, instructors, ctx.now);
   db::AuditRepo(ctx.app.db())
       .record(admin.id, "user.create",
-              created.username + " (" + std::string(db::to_string(created.role)) + ")", ctx.now);
-  return {http::status::created, to_json(created), {}};
+              created.username + " (" + std::string(db::to_string(created.role)) + ")" +
+                  (instructors.empty() ? "" : " taught by " + id_list(instructors)),
+              ctx.now);
+  tx.commit();
+  return {http::status::created, user_json(users, created), {}};
 }
 
 }  // namespace incise::server::api

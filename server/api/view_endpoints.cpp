@@ -35,7 +35,7 @@ ViewTarget live_target(ApiContext& ctx, std::int64_t session_id) {
   const auto& user = ctx.user();
   const auto record = db::TrainingRepo(ctx.app.db()).find_session(session_id);
   if (!record) throw ApiError(http::status::not_found, "no session " + std::to_string(session_id));
-  api::check_session_access(user, *record);
+  api::check_session_access(ctx.app.db(), user, *record);
   auto session = ctx.app.live_sessions().find(session_id);
   if (!session) {
     throw ApiError(http::status::conflict, "session " + std::to_string(session_id) +
@@ -61,7 +61,7 @@ ReplayInput replay_input(ApiContext& ctx, std::int64_t recording_id) {
   }
   const auto record = db::TrainingRepo(db).find_session(meta->session_id);
   if (!record) throw ApiError(http::status::not_found, "recording without a session");
-  api::check_session_access(user, *record);
+  api::check_session_access(db, user, *record);
   const auto name = "recording " + std::to_string(recording_id);
   if (meta->state != "complete") {
     throw ApiError(http::status::conflict, name + " is still being recorded");

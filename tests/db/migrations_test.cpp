@@ -10,6 +10,8 @@
 
 #include "db/recordings_repo.h"
 #include "db/statement.h"
+#include "db/training_repo.h"
+#include "db/users_repo.h"
 #include "temp_database.h"
 
 namespace incise::db {
@@ -200,6 +202,46 @@ TEST_F(MigrationsTest, RecordingsUpgradeFromTheInitialSchemaKeepsOldRows) {
   auto bad = db().prepare("UPDATE recordings SET state = 'paused' WHERE id = ?");
   bad.bind(1, recording);
   EXPECT_THROW(bad.run(), ConstraintError);
+}
+
+// Before 006 every instructor saw every trainee: the upgrade assigns each existing trainee to each
+// existing instructor, and nothing else; new users after it start unassigned.
+TEST_F(MigrationsTest, InstructorAssignmentsUpgradeKeepsWhatInstructorsSaw) {
+  const auto& all = embedded_migrations();
+  const auto before = std::find_if(all.begin(), all.end(), [](const auto& m) {
+    return m.name == "006_trainee_instructors.sql";
+  });
+  ASSERT_NE(before, all.end());
+  const std::vector<Migration> older(all.begin(), before);
+  EXPECT_EQ(apply_migrations(db(), older), static_cast<int>(older.size()));
+  const auto ann = test::add_user(db(), "ann");
+  const auto bob = test::add_user(db(), "bob");
+  const auto ines = test::add_user(db(), "ines", "instructor");
+  const auto ivo = test::add_user(db(), "ivo", "instructor");
+  test::add_user(db(), "ada", "admin");
+
+  apply_migrations(db());
+  UsersRepo users(db());
+  for (const auto trainee : {ann, bob}) {
+    EXPECT_EQ(users.instructors_of(trainee), (std::vector<std::int64_t>{ines, ivo}));
+  }
+  EXPECT_TRUE(users.instructors_of(ines).empty());
+  EXPECT_EQ(TrainingRepo(db()).sessions(TraineeScope::of_instructor(ines)).size(), 0u);
+
+  // A session of ann is in ines's scope; after ann is reassigned to ivo alone, it is not.
+  db().prepare(
+          "INSERT INTO sessions (trainee_id, task, state, created_at) VALUES (?, 't', "
+          "'finished', 5)")
+      .bind(1, ann)
+      .run();
+  EXPECT_EQ(TrainingRepo(db()).sessions(TraineeScope::of_instructor(ines)).size(), 1u);
+  users.set_instructors(ann, {ivo}, 9);
+  EXPECT_FALSE(users.teaches(ines, ann));
+  EXPECT_TRUE(users.teaches(ivo, ann));
+  EXPECT_EQ(TrainingRepo(db()).sessions(TraineeScope::of_instructor(ines)).size(), 0u);
+  EXPECT_EQ(TrainingRepo(db()).sessions(TraineeScope::of_instructor(ivo)).size(), 1u);
+  EXPECT_EQ(TrainingRepo(db()).sessions(TraineeScope::of_trainee(bob)).size(), 0u);
+  EXPECT_EQ(TrainingRepo(db()).sessions(TraineeScope::everyone()).size(), 1u);
 }
 
 }  // namespace

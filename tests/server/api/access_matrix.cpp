@@ -5,10 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
 #include <string>
 #include <vector>
 
 #include "api/api_test_app.h"
+#include "db/bookings_repo.h"
 #include "db/training_repo.h"
 
 namespace incise::server::test {
@@ -48,6 +50,13 @@ class AccessMatrix : public ApiTest {
     training.set_session_state(other_, "finished", now() + 60);
     training.add_recording(other_, 60.0, now() + 60);
     training.set_session_state(own_, "finished", now() + 60);
+    // A trainee the demo instructor does not teach.
+    untaught_trainee_ = add_trainee("trainee3", false);
+    untaught_ = training.create_session(untaught_trainee_, std::nullopt, "palpation", now());
+    training.set_session_state(untaught_, "finished", now() + 60);
+    training.add_recording(untaught_, 60.0, now() + 60);
+    for (const auto session : {other_, untaught_})
+      training.add_score(session, "peak_force_n", 3.0, "N", true, now() + 60);
   }
 
   void check(const Row& row) {
@@ -69,11 +78,14 @@ class AccessMatrix : public ApiTest {
   std::int64_t own_ = 0;    // the demo trainee's session
   std::int64_t other_ = 0;  // another trainee's
   std::int64_t other_trainee_ = 0;
+  std::int64_t untaught_ = 0;  // a session of a trainee the demo instructor does not teach
+  std::int64_t untaught_trainee_ = 0;
 };
 
 TEST_F(AccessMatrix, EveryEndpointRoleAndOwnership) {
   const std::string own = std::to_string(own_);
   const std::string other = std::to_string(other_);
+  const std::string untaught = std::to_string(untaught_);
   const std::string station = std::to_string(demo_station_id());
   const std::string calibration =
       R"({"devices": [{"index": 0, "kind": "pen", "mapping": {"scale": 1, "rotation": [1, 0, 0, 0], "offset": [0, 0, 0]}}]})";
@@ -109,6 +121,20 @@ TEST_F(AccessMatrix, EveryEndpointRoleAndOwnership) {
       {http::verb::put, "/api/sessions/" + other + "/expert", R"({"expert": false})", kAdmin},
       {http::verb::put, "/api/sessions/" + own + "/expert", R"({"expert": false})", kAdmin},
       {http::verb::get, "/api/benchmarks", "", kAnyone},
+      // Instructors see only the trainees they teach.
+      {http::verb::get, "/api/sessions/" + untaught, "", kAdmin},
+      {http::verb::get, "/api/sessions/" + untaught + "/review", "", kAdmin},
+      {http::verb::get, "/api/sessions/" + untaught + "/annotations", "", kAdmin},
+      {http::verb::post, "/api/sessions/" + untaught + "/annotations",
+       R"({"t_s": 0, "text": "note"})", kAdmin},
+      {http::verb::get, "/api/sessions/" + untaught + "/adjustments", "", kAdmin},
+      {http::verb::post, "/api/sessions/" + untaught + "/adjustments",
+       R"({"passed": true, "reason": "review"})", kAdmin},
+      {http::verb::post, "/api/sessions/" + untaught + "/stop", "{}", kAdmin},
+      {http::verb::get, "/api/trainees/" + std::to_string(untaught_trainee_) + "/progress", "",
+       kAdmin},
+      {http::verb::put, "/api/users/" + std::to_string(untaught_trainee_) + "/instructors",
+       R"({"instructor_ids": []})", kAdmin},
       {http::verb::get, "/api/recordings", "", kAnyone},
       {http::verb::get, "/api/scores", "", kAnyone},
       {http::verb::get, "/api/exports/scores.csv", "", kAdmin},
@@ -127,15 +153,36 @@ TEST_F(AccessMatrix, EveryEndpointRoleAndOwnership) {
     check(row);
 }
 
-// Lists are filtered, not refused: a trainee gets only their own rows.
-TEST_F(AccessMatrix, ListsShowATraineeOnlyTheirOwnData) {
-  const auto token = session_of(Who::trainee);
+// Lists are filtered, not refused: a trainee gets only their own rows, an instructor those of
+// the trainees they teach, an admin everyone's.
+TEST_F(AccessMatrix, ListsShowEachRoleOnlyTheDataItMaySee) {
+  db::BookingsRepo bookings(db());
+  const auto station = demo_station_id();
+  bookings.create(station, other_trainee_, now() + kDay, now() + kDay + 3600, now());
+  bookings.create(station, untaught_trainee_, now() + 2 * kDay, now() + 2 * kDay + 3600, now());
+  const auto names = [&](const std::string& path, Who who) {
+    std::set<std::string> seen;
+    for (const auto& row : json_of(get(path, session_of(who)))) {
+      seen.insert(row.contains("trainee") ? row["trainee"].get<std::string>()
+                                          : row["username"].get<std::string>());
+    }
+    return seen;
+  };
   for (const char* path : {"/api/sessions", "/api/recordings", "/api/scores", "/api/bookings"}) {
-    const auto list = json_of(get(path, token));
-    ASSERT_TRUE(list.is_array()) << path;
-    for (const auto& row : list)
-      EXPECT_NE(row.value("trainee", std::string("trainee")), "trainee2") << path;
+    SCOPED_TRACE(path);
+    const auto trainee = names(path, Who::trainee);
+    EXPECT_FALSE(trainee.contains("trainee2"));
+    EXPECT_FALSE(trainee.contains("trainee3"));
+    const auto instructor = names(path, Who::instructor);
+    EXPECT_TRUE(instructor.contains("trainee2"));
+    EXPECT_FALSE(instructor.contains("trainee3"));
+    EXPECT_TRUE(names(path, Who::admin).contains("trainee3"));
   }
+  std::set<std::string> overview;
+  for (const auto& row : json_of(get("/api/trainees/progress", session_of(Who::instructor))))
+    overview.insert(row["username"].get<std::string>());
+  EXPECT_TRUE(overview.contains("trainee2"));
+  EXPECT_FALSE(overview.contains("trainee3"));
 }
 
 }  // namespace

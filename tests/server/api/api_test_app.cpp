@@ -4,6 +4,7 @@
 #include "db/migrations.h"
 #include "db/statement.h"
 #include "db/stations_repo.h"
+#include "db/users_repo.h"
 #include "server/api/router.h"
 #include "server/demo_data.h"
 
@@ -102,7 +103,7 @@ std::int64_t ApiTest::user_id(std::string_view username) {
   return q.int64(0);
 }
 
-std::int64_t ApiTest::add_trainee(std::string_view username) {
+std::int64_t ApiTest::add_trainee(std::string_view username, bool taught_by_demo_instructor) {
   db_->prepare(
          "INSERT INTO users (username, display_name, role, password_hash, created_at) VALUES "
          "(?, ?, 'trainee', 'not-a-hash', ?)")
@@ -110,7 +111,11 @@ std::int64_t ApiTest::add_trainee(std::string_view username) {
       .bind(2, username)
       .bind(3, now_)
       .run();
-  return db_->last_insert_id();
+  const auto id = db_->last_insert_id();
+  if (taught_by_demo_instructor) {
+    db::UsersRepo(*db_).set_instructors(id, {user_id("instructor")}, now_);
+  }
+  return id;
 }
 
 std::int64_t ApiTest::demo_station_id() {

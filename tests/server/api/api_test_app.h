@@ -61,8 +61,9 @@ class ApiTest : public ::testing::Test {
   // A new session of `who` (empty for nobody), as if they had just logged in.
   std::string session_of(Who who);
   std::int64_t user_id(std::string_view username);
-  // A trainee who cannot log in (no password hash): for ownership and visibility checks.
-  std::int64_t add_trainee(std::string_view username);
+  // A trainee who cannot log in (no password hash): for ownership and visibility checks. Taught by
+  // the demo instructor unless told otherwise.
+  std::int64_t add_trainee(std::string_view username, bool taught_by_demo_instructor = true);
   std::int64_t demo_station_id();
   std::int64_t count(std::string_view table);
 

@@ -34,7 +34,8 @@ TEST_F(UsersApi, AdminCreatesAUser) {
   EXPECT_EQ(user["display_name"], "New Trainee");
   EXPECT_EQ(user["role"], "trainee");
   EXPECT_EQ(user["id"], user_id("new.trainee_1-a"));
-  EXPECT_EQ(user.size(), 4u) << user;
+  EXPECT_EQ(user["instructor_ids"], nlohmann::json::array());  // nobody teaches them yet
+  EXPECT_EQ(user.size(), 5u) << user;
   EXPECT_EQ(count("audit_log"), audits + 1);
   EXPECT_TRUE(db::UsersRepo(db()).authenticate("new.trainee_1-a", "0123456789"));
 
@@ -84,6 +85,54 @@ TEST_F(UsersApi, InvalidUsersAre422) {
       is_error(create({{"username", "abc"}, {"password", 123456789012}, {"role", "trainee"}}),
                http::status::unprocessable_entity, "field 'password' must be a string"));
   EXPECT_EQ(count("users"), users);
+}
+
+// Which instructors teach a trainee decides what each instructor sees (access_matrix.cpp); admins
+// set it when they create the trainee and change it later, and every change is audited.
+TEST_F(UsersApi, AdminsChooseWhichInstructorsTeachATrainee) {
+  const auto ines = user_id("instructor");
+  const auto second = json_of(
+      create({{"username", "ines2"}, {"password", "0123456789"}, {"role", "instructor"}}))["id"];
+  const auto created = create({{"username", "tess"},
+                               {"password", "0123456789"},
+                               {"role", "trainee"},
+                               {"instructor_ids", {ines}}});
+  ASSERT_EQ(created.result(), http::status::created) << created.body();
+  const auto tess = json_of(created)["id"].get<std::int64_t>();
+  EXPECT_EQ(json_of(created)["instructor_ids"], nlohmann::json::array({ines}));
+  EXPECT_TRUE(db::UsersRepo(db()).teaches(ines, tess));
+
+  const auto path = "/api/users/" + std::to_string(tess) + "/instructors";
+  const auto audits = count("audit_log WHERE action = 'user.instructors'");
+  const auto changed = put(path, {{"instructor_ids", {second}}}, admin_);
+  ASSERT_EQ(changed.result(), http::status::ok) << changed.body();
+  EXPECT_EQ(json_of(changed)["instructor_ids"], nlohmann::json::array({second}));
+  EXPECT_FALSE(db::UsersRepo(db()).teaches(ines, tess));
+  EXPECT_EQ(count("audit_log WHERE action = 'user.instructors'"), audits + 1);
+
+  // Bad requests change nothing.
+  const auto trainee = user_id("trainee");
+  EXPECT_TRUE(is_error(
+      put(path, {{"instructor_ids", {trainee}}}, admin_), http::status::unprocessable_entity,
+      "instructor_ids must name instructors; user " + std::to_string(trainee) + " is not one"));
+  EXPECT_TRUE(is_error(put(path, {{"instructor_ids", {second, second}}}, admin_),
+                       http::status::unprocessable_entity));
+  EXPECT_TRUE(is_error(put(path, {{"instructor_ids", "ines"}}, admin_),
+                       http::status::unprocessable_entity));
+  EXPECT_TRUE(
+      is_error(put(path, nlohmann::json::object(), admin_), http::status::unprocessable_entity));
+  EXPECT_TRUE(is_error(put("/api/users/" + std::to_string(ines) + "/instructors",
+                           {{"instructor_ids", {second}}}, admin_),
+                       http::status::unprocessable_entity,
+                       "instructor is not a trainee; only trainees have instructors"));
+  EXPECT_TRUE(is_error(put("/api/users/999999/instructors", {{"instructor_ids", {}}}, admin_),
+                       http::status::not_found));
+  EXPECT_TRUE(is_error(create({{"username", "ines3"},
+                               {"password", "0123456789"},
+                               {"role", "instructor"},
+                               {"instructor_ids", {ines}}}),
+                       http::status::unprocessable_entity, "only trainees have instructor_ids"));
+  EXPECT_EQ(db::UsersRepo(db()).instructors_of(tess), std::vector<std::int64_t>{second});
 }
 
 }  // namespace

@@ -16,6 +16,8 @@
 #include <thread>
 #include <vector>
 
+#include "curriculum/curriculum_json.h"
+#include "curriculum/metrics.h"
 #include "devices/agent/impaired_link.h"
 #include "integration/server_fixture.h"
 #include "sim/render/jpeg.h"
@@ -243,7 +245,16 @@ TEST_F(LiveSession, RunsStreamsRecordsScoresAndReplaysToTheSameState) {
   const double duration = std::stod(db_text("SELECT duration_s FROM recordings WHERE id = " + rid));
   EXPECT_GT(duration, 1.0);
   const auto sid = std::to_string(session);
-  EXPECT_EQ(db_int("SELECT COUNT(*) FROM scores WHERE session_id = " + sid), 4);
+  // One score per metric the task is scored on (with never_events for its never zone).
+  const auto plan = curriculum::parse_curriculum_text(
+      db_text("SELECT definition FROM curricula ORDER BY name LIMIT 1"));
+  const auto* task = curriculum::find_task(plan, "palpation");
+  ASSERT_NE(task, nullptr);
+  EXPECT_EQ(db_int("SELECT COUNT(*) FROM scores WHERE session_id = " + sid),
+            static_cast<int>(curriculum::scored_requirements(*task).size()));
+  EXPECT_EQ(
+      db_int("SELECT COUNT(*) FROM scores WHERE metric = 'never_events' AND session_id = " + sid),
+      1);
   EXPECT_NEAR(std::stod(db_text("SELECT value FROM scores WHERE metric = 'completion_time_s' AND "
                                 "session_id = " +
                                 sid)),
