@@ -103,13 +103,15 @@ scenario('an admin creates a user, who can then log in', async (page) => {
   const created = await create();
   assert.equal(created.status(), 201, await created.text());
   const users = region(page, 'Users');
-  await sees(users.getByRole('row').filter({ hasText: username }).filter({ hasText: 'Instructor' }), 'the new user in the users list');
+  // The row whose username cell is the new user's (trainees' rows name every instructor too).
+  const user_row = users.getByRole('row').filter({ has: page.getByRole('cell', { name: username, exact: true }) });
+  await sees(user_row.filter({ hasText: 'Instructor' }), 'the new user in the users list');
 
   const duplicate = await create();
   assert.equal(duplicate.status(), 409);
   const { error: duplicate_message } = await duplicate.json();
   await sees(form.getByRole('alert').filter({ hasText: duplicate_message }), `the duplicate message "${duplicate_message}"`);
-  assert.equal(await users.getByRole('row').filter({ hasText: username }).count(), 1, 'the user is listed once');
+  assert.equal(await user_row.count(), 1, 'the user is listed once');
 
   await click_for_response(page, page.getByRole('button', { name: 'Log out' }), 'POST', /^\/api\/logout$/);
   await page.waitForURL('**/login');
@@ -250,4 +252,80 @@ scenario('a trainee books from the station calendar, meets a clear conflict and 
   await progress.getByText('Show the numbers').click();
   await sees(progress.getByTestId('progress-table').getByRole('row').nth(1), 'the first attempt in the table');
   await snap(page, 'trainee-home');
+});
+
+scenario('an admin imports a curriculum, calibrates a station and assigns instructors, each with clear errors, and reads the audit log', async (page) => {
+  assert.equal((await log_in(page, demo.admin)).status(), 200);
+  await page.waitForURL('**/admin');
+
+  // A curriculum file with a wrong threshold operator: the server names the path of the problem.
+  const curriculum = {
+    name: 'Suturing basics',
+    description: 'Interrupted sutures on a pad.',
+    modules: [
+      {
+        key: 'suturing',
+        name: 'Suturing',
+        tasks: [
+          {
+            key: 'single_stitch',
+            name: 'Single stitch',
+            scene: 'scenes/palpation.json',
+            metrics: [{ key: 'completion_time_s', threshold: { op: '<', value: 90 }, unit: 's' }],
+            consecutive_passes_required: 2,
+          },
+        ],
+      },
+    ],
+  };
+  const importer = page.getByTestId('curriculum-import');
+  const upload = async (body) => {
+    await importer.getByLabel('Curriculum file').setInputFiles({ name: 'suturing.json', mimeType: 'application/json', buffer: Buffer.from(JSON.stringify(body)) });
+    return click_for_response(page, importer.getByRole('button', { name: 'Import curriculum' }), 'POST', /^\/api\/curricula$/);
+  };
+  const refused = await upload(curriculum);
+  assert.equal(refused.status(), 422);
+  const { error } = await refused.json();
+  assert.match(error, /^modules\[0\]\.tasks\[0\]\.metrics\[0\]\.threshold\.op: /);
+  await sees(importer.getByRole('alert').filter({ hasText: error }), 'the path of the problem in the file');
+  curriculum.modules[0].tasks[0].metrics[0].threshold.op = '<=';
+  const imported = await upload(curriculum);
+  assert.equal(imported.status(), 201, await imported.text());
+  await sees(importer.getByRole('status').filter({ hasText: 'Imported “Suturing basics”.' }), 'the import confirmed');
+
+  // A calibration the server refuses, then the one it had, saved back.
+  const calibration = page.getByTestId('calibration-editor');
+  const text = calibration.getByLabel('Calibration JSON');
+  await sees(text, 'the calibration text');
+  await page.waitForFunction(() => document.querySelector('[aria-label="Calibration JSON"]')?.value.includes('devices'));
+  const original = await text.inputValue();
+  await text.fill('{"devices": 5}');
+  const bad = await click_for_response(page, calibration.getByRole('button', { name: 'Save calibration' }), 'PUT', /^\/api\/stations\/\d+\/calibration$/);
+  assert.equal(bad.status(), 422);
+  await sees(calibration.getByRole('alert').filter({ hasText: (await bad.json()).error }), 'why the calibration was refused');
+  await text.fill(original);
+  const saved = await click_for_response(page, calibration.getByRole('button', { name: 'Save calibration' }), 'PUT', /^\/api\/stations\/\d+\/calibration$/);
+  assert.equal(saved.status(), 200, await saved.text());
+  await sees(calibration.getByRole('status').filter({ hasText: 'Calibration saved.' }), 'the calibration saved');
+
+  // The demo trainee is taught by the demo instructor; take that away and give it back.
+  const users = await page.evaluate(async () => (await fetch('/api/users')).json());
+  const trainee = users.find((u) => u.username === demo.trainee.username);
+  const picker = page.getByTestId(`instructor-picker-${trainee.id}`);
+  const ines = picker.getByLabel('Ines Instructor');
+  assert.equal(await ines.isChecked(), true, 'the demo instructor teaches the demo trainee');
+  const removed = await click_for_response(page, ines, 'PUT', new RegExp(`^/api/users/${trainee.id}/instructors$`));
+  assert.equal(removed.status(), 200);
+  assert.deepEqual(removed.request().postDataJSON(), { instructor_ids: [] });
+  const restored = await click_for_response(page, ines, 'PUT', new RegExp(`^/api/users/${trainee.id}/instructors$`));
+  assert.equal(restored.status(), 200);
+  assert.equal((await restored.json()).instructor_ids.length, 1);
+
+  // Every change is in the audit log.
+  const audit = page.getByTestId('audit-log');
+  await audit.getByRole('button', { name: 'Refresh' }).click();
+  for (const action of ['curriculum.import', 'station.calibrate', 'user.instructors']) {
+    await sees(audit.getByRole('row').filter({ hasText: action }), `"${action}" in the audit log`);
+  }
+  await snap(page, 'admin-home');
 });

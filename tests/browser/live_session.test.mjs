@@ -257,3 +257,58 @@ scenario(
   },
   { timeout_ms: 150_000 },
 );
+
+/**
+ * The trainee starts a session of the preselected task at the demo station (booking the slot in
+ * progress first when no booking covers now), trains for `seconds` of simulated time and stops.
+ * Returns the session and the verdict shown in its result.
+ */
+async function train_once(page, seconds) {
+  await page.goto('/trainee');
+  const train = region(page, 'Train now');
+  const walk_up = train.getByRole('form', { name: 'Walk up to a station' });
+  const start_form = train.getByRole('form', { name: 'Start a session at Station 1' });
+  await sees(walk_up.or(start_form), 'the walk-up or the start form');
+  if (await walk_up.isVisible()) {
+    const booking = await click_for_response(page, walk_up.getByRole('button', { name: /^Book from / }), 'POST', /^\/api\/bookings$/);
+    assert.equal(booking.status(), 201, await booking.text());
+  }
+  const started = await click_for_response(page, start_form.getByRole('button', { name: 'Start session' }), 'POST', /^\/api\/sessions$/);
+  assert.equal(started.status(), 201, await started.text());
+  const session = await started.json();
+  await page.waitForURL(`**/sessions/${session.id}`);
+  await wait_for_canvas(page, 'live-canvas', { time_min: seconds }, `${seconds} simulated seconds`, (seconds + 20) * 1000);
+  page.once('dialog', (dialog) => dialog.accept());
+  const stopped = await click_for_response(page, page.getByRole('button', { name: 'Stop' }), 'POST', new RegExp(`^/api/sessions/${session.id}/stop$`));
+  assert.equal(stopped.status(), 200, await stopped.text());
+  const verdict = region(page, 'Result').getByTestId('attempt-verdict');
+  await sees(verdict, 'the verdict of the attempt');
+  return { session, verdict: await verdict.textContent() };
+}
+
+scenario(
+  'a trainee masters palpation over consecutive passing attempts and the two-handed task unlocks',
+  async (page) => {
+    assert.equal((await log_in(page, demo.trainee)).status(), 200);
+    await page.waitForURL('**/trainee');
+    const curriculum = region(page, 'My curriculum');
+    await sees(curriculum.getByTestId('task-status-bimanual_palpation').filter({ hasText: 'Locked' }), 'the two-handed task locked');
+    const required = (await api_call(page, 'GET', '/api/progress')).body.tasks.find((t) => t.key === 'palpation').required_passes;
+    // The simulated device loops a 20 s script that touches the tissue for about 8 s, visits the
+    // three landmarks and crosses the nerve once: a 21 s attempt passes every threshold.
+    for (let attempt = 1; attempt <= required; ++attempt) {
+      const { verdict } = await train_once(page, 21);
+      assert.match(verdict, /^Passed/, `attempt ${attempt}: ${verdict}`);
+      const progress = (await api_call(page, 'GET', '/api/progress')).body.tasks;
+      const palpation = progress.find((t) => t.key === 'palpation');
+      const next = progress.find((t) => t.key === 'bimanual_palpation');
+      assert.ok(palpation.consecutive_passes >= attempt, `after attempt ${attempt}: ${JSON.stringify(palpation)}`);
+      assert.equal(next.unlocked, palpation.mastered, 'the next task unlocks exactly when palpation is mastered');
+    }
+    await page.goto('/trainee');
+    await sees(curriculum.getByTestId('task-status-palpation').filter({ hasText: 'Mastered' }), 'palpation mastered');
+    await sees(curriculum.getByTestId('task-status-bimanual_palpation').filter({ hasText: /^(Unlocked|In progress)$/ }), 'the two-handed task unlocked');
+    await snap(page, 'trainee-mastered');
+  },
+  { timeout_ms: 240_000 },
+);

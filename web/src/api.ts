@@ -210,6 +210,28 @@ export interface ScoreAdjustment {
   created_at: string;
 }
 
+/** One entry of the audit log (GET /api/audit, admin): the latest 200, newest first. */
+export interface AuditEntry {
+  id: number;
+  at: string;
+  /** null for a change no signed-in user made. */
+  user_id: number | null;
+  /** e.g. "user.create", "station.calibrate", "curriculum.import", "export.scores". */
+  action: string;
+  detail: string;
+}
+
+/** A station's calibration (GET and PUT /api/stations/{id}/calibration; PUT takes the bare one). */
+export interface CalibrationAnswer {
+  station_id: number;
+  /** True while the station has none stored: the calibration is then the server's default. */
+  default: boolean;
+  calibration: unknown;
+}
+
+/** A user as admins list them: a trainee with the ids of the instructors who teach them. */
+export type ListedUser = User & { instructor_ids?: number[] };
+
 export class ApiError extends Error {
   /** HTTP status, or 0 when the server could not be reached. */
   readonly status: number;
@@ -280,7 +302,14 @@ export const api = {
     request<Booking>('POST', '/api/bookings', { station_id, starts_at, ends_at }),
   cancel_booking: (id: number) => request<void>('DELETE', `/api/bookings/${id}`),
 
-  users: () => request<User[]>('GET', '/api/users'),
+  users: () => request<ListedUser[]>('GET', '/api/users'),
+  set_instructors: (trainee_id: number, instructor_ids: number[]) =>
+    request<ListedUser>('PUT', `/api/users/${trainee_id}/instructors`, { instructor_ids }),
+  calibration: (station_id: number) => request<CalibrationAnswer>('GET', `/api/stations/${station_id}/calibration`),
+  set_calibration: (station_id: number, calibration: unknown) =>
+    request<CalibrationAnswer>('PUT', `/api/stations/${station_id}/calibration`, calibration),
+  import_curriculum: (definition: unknown) => request<CurriculumEntry>('POST', '/api/curricula', definition),
+  audit: () => request<AuditEntry[]>('GET', '/api/audit'),
   create_user: (user: { username: string; password: string; role: Role; display_name: string }) =>
     request<User>('POST', '/api/users', user),
 

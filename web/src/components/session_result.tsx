@@ -1,10 +1,11 @@
 import { useCallback } from 'react';
-import { api } from '../api';
+import { api, type Score } from '../api';
 import { Link } from '../router';
 import { useResource } from '../use_resource';
 import { Card } from './card';
 import { ResourceView } from './resource_view';
 import { ScoresTable } from './scores_table';
+import './review.css';
 
 /** The scores stored for a finished session and a link to its recording. */
 export function SessionResult({ session_id }: { session_id: number }) {
@@ -27,7 +28,12 @@ export function SessionResult({ session_id }: { session_id: number }) {
   return (
     <Card id="result" title="Result">
       <ResourceView resource={scores} what="scores" empty="No scores are stored for this session yet.">
-        {(data) => <ScoresTable scores={data} show_trainee={false} />}
+        {(data) => (
+          <>
+            <Verdict scores={data} />
+            <ScoresTable scores={data} show_trainee={false} />
+          </>
+        )}
       </ResourceView>
       <ResourceView resource={recordings} what="recordings" empty="No recording is stored for this session yet.">
         {(data) => (
@@ -44,5 +50,17 @@ export function SessionResult({ session_id }: { session_id: number }) {
         Refresh
       </button>
     </Card>
+  );
+}
+
+/** Whether the attempt passed: every metric it was scored on met its threshold. */
+function Verdict({ scores }: { scores: Score[] }) {
+  const missed = scores.filter((s) => !s.passed);
+  return (
+    <p className={`verdict ${missed.length === 0 ? 'verdict-pass' : 'verdict-fail'}`} data-testid="attempt-verdict">
+      {missed.length === 0
+        ? `Passed: all ${scores.length} metrics met their thresholds.`
+        : `Not passed: ${missed.map((s) => s.metric).join(', ')} missed ${missed.length === 1 ? 'its threshold' : 'their thresholds'}.`}
+    </p>
   );
 }

@@ -20,14 +20,22 @@ function covers(booking: Booking, now: number): boolean {
 }
 
 /** A "Start session" form for each of `bookings` that covers the present moment; without one, a
- * walk-up form that books the slot in progress. */
-export function StartSession({ bookings, on_booked }: { bookings: Booking[]; on_booked: () => void }) {
+ * walk-up form that books the slot in progress. `bookings` is null while they load: then neither
+ * shows, so that the walk-up form does not flash up before a booking that covers now. */
+export function StartSession({ bookings, on_booked }: { bookings: Booking[] | null; on_booked: () => void }) {
   const now = useNow(15_000);
   const curricula = useResource(api.curricula);
   const stations = useResource(api.stations);
-  const current = bookings.filter((b) => covers(b, now));
   // Sessions run tasks of the first curriculum (docs/api.md, "Live sessions").
   const tasks = curricula.data?.[0]?.definition.modules.flatMap((m) => m.tasks) ?? [];
+  if (bookings === null) {
+    return (
+      <p className="muted" role="status">
+        Loading your bookings…
+      </p>
+    );
+  }
+  const current = bookings.filter((b) => covers(b, now));
 
   if (current.length === 0) {
     return <WalkUp stations={stations.data ?? []} now={now} on_booked={on_booked} />;

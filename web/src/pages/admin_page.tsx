@@ -1,5 +1,10 @@
-import { api, type Station, type User } from '../api';
+import { api, type ListedUser, type Station } from '../api';
+import { AuditLog } from '../components/audit_log';
+import { BenchmarksTable } from '../components/benchmarks_table';
+import { CalibrationEditor } from '../components/calibration_editor';
 import { Card } from '../components/card';
+import { CurriculumImport } from '../components/curriculum_import';
+import { InstructorPicker } from '../components/instructor_picker';
 import { DataTable } from '../components/data_table';
 import { ResourceView } from '../components/resource_view';
 import { StationForm } from '../components/station_form';
@@ -12,6 +17,8 @@ export function AdminPage() {
   const users = useResource(api.users);
   const stations = useResource(api.stations);
   const curricula = useResource(api.curricula);
+  const benchmarks = useResource(api.benchmarks);
+  const instructors = users.data?.filter((u) => u.role === 'instructor') ?? [];
 
   return (
     <main className="page">
@@ -20,7 +27,7 @@ export function AdminPage() {
         <Card id="users" title="Users" grow>
           <ResourceView resource={users} what="users" empty="No users.">
             {(data) => (
-              <DataTable<User>
+              <DataTable<ListedUser>
                 labelled_by="users-title"
                 rows={data}
                 row_key={(u) => u.id}
@@ -28,6 +35,11 @@ export function AdminPage() {
                   { header: 'Username', cell: (u) => u.username },
                   { header: 'Display name', cell: (u) => u.display_name },
                   { header: 'Role', cell: (u) => <span className={`role-badge role-${u.role}`}>{role_label(u.role)}</span> },
+                  {
+                    header: 'Taught by',
+                    cell: (u) =>
+                      u.role === 'trainee' ? <InstructorPicker trainee={u} instructors={instructors} on_saved={users.reload} /> : '—',
+                  },
                 ]}
               />
             )}
@@ -68,10 +80,16 @@ export function AdminPage() {
           <StationForm on_created={stations.reload} />
         </Card>
       </div>
+      <Card id="calibration" title="Station calibration">
+        {stations.data && <CalibrationEditor stations={stations.data} />}
+      </Card>
       <div className="columns">
         <Card id="thresholds" title="Curriculum thresholds" grow>
           {curricula.error && <p role="alert">Could not load the curricula: {curricula.error}</p>}
           {curricula.data?.[0] && <ThresholdEditor curriculum={curricula.data[0]} on_saved={curricula.reload} />}
+        </Card>
+        <Card id="import" title="Import a curriculum">
+          <CurriculumImport on_imported={curricula.reload} />
         </Card>
         <Card id="exports" title="Exports">
           <ul>
@@ -90,6 +108,13 @@ export function AdminPage() {
           </ul>
         </Card>
       </div>
+      <Card id="benchmarks" title="Expert benchmarks">
+        {benchmarks.error && <p role="alert">Could not load the benchmarks: {benchmarks.error}</p>}
+        {benchmarks.data && <BenchmarksTable benchmarks={benchmarks.data} />}
+      </Card>
+      <Card id="audit" title="Audit log">
+        <AuditLog />
+      </Card>
     </main>
   );
 }

@@ -25,7 +25,7 @@ export function TraineePage() {
     <main className="page">
       <h1>My training</h1>
       <Card id="train" title="Train now">
-        <StartSession bookings={bookings.data ?? []} on_booked={bookings.reload} />
+        <StartSession bookings={bookings.data} on_booked={bookings.reload} />
       </Card>
       <div className="columns">
         <Card id="book" title="Book a slot">
