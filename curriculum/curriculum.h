@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -70,6 +71,9 @@ struct Task {
   double safe_force_n = 3.0;
   // A force above this is a never event (tearing); 0: no such limit [N].
   double never_force_n = 0.0;
+  // Where the tools enter the body (the trocar, the fulcrum of a laparoscopic shaft), in scene
+  // coordinates; when set, each hand's depth along its shaft is measured from it (run_events.h).
+  std::optional<std::array<double, 3>> portal_m;
 
   // True if something in this task can be a never event (a never zone or a never force).
   bool has_never_events() const;

@@ -182,7 +182,7 @@ Task parse_task(const json& value, const std::string& path) {
   const ObjectReader reader(
       value, path,
       {"key", "name", "scene", "instructions", "tools", "metrics", "consecutive_passes_required",
-       "prerequisites", "protected_zones", "targets", "safe_force_n", "never_force_n"});
+       "prerequisites", "protected_zones", "targets", "safe_force_n", "never_force_n", "portal_m"});
   Task task;
   task.key = reader.string("key", required);
   task.name = reader.string("name", required);
@@ -208,6 +208,8 @@ Task parse_task(const json& value, const std::string& path) {
   }
   task.safe_force_n = reader.number("safe_force_n", optional, Task{}.safe_force_n);
   task.never_force_n = reader.number("never_force_n", optional, Task{}.never_force_n);
+  if (const json* portal = reader.find("portal_m", optional))
+    task.portal_m = parse_point(*portal, reader.path("portal_m"));
   return task;
 }
 
@@ -282,6 +284,7 @@ json to_json(const Curriculum& curriculum) {
                        {"targets", targets},
                        {"safe_force_n", task.safe_force_n},
                        {"never_force_n", task.never_force_n}});
+      if (task.portal_m) tasks.back()["portal_m"] = *task.portal_m;
     }
     modules.push_back({{"key", module.key}, {"name", module.name}, {"tasks", tasks}});
   }

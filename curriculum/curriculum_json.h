@@ -16,7 +16,7 @@ namespace incise::curriculum {
 //    "prerequisites"?: [task key],
 //    "protected_zones"?: [{"name", "center_m": [x, y, z], "radius_m", "never"?: bool}],
 //    "targets"?: [{"name", "center_m": [x, y, z], "radius_m"}],
-//    "safe_force_n"?: number, "never_force_n"?: number}]}]}
+//    "safe_force_n"?: number, "never_force_n"?: number, "portal_m"?: [x, y, z]}]}]}
 // Members marked ? may be left out (empty, false, or for the forces Task's defaults: 3 N, and 0
 // for no never force). Lengths in metres, forces in newtons. Unknown members are rejected, so that
 // a misspelt optional member is not silently ignored. After the shape, validate() runs. Throws

@@ -121,6 +121,13 @@ void check_task(const Task& task, const std::string& path) {
   for (std::size_t t = 0; t < task.targets.size(); ++t)
     check_zone(task.targets[t], element(member(path, "targets"), t), zone_names);
   check_forces(task, path);
+  if (task.portal_m) {
+    for (std::size_t i = 0; i < task.portal_m->size(); ++i) {
+      if (!std::isfinite((*task.portal_m)[i])) {
+        throw CurriculumError(element(member(path, "portal_m"), i), "must be a finite number");
+      }
+    }
+  }
 }
 
 // Depth-first search along prerequisite edges; a task met again while still on the stack closes

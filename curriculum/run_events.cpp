@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 #include <tuple>
+#include <utility>
 
 #include "curriculum/number_text.h"
 
@@ -71,6 +72,35 @@ double interval_damage(std::span<const HandSample> right, std::span<const HandSa
   double damage = 0.5 * dt * (excess(right[i - 1]) + excess(right[i]));
   if (!left.empty()) damage += 0.5 * dt * (excess(left[i - 1]) + excess(left[i]));
   return damage;
+}
+
+// Depth along the shaft: how far the tip is past the portal along the tool's axis, (tip - portal)
+// . d with d = R(q) e_z (the orientation's +z is the shaft direction into the body, as
+// devices/kinematics.h has it). Returns the largest and the time average (trapezoid rule; the
+// single value of a run without duration); 0 and 0 for no samples.
+std::pair<double, double> shaft_depth(const Vec3& portal, std::span<const HandSample> hand) {
+  const auto depth = [&](const HandSample& s) {
+    const auto& q = s.orientation;
+    const double n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+    const double w = q[0], x = q[1], y = q[2], z = q[3];
+    // R e_z of the normalised quaternion: the third column of its rotation matrix.
+    const Vec3 d = {2 * (x * z + w * y) / n2, 2 * (y * z - w * x) / n2,
+                    1 - 2 * (x * x + y * y) / n2};
+    return (s.tip_m[0] - portal[0]) * d[0] + (s.tip_m[1] - portal[1]) * d[1] +
+           (s.tip_m[2] - portal[2]) * d[2];
+  };
+  if (hand.empty()) return {0.0, 0.0};
+  double deepest = depth(hand[0]);
+  double integral = 0;
+  double previous = deepest;
+  for (std::size_t i = 1; i < hand.size(); ++i) {
+    const double d = depth(hand[i]);
+    deepest = std::max(deepest, d);
+    integral += 0.5 * (previous + d) * (hand[i].t_s - hand[i - 1].t_s);
+    previous = d;
+  }
+  const double duration = hand.back().t_s - hand.front().t_s;
+  return {deepest, duration > 0 ? integral / duration : deepest};
 }
 
 double tissue_damage(const Task& task, std::span<const HandSample> right,
@@ -197,7 +227,7 @@ std::vector<MetricValue> event_metrics(const Task& task, std::span<const HandSam
   const double visited = static_cast<double>(targets.size());
   const double fraction =
       task.targets.empty() ? 1.0 : visited / static_cast<double>(task.targets.size());
-  return {
+  std::vector<MetricValue> values = {
       {"protected_collisions", collisions, "count",
        "Number of times the tool tip entered a protected structure (never zones included)."},
       {"never_events", never_events, "count",
@@ -209,6 +239,21 @@ std::vector<MetricValue> event_metrics(const Task& task, std::span<const HandSam
       {"targets_fraction", fraction, "",
        "Share of the task's targets reached (1 when the task has none)."},
   };
+  if (task.portal_m) {
+    for (const auto& [hand, suffix] : {std::pair(right, ""), std::pair(left, "_left")}) {
+      if (hand.empty() && suffix[0] != '\0') continue;
+      const auto [deepest, mean] = shaft_depth(*task.portal_m, hand);
+      const std::string which = suffix[0] == '\0' ? "" : " (Left hand.)";
+      values.push_back(
+          {std::string("max_depth_m") + suffix, deepest, "m",
+           "Deepest insertion of the tool tip along its shaft beyond the portal." + which});
+      values.push_back({std::string("mean_depth_m") + suffix, mean, "m",
+                        "Time-averaged insertion of the tool tip along its shaft beyond the "
+                        "portal." +
+                            which});
+    }
+  }
+  return values;
 }
 
 Timeline run_timeline(const Task& task, std::span<const HandSample> right,

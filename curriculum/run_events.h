@@ -79,6 +79,12 @@ std::vector<RunEvent> run_events(const Task& task, std::span<const HandSample> r
 //                         and how far the tissue was overloaded
 //   targets_visited       number of distinct targets reached (target events) [count]
 //   targets_fraction      targets_visited / number of targets; 1 when the task has none
+// and, when task.portal_m is set, the depth along the shaft of each hand (the left hand's keys end
+// in "_left"), depth_i = (tip_i - portal) . d_i with d_i the shaft direction, the tool
+// orientation's +z axis (devices/kinematics.h):
+//   max_depth_m           max over i of depth_i [m]
+//   mean_depth_m          integral of depth dt / duration, trapezoid rule; depth_0 for a run
+//                         without duration [m]
 // #events: run_events of the same samples.
 std::vector<MetricValue> event_metrics(const Task& task, std::span<const HandSample> right,
                                        std::span<const HandSample> left,

@@ -103,7 +103,10 @@ std::vector<curriculum::MetricValue> metric_catalogue() {
     ticks[i].has_second = true;
     ticks[i].second.input.position = {0, 0.001 * i, 0};
   }
-  auto values = session_metrics(ticks, 0.002, curriculum::Task{});
+  // A task with a portal, so that the depth along the shaft is reported too.
+  curriculum::Task every_metric;
+  every_metric.portal_m = std::array<double, 3>{0, 0, 0};
+  auto values = session_metrics(ticks, 0.002, every_metric);
   // Where a key comes twice (the basic metrics and a hand's), the first is the one scored.
   std::vector<curriculum::MetricValue> catalogue;
   for (auto& v : values) {

@@ -138,6 +138,15 @@ TEST(CurriculumJson, RoundTripKeepsZonesTargetsAndForces) {
   EXPECT_EQ(to_json(curriculum)["modules"][0]["tasks"][0]["protected_zones"][0]["never"], false);
 }
 
+// The portal is left out when a task has none, and read back exactly when it has one.
+TEST(CurriculumJson, RoundTripKeepsThePortal) {
+  Curriculum curriculum = parse_curriculum(with_zones());
+  EXPECT_FALSE(curriculum.modules[0].tasks[0].portal_m.has_value());
+  EXPECT_FALSE(to_json(curriculum)["modules"][0]["tasks"][0].contains("portal_m"));
+  curriculum.modules[0].tasks[0].portal_m = std::array<double, 3>{0.04, 0.1 + 0.2, -1e-300};
+  EXPECT_EQ(parse_curriculum_text(to_json(curriculum).dump()), curriculum);
+}
+
 TEST(CurriculumJson, RoundTripKeepsAwkwardValues) {
   Curriculum curriculum = parse_curriculum(sample_curriculum_json());
   curriculum.modules[0].tasks[1].metrics[0].threshold.value = 0.1 + 0.2;  // not a short decimal
@@ -177,7 +186,7 @@ TEST(CurriculumJson, ShapeErrorsNameTheirPath) {
       {[](json& v) { v["modules"][0]["tasks"][1]["scenery"] = "x"; },
        "modules[0].tasks[1].scenery: unknown key (expected one of: key, name, scene, "
        "instructions, tools, metrics, consecutive_passes_required, prerequisites, "
-       "protected_zones, targets, safe_force_n, never_force_n)"},
+       "protected_zones, targets, safe_force_n, never_force_n, portal_m)"},
       {[](json& v) { v["modules"][0]["tasks"][1]["tools"][1] = nullptr; },
        "modules[0].tasks[1].tools[1]: must be a string"},
       {[](json& v) { v["modules"][0]["tasks"][1]["prerequisites"] = "palpation"; },
@@ -242,6 +251,14 @@ TEST(CurriculumJson, ZoneShapeErrorsNameTheirPath) {
        task + ".targets[0].radius_m: is required"},
       {[](json& t) { t["safe_force_n"] = "3"; }, task + ".safe_force_n: must be a number"},
       {[](json& t) { t["never_force_n"] = nullptr; }, task + ".never_force_n: must be a number"},
+      {[](json& t) {
+         t["portal_m"] = {0, 0};
+       },
+       task + ".portal_m: must be an array of 3 numbers"},
+      {[](json& t) {
+         t["portal_m"] = {0, "0", 0};
+       },
+       task + ".portal_m[1]: must be a number"},
   };
   for (const auto& [change, expected] : cases) {
     json value = with_zones();

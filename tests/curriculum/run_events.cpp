@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -65,6 +67,53 @@ std::string error_of(const std::function<void()>& f) {
     return e.what();
   }
   return "";
+}
+
+// A shaft tilted by theta about x points along d = (0, -sin theta, cos theta). The right hand's
+// tip slides along it from the portal at v, sideways offsets (perpendicular to d) changing
+// nothing: depth v t, deepest v T, mean v T / 2. The left hand holds its tip 2 cm short of the
+// portal (negative depth).
+TEST(RunEvents, DepthAlongTheShaftIsMeasuredFromThePortalAlongTheToolAxis) {
+  Task task;
+  task.portal_m = std::array<double, 3>{0.04, 0.04, 0.1};
+  const double theta = 0.3;
+  const double v = 0.02;
+  const std::array<double, 3> d = {0, -std::sin(theta), std::cos(theta)};
+  const std::array<double, 3> side = {1, 0, 0};  // perpendicular to d
+  const auto tilted = [&](HandSample& s) {
+    s.orientation = {std::cos(theta / 2), std::sin(theta / 2), 0, 0};
+  };
+  const auto right = sampled(400, 0.005, [&](int i, double t, HandSample& s) {
+    tilted(s);
+    const double wobble = 0.003 * std::sin(7 * t) * (i % 2 == 0 ? 1 : -1);
+    for (int k = 0; k < 3; ++k)
+      s.tip_m[k] = (*task.portal_m)[k] + v * t * d[k] + wobble * side[k];
+  });
+  const auto left = sampled(400, 0.005, [&](int, double, HandSample& s) {
+    tilted(s);
+    for (int k = 0; k < 3; ++k)
+      s.tip_m[k] = (*task.portal_m)[k] - 0.02 * d[k];
+  });
+  const auto values = event_metrics(task, right, left, run_events(task, right, left));
+  const double T = 2.0;
+  EXPECT_NEAR(metric(values, "max_depth_m"), v * T, 1e-12);
+  EXPECT_NEAR(metric(values, "mean_depth_m"), v * T / 2, 1e-12);  // trapezoid exact for a line
+  EXPECT_NEAR(metric(values, "max_depth_m_left"), -0.02, 1e-12);
+  EXPECT_NEAR(metric(values, "mean_depth_m_left"), -0.02, 1e-12);
+
+  // Without a portal there is no depth; with one hand, no left-hand depth.
+  task.portal_m.reset();
+  const auto without = event_metrics(task, right, left, {});
+  EXPECT_EQ(
+      std::count_if(without.begin(), without.end(),
+                    [](const MetricValue& m) { return m.key.find("depth") != std::string::npos; }),
+      0);
+  task.portal_m = std::array<double, 3>{0.04, 0.04, 0.1};
+  const auto one_hand = event_metrics(task, right, {}, {});
+  EXPECT_EQ(std::count_if(one_hand.begin(), one_hand.end(),
+                          [](const MetricValue& m) { return m.key.ends_with("_left"); }),
+            0);
+  EXPECT_NEAR(metric(one_hand, "max_depth_m"), v * T, 1e-12);
 }
 
 TEST(RunEvents, KindNamesAndCuttingTools) {

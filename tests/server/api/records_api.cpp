@@ -318,10 +318,13 @@ TEST_F(RecordsApi, TheMetricCatalogueDefinesEveryMetricOnceWithItsUnit) {
     EXPECT_FALSE(m["definition"].get<std::string>().empty()) << m;
     EXPECT_TRUE(m.contains("unit")) << m;
   }
-  // The demo tasks' metrics, each hand's motion metrics and the bimanual ones are all defined.
-  for (const char* key : {"completion_time_s", "path_length_m", "peak_force_n", "rms_force_n",
-                          "contact_time_s", "economy_of_motion", "log_dimensionless_jerk",
-                          "idle_time_s", "path_length_m_left", "bimanual_dexterity"}) {
+  // The demo tasks' metrics, each hand's motion metrics, the bimanual ones, the event metrics and
+  // the depth along the shaft are all defined.
+  for (const char* key :
+       {"completion_time_s", "path_length_m", "peak_force_n", "rms_force_n", "contact_time_s",
+        "economy_of_motion", "log_dimensionless_jerk", "idle_time_s", "path_length_m_left",
+        "bimanual_dexterity", "protected_collisions", "never_events", "tissue_damage_ns",
+        "targets_fraction", "max_depth_m", "mean_depth_m_left"}) {
     EXPECT_TRUE(keys.contains(key)) << key;
   }
   // Every metric the demo curriculum scores is in the catalogue, with the task's unit.
