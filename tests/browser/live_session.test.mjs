@@ -74,7 +74,7 @@ function metric(page, key) {
 
 scenario(
   'a trainee trains live at a station, then an instructor replays and seeks the recording',
-  async (page) => {
+  async (page, env) => {
     // --- The trainee books the station for the current quarter hour and starts a session. ---
     const login = await log_in(page, demo.trainee);
     assert.equal(login.status(), 200);
@@ -134,6 +134,17 @@ scenario(
     assert.ok(loop_hz > 500, `haptic loop ${loop_hz} Hz`);
     await sees(metric(page, 'link').filter({ hasText: /^round trip [0-9.]+ ms/ }), 'the link round trip');
     await sees(metric(page, 'haptic_devices').filter({ hasText: /^0: [0-9]+ ms/ }), 'device 0 in the link report');
+
+    // --- Meanwhile an instructor, in their own browser, finds the session live and watches. ---
+    const watcher_context = await env.browser.newContext({ baseURL: env.server.url, viewport: { width: 1366, height: 800 } });
+    const watcher = await watcher_context.newPage();
+    assert.equal((await log_in(watcher, demo.instructor)).status(), 200);
+    await watcher.waitForURL('**/instructor');
+    await region(watcher, 'Live now').getByRole('link', { name: `Watch session ${session.id} live` }).click();
+    await watcher.waitForURL(`**/sessions/${session.id}`);
+    await wait_for_canvas(watcher, 'live-canvas', {}, "the instructor's first live frame");
+    await snap(watcher, 'instructor-live-watch');
+    await watcher_context.close();
 
     // Long enough a session that the middle of its recording is far from its start, and that the
     // looping 20 s script of the simulated device touches the tissue in it wherever it started

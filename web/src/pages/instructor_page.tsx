@@ -2,6 +2,7 @@ import { api } from '../api';
 import { useUser } from '../auth';
 import { BookingsTable } from '../components/bookings_table';
 import { Card } from '../components/card';
+import { LiveNow } from '../components/live_now';
 import { ProgressOverview } from '../components/progress_overview';
 import { ResourceView } from '../components/resource_view';
 import { TrainingRecord } from '../components/training_record';
@@ -15,6 +16,9 @@ export function InstructorPage() {
   return (
     <main className="page">
       <h1>Sessions &amp; bookings</h1>
+      <Card id="live-now" title="Live now">
+        <LiveNow />
+      </Card>
       <Card id="overview" title="Trainees at a glance">
         <ResourceView resource={overview} what="progress" empty="No trainees yet.">
           {(data) => <ProgressOverview trainees={data} />}
