@@ -157,15 +157,15 @@ async function stop_process(child) {
 }
 
 /**
- * Saves a full-page screenshot of what the page shows now to tests/browser/output/pages/NAME.png:
- * the pictures of each page the README's tour uses, made fresh by every run.
+ * Saves a full-page screenshot of what the page shows now to tests/browser/output/pages/NAME.jpg:
+ * every page the tests visit, made fresh by every run (docs/tour/ holds copies for the README).
  */
 export async function snap(page, name) {
   const dir = path.join(output_dir, 'pages');
   fs.mkdirSync(dir, { recursive: true });
   // Let charts and the picture settle after the last change.
   await page.waitForTimeout(300);
-  await page.screenshot({ path: path.join(dir, `${name}.png`), fullPage: true });
+  await page.screenshot({ path: path.join(dir, `${name}.jpg`), type: 'jpeg', quality: 70, fullPage: true });
 }
 
 /** Waits until `locator` is visible: the assertion that a person can see it. */
