@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "curriculum/metrics.h"
 #include "curriculum/number_text.h"
 
 namespace incise::curriculum {
@@ -105,6 +106,12 @@ void check_task(const Task& task, const std::string& path) {
     if (!std::isfinite(metric.threshold.value)) {
       throw CurriculumError(member(member(metric_path, "threshold"), "value"),
                             "must be a finite number");
+    }
+    // A never event fails the attempt outright (metrics.h): no task may tolerate one.
+    if (metric.key == kNeverEventsKey &&
+        (metric.threshold.op != ThresholdOp::at_most || metric.threshold.value != 0)) {
+      throw CurriculumError(member(metric_path, "threshold"),
+                            "never_events must be \"<=\" 0: a never event fails the attempt");
     }
   }
   if (task.consecutive_passes_required < 1 ||

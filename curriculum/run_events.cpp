@@ -268,8 +268,10 @@ Timeline run_timeline(const Task& task, std::span<const HandSample> right,
 
   // floor is monotone in t, so bins are visited in order and the last sample is in the last bin.
   const double t0 = right.front().t_s;
+  // The small allowance puts a sample on a bin edge (tick 25 x 0.002 s against 0.05 s bins) into
+  // the bin it starts, whichever way the division rounds.
   const auto bin_of = [&](double t) {
-    return static_cast<std::size_t>(std::floor((t - t0) / interval_s));
+    return static_cast<std::size_t>(std::floor((t - t0) / interval_s + 1e-9));
   };
   // A cap on the bins, so that a mistyped interval cannot ask for terabytes.
   constexpr double kMaxBins = 1e7;
@@ -288,25 +290,18 @@ Timeline run_timeline(const Task& task, std::span<const HandSample> right,
     std::vector<double>& speed = timeline.speed_m_s[h];
     peak.assign(bins, 0.0);
     speed.assign(bins, 0.0);
+    // The step from sample i - 1 to sample i belongs to sample i's bin, as the damage does.
     std::vector<double> path(bins, 0.0);
-    std::vector<double> first_t(bins, 0.0);
-    std::vector<double> last_t(bins, 0.0);
-    std::vector<bool> seen(bins, false);
+    std::vector<double> time(bins, 0.0);
     for (std::size_t i = 0; i < hand.size(); ++i) {
       const std::size_t k = bin_of(hand[i].t_s);
       peak[k] = std::max(peak[k], norm(hand[i].force_n));
-      if (!seen[k]) {
-        seen[k] = true;
-        first_t[k] = hand[i].t_s;
-      } else {
-        path[k] += distance(hand[i].tip_m, hand[i - 1].tip_m);
-      }
-      last_t[k] = hand[i].t_s;
+      if (i == 0) continue;
+      path[k] += distance(hand[i].tip_m, hand[i - 1].tip_m);
+      time[k] += hand[i].t_s - hand[i - 1].t_s;
     }
-    for (std::size_t k = 0; k < bins; ++k) {
-      const double span = last_t[k] - first_t[k];
-      speed[k] = span > 0 ? path[k] / span : 0.0;
-    }
+    for (std::size_t k = 0; k < bins; ++k)
+      speed[k] = time[k] > 0 ? path[k] / time[k] : 0.0;
   }
 
   // The interval ending at sample i belongs to sample i's bin, as the path does.

@@ -94,9 +94,8 @@ std::vector<MetricValue> event_metrics(const Task& task, std::span<const HandSam
 // Bin k covers [t_0 + k interval, t_0 + (k + 1) interval); t_s[k] is its start. Per hand (index 0
 // right, 1 left; the left vectors are empty for a one-handed run):
 //   peak_force_n  the largest |force| of the samples in the bin (spikes are not averaged away)
-//   speed_m_s     the tip's path length within the bin / the time the bin's samples span
-//                 (the path from the bin's last sample to the next bin's first belongs to the
-//                 next bin); 0 when they span no time
+//   speed_m_s     the tip's path over the steps that end in the bin (from the sample before to
+//                 one in the bin) / their duration; 0 when they take no time
 // and for the run:
 //   damage_ns     tissue_damage_ns accumulated up to the end of the bin (non-decreasing)
 struct Timeline {

@@ -1,6 +1,8 @@
 #include "db/training_repo.h"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <set>
 #include <stdexcept>
 #include <string_view>
@@ -147,19 +149,84 @@ std::vector<RecordingRecord> TrainingRepo::recordings(const TraineeScope& scope)
   return out;
 }
 
-std::vector<ScoreRecord> TrainingRepo::scores(const TraineeScope& scope) {
-  auto q = db_.prepare(
-      std::string("SELECT sc.id, sc.session_id, u.username, se.task, sc.metric, sc.value, sc.unit, "
-                  "sc.passed, sc.created_at FROM scores sc JOIN sessions se ON se.id = "
-                  "sc.session_id JOIN users u ON u.id = se.trainee_id ") +
-      scope.where("se.trainee_id") + "ORDER BY sc.created_at DESC, sc.id DESC");
-  if (scope.binds()) q.bind(1, scope.user_id);
+namespace {
+
+constexpr const char* kScoreSelect =
+    "SELECT sc.id, sc.session_id, u.username, se.task, sc.metric, sc.value, sc.unit, sc.passed, "
+    "sc.created_at FROM scores sc JOIN sessions se ON se.id = sc.session_id JOIN users u ON u.id "
+    "= se.trainee_id ";
+
+std::vector<ScoreRecord> read_scores(Statement& q) {
   std::vector<ScoreRecord> out;
   while (q.step()) {
     out.push_back(ScoreRecord{q.int64(0), q.int64(1), q.text(2), q.text(3), q.text(4), q.real(5),
                               q.text(6), q.int64(7) != 0, q.int64(8)});
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<ScoreRecord> TrainingRepo::scores(const TraineeScope& scope) {
+  auto q = db_.prepare(std::string(kScoreSelect) + scope.where("se.trainee_id") +
+                       "ORDER BY sc.created_at DESC, sc.id DESC");
+  if (scope.binds()) q.bind(1, scope.user_id);
+  return read_scores(q);
+}
+
+std::vector<ScoreRecord> TrainingRepo::session_scores(std::int64_t session_id) {
+  auto q = db_.prepare(std::string(kScoreSelect) + "WHERE sc.session_id = ? ORDER BY sc.id");
+  q.bind(1, session_id);
+  return read_scores(q);
+}
+
+void TrainingRepo::set_signal(std::int64_t session_id, const std::string& name,
+                              const SessionSignal& signal) {
+  if (!std::isfinite(signal.interval_s) || signal.interval_s <= 0) {
+    throw std::invalid_argument("signal " + name + ": interval_s must be a finite number > 0");
+  }
+  std::vector<std::uint8_t> bytes(signal.values.size() * sizeof(double));
+  for (std::size_t i = 0; i < signal.values.size(); ++i) {
+    const double v = signal.values[i];
+    if (!std::isfinite(v)) {
+      throw std::invalid_argument("signal " + name + ": value " + std::to_string(i) +
+                                  " is not finite");
+    }
+    // Little-endian, byte by byte: the file reads the same on any machine.
+    std::uint64_t u = 0;
+    std::memcpy(&u, &v, sizeof u);
+    for (std::size_t b = 0; b < sizeof u; ++b)
+      bytes[i * sizeof u + b] = static_cast<std::uint8_t>(u >> (8 * b));
+  }
+  db_.prepare(
+         "INSERT INTO session_signals (session_id, name, interval_s, data) VALUES (?, ?, ?, ?) "
+         "ON CONFLICT (session_id, name) DO UPDATE SET interval_s = excluded.interval_s, "
+         "data = excluded.data")
+      .bind(1, session_id)
+      .bind(2, name)
+      .bind(3, signal.interval_s)
+      .bind_blob(4, bytes)
+      .run();
+}
+
+std::optional<SessionSignal> TrainingRepo::signal(std::int64_t session_id,
+                                                  const std::string& name) {
+  auto q =
+      db_.prepare("SELECT interval_s, data FROM session_signals WHERE session_id = ? AND name = ?");
+  q.bind(1, session_id);
+  q.bind(2, name);
+  if (!q.step()) return std::nullopt;
+  SessionSignal signal;
+  signal.interval_s = q.real(0);
+  const auto bytes = q.blob(1);
+  signal.values.resize(bytes.size() / sizeof(double));
+  for (std::size_t i = 0; i < signal.values.size(); ++i) {
+    std::uint64_t u = 0;
+    for (std::size_t b = 0; b < sizeof u; ++b)
+      u |= static_cast<std::uint64_t>(bytes[i * sizeof u + b]) << (8 * b);
+    std::memcpy(&signal.values[i], &u, sizeof u);
+  }
+  return signal;
 }
 
 }  // namespace incise::db

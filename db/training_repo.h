@@ -53,6 +53,12 @@ struct ScoreInput {
   bool passed = false;
 };
 
+// A signal the simulation sampled during a session (session_signals), e.g. "damage_index".
+struct SessionSignal {
+  double interval_s = 0;       // between samples, the first at interval_s after the start
+  std::vector<double> values;  // one per sample
+};
+
 class TrainingRepo {
  public:
   explicit TrainingRepo(Database& db) : db_(db) {}
@@ -62,6 +68,10 @@ class TrainingRepo {
   // Throws ConstraintError for an unknown state name, NotFound for an unknown id.
   void set_session_state(std::int64_t id, const std::string& state, std::int64_t now);
   std::int64_t add_recording(std::int64_t session_id, double duration_s, std::int64_t now);
+  // Stores (or replaces) a session's signal. Throws std::invalid_argument for interval_s <= 0 or
+  // not finite, or a non-finite value.
+  void set_signal(std::int64_t session_id, const std::string& name, const SessionSignal& signal);
+  std::optional<SessionSignal> signal(std::int64_t session_id, const std::string& name);
   std::int64_t add_score(std::int64_t session_id, const std::string& metric, double value,
                          const std::string& unit, bool passed, std::int64_t now);
   // Stores an attempt's scores in ONE transaction: all of them or, on any error, none. A score
@@ -77,6 +87,8 @@ class TrainingRepo {
   std::vector<SessionRecord> sessions(const TraineeScope& scope);
   std::vector<RecordingRecord> recordings(const TraineeScope& scope);
   std::vector<ScoreRecord> scores(const TraineeScope& scope);
+  // One session's scores, in the order they were stored.
+  std::vector<ScoreRecord> session_scores(std::int64_t session_id);
   // Everyone's (no trainee_id) or one trainee's.
   std::vector<SessionRecord> sessions(std::optional<std::int64_t> trainee_id = std::nullopt) {
     return sessions(scope_of(trainee_id));

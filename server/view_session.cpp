@@ -249,6 +249,8 @@ void ViewSession::send_metrics() {
     m["tool"] = {s->tool_tip.x(), s->tool_tip.y(), s->tool_tip.z()};
     m["force_n"] = s->force_n.norm();
     m["peak_force_n"] = s->peak_force_n;
+    m["damage_index"] = s->damage_index;
+    m["peak_strain"] = s->peak_strain;
     m["path_length_m"] = s->path_length_m;
     m["contact"] = s->contact;
     if (s->hands > 1) {

@@ -45,18 +45,20 @@ ApiResponse station_schedule(ApiContext& ctx) {
     throw ApiError(http::status::not_found,
                    "station " + std::to_string(ctx.path_id) + " does not exist");
   }
-  // From a week back, so that the calendar's current week shows its past slots too. A trainee
-  // sees that a slot is taken, not by whom: ids and names of others' bookings stay hidden.
+  // From a week back, so that the calendar's current week shows its past slots too. Everyone
+  // sees that a slot is taken; whose it is only those who may see that person's records (their
+  // own, an instructor's trainees, an admin everyone's): others' ids and names stay hidden.
   constexpr std::int64_t kWeek = 7 * 24 * 3600;
-  const bool staff = user.role != db::Role::trainee;
   auto out = nlohmann::json::array();
   for (const auto& b : db::BookingsRepo(db).station_schedule(ctx.path_id, ctx.now - kWeek)) {
     const bool mine = b.user_id == user.id;
-    out.push_back({{"id", mine || staff ? nlohmann::json(b.id) : nlohmann::json(nullptr)},
-                   {"starts_at", format_utc(b.starts_at)},
-                   {"ends_at", format_utc(b.ends_at)},
-                   {"mine", mine},
-                   {"username", staff ? nlohmann::json(b.username) : nlohmann::json(nullptr)}});
+    const bool named = may_see_trainee(db, user, b.user_id);
+    out.push_back(
+        {{"id", named ? nlohmann::json(b.id) : nlohmann::json(nullptr)},
+         {"starts_at", format_utc(b.starts_at)},
+         {"ends_at", format_utc(b.ends_at)},
+         {"mine", mine},
+         {"username", named && !mine ? nlohmann::json(b.username) : nlohmann::json(nullptr)}});
   }
   return {http::status::ok, std::move(out), {}};
 }

@@ -88,13 +88,16 @@ ApiResponse trainee_progress(ApiContext& ctx) {
   if (user.role == db::Role::trainee && user.id != ctx.path_id) {
     throw ApiError(http::status::forbidden, "trainees see only their own progress");
   }
+  // Checked before the trainee is looked up, so that an instructor cannot tell an unknown id
+  // from a trainee they do not teach.
+  if (!may_see_trainee(ctx.app.db(), user, ctx.path_id)) {
+    throw ApiError(http::status::forbidden,
+                   "you do not teach trainee " + std::to_string(ctx.path_id));
+  }
   const auto trainee = db::UsersRepo(ctx.app.db()).find(ctx.path_id);
   if (!trainee || trainee->role != db::Role::trainee) {
     throw ApiError(http::status::not_found,
                    "trainee " + std::to_string(ctx.path_id) + " does not exist");
-  }
-  if (!may_see_trainee(ctx.app.db(), user, trainee->id)) {
-    throw ApiError(http::status::forbidden, "you do not teach trainee " + trainee->username);
   }
   return {http::status::ok, progress_of(ctx.app.db(), ctx.path_id)};
 }

@@ -14,6 +14,8 @@
 #include "db/recordings_repo.h"
 #include "db/reviews_repo.h"
 #include "db/training_repo.h"
+#include "db/transaction.h"
+#include "db/users_repo.h"
 #include "server/api/api_error.h"
 #include "server/api/handlers.h"
 #include "server/api/live_access.h"
@@ -63,6 +65,14 @@ nlohmann::json timeline_json(const curriculum::Timeline& t) {
       {"interval_s", t.interval_s}, {"t_s", t.t_s}, {"hands", hands}, {"damage_ns", t.damage_ns}};
 }
 
+// The simulation's damage index sampled during the live run (session_signals), or null for a
+// session run before it was measured.
+nlohmann::json sim_damage_json(db::Database& db, std::int64_t session_id) {
+  const auto signal = db::TrainingRepo(db).signal(session_id, "damage_index");
+  if (!signal) return nullptr;
+  return {{"interval_s", signal->interval_s}, {"values", signal->values}};
+}
+
 // The session's stored scores in the order the task scores them (others after), with the
 // thresholds the task sets now and the experts' benchmark.
 nlohmann::json results_json(db::Database& db, const db::SessionRecord& session,
@@ -70,9 +80,7 @@ nlohmann::json results_json(db::Database& db, const db::SessionRecord& session,
   const auto experts = benchmarks(db);
   const auto requirements =
       task ? curriculum::scored_requirements(*task) : std::vector<curriculum::MetricRequirement>{};
-  std::vector<db::ScoreRecord> scores;
-  for (auto& score : db::TrainingRepo(db).scores(session.trainee_id))
-    if (score.session_id == session.id) scores.push_back(std::move(score));
+  auto scores = db::TrainingRepo(db).session_scores(session.id);
   const auto rank = [&](const std::string& metric) {
     const auto it = std::find_if(requirements.begin(), requirements.end(),
                                  [&](const auto& r) { return r.key == metric; });
@@ -137,6 +145,7 @@ ApiResponse session_review(ApiContext& ctx) {
            {"expert_run", db::ReviewsRepo(db).is_expert_run(session.id)},
            {"events", std::move(events)},
            {"timeline", timeline_json(review.timeline)},
+           {"sim_damage", sim_damage_json(db, session.id)},
            {"results", results_json(db, session, task ? &*task : nullptr)}}};
 }
 
@@ -147,19 +156,26 @@ ApiResponse set_expert_run(ApiContext& ctx) {
   const RequestFields fields(body, {"expert"});
   const bool expert = fields.boolean("expert");
   auto& db = ctx.app.db();
+  const auto name = "session " + std::to_string(session.id);
   if (expert) {
-    bool scored = false;
-    for (const auto& s : db::TrainingRepo(db).scores(session.trainee_id))
-      scored = scored || s.session_id == session.id;
-    if (session.state != "finished" || !scored) {
-      throw ApiError(http::status::conflict, "session " + std::to_string(session.id) +
-                                                 " is not a finished, scored attempt");
+    // Experts are the staff: a trainee's attempt in the benchmark would publish their scores.
+    const auto who = db::UsersRepo(db).find(session.trainee_id);
+    if (!who || who->role == db::Role::trainee) {
+      throw ApiError(http::status::unprocessable_entity,
+                     name + " is a trainee's attempt; expert runs are instructors' or admins'");
+    }
+    if (session.state != "finished" || db::TrainingRepo(db).session_scores(session.id).empty()) {
+      throw ApiError(http::status::conflict, name + " is not a finished, scored attempt");
     }
   }
-  db::ReviewsRepo(db).set_expert_run(session.id, expert, admin.id, ctx.now);
-  db::AuditRepo(db).record(admin.id, expert ? "benchmark.add" : "benchmark.remove",
-                           "session " + std::to_string(session.id) + " task " + session.task,
-                           ctx.now);
+  db::ReviewsRepo reviews(db);
+  if (reviews.is_expert_run(session.id) != expert) {
+    db::Transaction tx(db);
+    reviews.set_expert_run(session.id, expert, admin.id, ctx.now);
+    db::AuditRepo(db).record(admin.id, expert ? "benchmark.add" : "benchmark.remove",
+                             name + " task " + session.task, ctx.now);
+    tx.commit();
+  }
   return {http::status::ok, {{"session_id", session.id}, {"expert_run", expert}}};
 }
 

@@ -77,6 +77,9 @@ ApiResponse list_adjustments(ApiContext& ctx) {
 ApiResponse adjust_score(ApiContext& ctx) {
   const auto& author = ctx.require_role({db::Role::instructor, db::Role::admin});
   const auto session = visible_session(ctx);
+  if (session.trainee_id == author.id && author.role != db::Role::admin) {
+    throw ApiError(http::status::forbidden, "you cannot adjust the score of your own attempt");
+  }
   if (session.state != "finished") {
     throw ApiError(http::status::conflict, "session " + std::to_string(session.id) + " is " +
                                                session.state +

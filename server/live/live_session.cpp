@@ -249,6 +249,13 @@ void LiveSession::run() {
       std::max<std::int64_t>(1, std::llround(params_.tick_hz / params_.snapshot_hz));
   const auto ticks_per_chunk =
       std::max<std::int64_t>(1, std::llround(params_.tick_hz * params_.chunk_s));
+  // The simulation's damage index every 0.1 s, for the review's timeline (the recording holds
+  // the input, not what the simulation measured). An hour's samples are reserved up front.
+  constexpr double kDamageSampleS = 0.1;
+  const auto ticks_per_damage_sample =
+      std::max<std::int64_t>(1, std::llround(params_.tick_hz * kDamageSampleS));
+  std::vector<double> damage_samples;
+  damage_samples.reserve(36'000);
 
   std::optional<db::Database> db;
   std::optional<Recorder> recorder;
@@ -367,6 +374,9 @@ void LiveSession::run() {
       }
     }
     if (engine_.ticks() % ticks_per_snapshot == 0) publish_snapshot();
+    if (engine_.ticks() % ticks_per_damage_sample == 0) {
+      damage_samples.push_back(engine_.damage_index());
+    }
 
     ++rate_window_ticks;
     const auto window = Clock::now() - rate_window_start;
@@ -408,7 +418,11 @@ void LiveSession::run() {
       // The final state belongs to the whole run: stored only if the whole run is recorded.
       db::RecordingsRepo recordings(*db);
       recordings.finish(params_.recording_id, duration, complete ? engine_.state_hash() : "");
-      score_session(*db, params_.session_id, params_.recording_id, params_.task, tick_s, now);
+      db::TrainingRepo(*db).set_signal(params_.session_id, "damage_index",
+                                       {ticks_per_damage_sample * tick_s, damage_samples});
+      const auto simulated = simulation_metrics(engine_.damage_index(), engine_.peak_strain());
+      score_session(*db, params_.session_id, params_.recording_id, params_.task, tick_s, now,
+                    simulated);
     } catch (const std::exception& e) {
       std::cerr << "incise-server: session " << params_.session_id
                 << " could not be scored: " << e.what() << "\n";

@@ -4,8 +4,10 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "curriculum/number_text.h"
 #include "db/recordings_repo.h"
 #include "db/training_repo.h"
+#include "server/live/sim_engine.h"
 
 namespace incise::server::live {
 
@@ -93,6 +95,17 @@ SessionReview review_session(const std::vector<TickRecord>& ticks, double tick_s
           curriculum::run_timeline(task, right, left, interval_s)};
 }
 
+std::vector<curriculum::MetricValue> simulation_metrics(double damage_index, double peak_strain) {
+  return {
+      {"sim_damage_index", damage_index, "",
+       "Share of the tissue's volume the simulation strained beyond its damage threshold (max "
+       "principal Green strain " +
+           curriculum::shortest_text(kDamageStrain) + ")."},
+      {"sim_peak_strain", peak_strain, "",
+       "Largest principal Green strain of any tissue element in the simulation."},
+  };
+}
+
 std::vector<curriculum::MetricValue> metric_catalogue() {
   // The metrics of a short two-handed recording: every key a task may score, with its unit and
   // definition exactly as scoring reports them (the values are of no interest).
@@ -107,6 +120,8 @@ std::vector<curriculum::MetricValue> metric_catalogue() {
   curriculum::Task every_metric;
   every_metric.portal_m = std::array<double, 3>{0, 0, 0};
   auto values = session_metrics(ticks, 0.002, every_metric);
+  for (auto& v : simulation_metrics(0, 0))
+    values.push_back(std::move(v));
   // Where a key comes twice (the basic metrics and a hand's), the first is the one scored.
   std::vector<curriculum::MetricValue> catalogue;
   for (auto& v : values) {
@@ -119,11 +134,12 @@ std::vector<curriculum::MetricValue> metric_catalogue() {
   return catalogue;
 }
 
-std::vector<curriculum::MetricResult> score_session(db::Database& db, std::int64_t session_id,
-                                                    std::int64_t recording_id,
-                                                    const curriculum::Task& task, double tick_s,
-                                                    std::int64_t now) {
-  const auto values = session_metrics(load_tick_records(db, recording_id), tick_s, task);
+std::vector<curriculum::MetricResult> score_session(
+    db::Database& db, std::int64_t session_id, std::int64_t recording_id,
+    const curriculum::Task& task, double tick_s, std::int64_t now,
+    std::span<const curriculum::MetricValue> simulation_values) {
+  auto values = session_metrics(load_tick_records(db, recording_id), tick_s, task);
+  values.insert(values.end(), simulation_values.begin(), simulation_values.end());
   auto results = curriculum::score_attempt(task, values);
   std::vector<db::ScoreInput> scores;
   for (const auto& r : results) {

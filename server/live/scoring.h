@@ -2,6 +2,7 @@
 // Scoring at the end of a session (issue 3 item 7): the curriculum computes the task's metrics
 // from the recorded stream, and the results are stored as the session's scores.
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -42,14 +43,18 @@ struct SessionReview {
 SessionReview review_session(const std::vector<TickRecord>& ticks, double tick_s,
                              const curriculum::Task& task, double interval_s);
 
+// What the simulation measured during a live run that the recording does not hold: its tissue
+// damage (SimEngine::damage_index, peak_strain).
+std::vector<curriculum::MetricValue> simulation_metrics(double damage_index, double peak_strain);
+
 // Every metric a task may score: key, unit and the one-line definition (value 0).
 std::vector<curriculum::MetricValue> metric_catalogue();
 
-// Computes the task's metrics from the recording and stores them as the session's scores (one
-// transaction). Returns the results.
-std::vector<curriculum::MetricResult> score_session(db::Database& db, std::int64_t session_id,
-                                                    std::int64_t recording_id,
-                                                    const curriculum::Task& task, double tick_s,
-                                                    std::int64_t now);
+// Computes the task's metrics from the recording, adds #simulation_values (simulation_metrics of
+// the run), and stores them as the session's scores (one transaction). Returns the results.
+std::vector<curriculum::MetricResult> score_session(
+    db::Database& db, std::int64_t session_id, std::int64_t recording_id,
+    const curriculum::Task& task, double tick_s, std::int64_t now,
+    std::span<const curriculum::MetricValue> simulation_values = {});
 
 }  // namespace incise::server::live

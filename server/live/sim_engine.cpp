@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
+#include <vector>
 
 namespace incise::server::live {
 namespace {
@@ -29,6 +30,18 @@ int substeps_for(const sim::Scene& scene, double tick_s) {
   return static_cast<int>(rounded);
 }
 
+// One strain threshold (kDamageStrain) for every tissue label of the mesh.
+sim::tools::DamageSettings damage_settings(const sim::TetMesh& mesh) {
+  std::vector<int> labels(mesh.labels.data(), mesh.labels.data() + mesh.labels.size());
+  if (labels.empty()) labels.push_back(0);
+  std::sort(labels.begin(), labels.end());
+  labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
+  sim::tools::DamageSettings settings;
+  for (const int label : labels)
+    settings.strain_thresholds.push_back({label, kDamageStrain});
+  return settings;
+}
+
 }  // namespace
 
 SimEngine::SimEngine(const sim::Scene& scene, double tick_s, int hands)
@@ -38,7 +51,8 @@ SimEngine::SimEngine(const sim::Scene& scene, double tick_s, int hands)
       tick_s_(tick_s),
       substeps_(substeps_for(scene, tick_s)),
       hands_(hands),
-      node_forces_(sim::Points::Zero(simulation_.mesh().num_nodes(), 3)) {
+      node_forces_(sim::Points::Zero(simulation_.mesh().num_nodes(), 3)),
+      damage_(simulation_.mesh(), damage_settings(simulation_.mesh())) {
   if (hands < 1 || hands > kMaxHands) {
     throw std::invalid_argument("a session has 1 or 2 hands, not " + std::to_string(hands));
   }
@@ -85,6 +99,10 @@ void SimEngine::tick(std::span<const devices::DeviceState> inputs) {
   metrics_.force_squared_time += force * force * tick_s_;
   if (primary.nodes_in_contact > 0) ++metrics_.contact_ticks;
   ++ticks_;
+  // A non-finite state is the session's to report (state_finite); the damage stays as it was.
+  if (ticks_ % kDamageEvery == 0 && simulation_.state_finite()) {
+    damage_.record_strain(simulation_.mesh().x, kDamageEvery * tick_s_);
+  }
 }
 
 devices::ForceModel SimEngine::force_model(int hand) const {
@@ -113,7 +131,8 @@ devices::ForceModel SimEngine::force_model(int hand) const {
 }
 
 SimEngine::Checkpoint SimEngine::checkpoint() const {
-  return {simulation_.save_state(), hand_, metrics_, ticks_};
+  return {simulation_.save_state(), hand_, metrics_, ticks_,
+          std::make_shared<const sim::tools::DamageTracker>(damage_)};
 }
 
 void SimEngine::restore(const Checkpoint& c) {
@@ -121,6 +140,7 @@ void SimEngine::restore(const Checkpoint& c) {
   hand_ = c.hands;
   metrics_ = c.metrics;
   ticks_ = c.ticks;
+  if (c.damage) damage_ = *c.damage;
 }
 
 std::string SimEngine::state_hash() const {
@@ -155,6 +175,8 @@ std::shared_ptr<Snapshot> make_snapshot(const SimEngine& engine,
   s->force_n = engine.contact().force_on_tool;
   s->peak_force_n = engine.metrics().peak_force_n;
   s->path_length_m = engine.metrics().path_length_m;
+  s->damage_index = engine.damage_index();
+  s->peak_strain = engine.peak_strain();
   s->published_at = std::chrono::steady_clock::now();
   return s;
 }

@@ -17,11 +17,18 @@
 #include "sim/mesh/boundary_surface.h"
 #include "sim/scene/scene.h"
 #include "sim/scene/simulation.h"
+#include "sim/tools/damage_tracker.h"
 
 namespace incise::server::live {
 
 // Where the tool waits before the device has reported: well above any scene, out of contact.
 inline constexpr double kParkedToolHeight = 1.0;
+
+// Tissue damage from the simulation (sim/tools/damage_tracker.h, docs/damage.md): every
+// kDamageEvery ticks the largest principal Green strain of every tet; a tet strained beyond
+// kDamageStrain is damaged for good. Read only: it never changes the simulated state.
+inline constexpr int kDamageEvery = 5;        // 100 Hz at 500 Hz ticks
+inline constexpr double kDamageStrain = 0.4;  // [-] the liver preset's threshold (scene_presets.h)
 
 // Running sums over the ticks taken, for the live metrics (the score comes from the recording).
 struct RunningMetrics {
@@ -62,6 +69,10 @@ class SimEngine {
   double hand_path_length_m(int hand) const { return hand_[hand].path_length_m; }
   // Force model for hand i's device from the last tick (force clamped to kMaxForceN).
   devices::ForceModel force_model(int hand = 0) const;
+  // The simulation's tissue damage so far: damaged rest volume over the tissue's, and the largest
+  // principal Green strain any tet reached.
+  double damage_index() const { return damage_.metrics().damage_index; }
+  double peak_strain() const { return damage_.metrics().peak_strain; }
   // Whether the state is finite (the engine resets nothing silently: the session reports it).
   bool state_finite() const { return simulation_.state_finite(); }
 
@@ -78,6 +89,7 @@ class SimEngine {
     std::array<Hand, kMaxHands> hands;
     RunningMetrics metrics;
     std::int64_t ticks = 0;
+    std::shared_ptr<const sim::tools::DamageTracker> damage;
   };
   Checkpoint checkpoint() const;
   void restore(const Checkpoint& checkpoint);
@@ -100,6 +112,7 @@ class SimEngine {
   std::array<Hand, kMaxHands> hand_;
   RunningMetrics metrics_;
   std::int64_t ticks_ = 0;
+  sim::tools::DamageTracker damage_;
 };
 
 // The engine's current state as an immutable snapshot for the renderer and the viewers.

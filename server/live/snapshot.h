@@ -29,6 +29,8 @@ struct Snapshot {
   sim::Vec3 second_force_n = sim::Vec3::Zero();
   double peak_force_n = 0;
   double path_length_m = 0;
+  double damage_index = 0;  // the simulation's damaged tissue volume fraction (SimEngine)
+  double peak_strain = 0;   // the largest principal Green strain so far [-]
   std::chrono::steady_clock::time_point published_at;
 };
 

@@ -245,12 +245,16 @@ scenario('a trainee books from the station calendar, meets a clear conflict and 
   // The progress chart draws the demo attempt, with its numbers readable as a table.
   const progress = region(page, 'My progress over attempts');
   await sees(progress.getByTestId('progress-chart').locator('canvas'), 'the progress chart');
+  // One row per attempt at the chosen task that scored the chosen metric.
   const scores = await page.evaluate(async () => (await fetch('/api/scores')).json());
+  const task = await progress.getByTestId('progress-task').inputValue();
   const metric = await progress.getByTestId('progress-metric').inputValue();
-  const value = scores.find((s) => s.metric === metric)?.value;
-  assert.ok(value !== undefined, `the chart's metric ${metric} is one of the trainee's scores`);
+  const attempts = scores.filter((s) => s.task === task && s.metric === metric);
+  assert.ok(attempts.length > 0, `the chart's ${task} / ${metric} is among the trainee's scores`);
   await progress.getByText('Show the numbers').click();
-  await sees(progress.getByTestId('progress-table').getByRole('row').nth(1), 'the first attempt in the table');
+  const table = progress.getByTestId('progress-table');
+  await sees(table.getByRole('row').nth(1), 'the first attempt in the table');
+  assert.equal(await table.getByRole('row').count(), attempts.length + 1, 'a header and one row per attempt');
   await snap(page, 'trainee-home');
 });
 

@@ -137,14 +137,17 @@ scenario(
 
     // --- Meanwhile an instructor, in their own browser, finds the session live and watches. ---
     const watcher_context = await env.browser.newContext({ baseURL: env.server.url, viewport: { width: 1366, height: 800 } });
-    const watcher = await watcher_context.newPage();
-    assert.equal((await log_in(watcher, demo.instructor)).status(), 200);
-    await watcher.waitForURL('**/instructor');
-    await region(watcher, 'Live now').getByRole('link', { name: `Watch session ${session.id} live` }).click();
-    await watcher.waitForURL(`**/sessions/${session.id}`);
-    await wait_for_canvas(watcher, 'live-canvas', {}, "the instructor's first live frame");
-    await snap(watcher, 'instructor-live-watch');
-    await watcher_context.close();
+    try {
+      const watcher = await watcher_context.newPage();
+      assert.equal((await log_in(watcher, demo.instructor)).status(), 200);
+      await watcher.waitForURL('**/instructor');
+      await region(watcher, 'Live now').getByRole('link', { name: `Watch session ${session.id} live` }).click();
+      await watcher.waitForURL(`**/sessions/${session.id}`);
+      await wait_for_canvas(watcher, 'live-canvas', {}, "the instructor's first live frame");
+      await snap(watcher, 'instructor-live-watch');
+    } finally {
+      await watcher_context.close();
+    }
 
     // Long enough a session that the middle of its recording is far from its start, and that the
     // looping 20 s script of the simulated device touches the tissue in it wherever it started
@@ -220,6 +223,7 @@ scenario(
     const event = review.events.reduce((far, e) => (Math.abs(e.t_s - paused_at) > Math.abs(far.t_s - paused_at) ? e : far));
     assert.ok(Math.abs(event.t_s - paused_at) > 1, `an event ${event.t_s} s away from the replay's ${paused_at} s`);
     const markers = region(page, 'Events').getByTestId('event-marker');
+    await sees(markers, 'the event markers');
     assert.equal(await markers.count(), review.events.length, 'one marker per event');
     await sees(page.getByTestId('timeline-force').locator('canvas'), 'the force timeline');
     await sees(page.getByTestId('timeline-damage').locator('canvas'), 'the damage timeline');
@@ -263,7 +267,16 @@ scenario(
 
     // The instructor's overview counts the adjusted attempt as not passed.
     await page.goto('/instructor');
-    await sees(page.getByTestId('progress-overview'), "the trainees' progress at a glance");
+    const overview = page.getByTestId('progress-overview');
+    await sees(overview, "the trainees' progress at a glance");
+    const trainee_row = (await api_call(page, 'GET', '/api/trainees/progress')).body.find((t) => t.username === demo.trainee.username);
+    const palpation = trainee_row.tasks.find((t) => t.key === session.task);
+    assert.equal(palpation.consecutive_passes, 0, `the adjusted attempt breaks the run: ${JSON.stringify(palpation)}`);
+    assert.equal(palpation.passed_attempts, 0);
+    await sees(
+      overview.getByRole('row').filter({ hasText: trainee_row.display_name }).filter({ hasText: `0/${palpation.required_passes} in a row` }),
+      "the trainee's palpation at 0 passes in a row",
+    );
     await snap(page, 'instructor-home');
   },
   { timeout_ms: 150_000 },

@@ -135,6 +135,21 @@ TEST(CurriculumValidation, ForcesMustBeFiniteAndTheNeverForceAboveTheSafeOne) {
   EXPECT_NO_THROW(validate(curriculum));
 }
 
+// A never event fails the attempt outright: a task naming never_events may only ask for none.
+TEST(CurriculumValidation, NeverEventsMayOnlyBeRequiredToBeNone) {
+  Curriculum curriculum = sample();
+  Task& task = curriculum.modules[0].tasks[0];
+  const std::string where = "modules[0].tasks[0].metrics[" + std::to_string(task.metrics.size()) +
+                            "].threshold: never_events must be \"<=\" 0: a never event fails "
+                            "the attempt";
+  task.metrics.push_back({"never_events", {ThresholdOp::at_most, 2.0}, "count"});
+  expect_error(curriculum, where);
+  task.metrics.back().threshold = {ThresholdOp::at_least, 0.0};
+  expect_error(curriculum, where);
+  task.metrics.back().threshold = {ThresholdOp::at_most, 0.0};
+  EXPECT_NO_THROW(validate(curriculum));
+}
+
 TEST(CurriculumValidation, KeySyntax) {
   EXPECT_TRUE(is_valid_key("palpation"));
   EXPECT_TRUE(is_valid_key("peak_force_n"));

@@ -405,6 +405,17 @@ TEST(RunTimeline, ConstantSpeedFillsEveryBinWithThatSpeed) {
   EXPECT_TRUE(one.speed_m_s[1].empty());
   EXPECT_TRUE(one.peak_force_n[1].empty());
   EXPECT_EQ(one.speed_m_s[0].size(), 11u);
+
+  // Sparse samples, one per bin: each bin still has the speed of the step into it (bin 0 has no
+  // step). The speed doubles halfway.
+  const auto sparse = sampled(8, interval, [&](int i, double t, HandSample& s) {
+    s.tip_m = {i <= 4 ? v * t : v * 4 * interval + 2 * v * (t - 4 * interval), 0, 0};
+  });
+  const Timeline coarse = run_timeline(Task{}, sparse, {}, interval);
+  ASSERT_EQ(coarse.speed_m_s[0].size(), 9u);
+  EXPECT_EQ(coarse.speed_m_s[0][0], 0.0);
+  for (std::size_t k = 1; k < 9; ++k)
+    EXPECT_NEAR(coarse.speed_m_s[0][k], k <= 4 ? v : 2 * v, 1e-12) << k;
 }
 
 TEST(RunTimeline, KeepsForceSpikesAndAccumulatesDamageToTheMetric) {
@@ -448,7 +459,10 @@ TEST(RunTimeline, ABinWithoutSamplesIsZeroAndKeepsTheDamage) {
   ASSERT_EQ(timeline.t_s.size(), 4u);
   EXPECT_EQ(timeline.peak_force_n[0][2], 0.0);
   EXPECT_EQ(timeline.speed_m_s[0][2], 0.0);
-  EXPECT_EQ(timeline.speed_m_s[0][1], 0.0) << "one sample spans no time";
+  // The tip moves at 1 m/s: the steps into bins 1 and 3 (from 0 to 0.1 s, from 0.1 to 0.35 s).
+  EXPECT_NEAR(timeline.speed_m_s[0][1], 1.0, 1e-12);
+  EXPECT_NEAR(timeline.speed_m_s[0][3], 1.0, 1e-12);
+  EXPECT_EQ(timeline.speed_m_s[0][0], 0.0) << "no step ends in the first bin";
   EXPECT_NEAR(timeline.damage_ns[1], 0.1, 1e-15);
   EXPECT_EQ(timeline.damage_ns[2], timeline.damage_ns[1]);
   EXPECT_NEAR(timeline.damage_ns[3], 0.35, 1e-15);

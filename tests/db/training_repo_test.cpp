@@ -299,5 +299,32 @@ TEST_F(TrainingRepoTest, AddScoresRefusesBadInputBeforeWriting) {
   EXPECT_EQ(row_count(db(), "scores"), 0);
 }
 
+// A session's signals read back bit for bit (awkward values included), are replaced by name,
+// are refused with nothing written when they hold a non-finite value, and go with their session.
+TEST_F(TrainingRepoTest, SignalsRoundTripExactlyAndGoWithTheirSession) {
+  const auto s = training_.create_session(ann_, std::nullopt, "suture", 1);
+  const SessionSignal damage{0.1, {0.0, 0.1 + 0.2, 1e-300, 0.5, 1.0}};
+  training_.set_signal(s, "damage_index", damage);
+  auto read = training_.signal(s, "damage_index");
+  ASSERT_TRUE(read.has_value());
+  EXPECT_EQ(read->interval_s, 0.1);
+  EXPECT_EQ(read->values, damage.values);
+  EXPECT_FALSE(training_.signal(s, "other").has_value());
+  EXPECT_FALSE(training_.signal(s + 1, "damage_index").has_value());
+
+  training_.set_signal(s, "damage_index", {0.2, {}});
+  read = training_.signal(s, "damage_index");
+  EXPECT_EQ(read->interval_s, 0.2);
+  EXPECT_TRUE(read->values.empty());
+
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(training_.set_signal(s, "x", {0.1, {1.0, nan}}), std::invalid_argument);
+  EXPECT_THROW(training_.set_signal(s, "x", {0.0, {1.0}}), std::invalid_argument);
+  EXPECT_FALSE(training_.signal(s, "x").has_value());
+
+  db().prepare("DELETE FROM sessions WHERE id = ?").bind(1, s).run();
+  EXPECT_EQ(row_count(db(), "session_signals"), 0);
+}
+
 }  // namespace
 }  // namespace incise::db

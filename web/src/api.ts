@@ -190,6 +190,8 @@ export interface Review {
     damage_ns: number[];
   };
   results: ReviewResult[];
+  /** The simulation's damaged share of the tissue, sampled every interval_s; null before it was measured. */
+  sim_damage: { interval_s: number; values: number[] } | null;
 }
 
 export interface Annotation {

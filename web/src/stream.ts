@@ -58,6 +58,9 @@ export interface StreamMetrics {
   force_n: number;
   peak_force_n: number;
   path_length_m: number;
+  /** The simulation's damaged share of the tissue volume and the largest strain so far. */
+  damage_index?: number;
+  peak_strain?: number;
   contact: boolean;
   steps: number;
   sim_rate_hz: number;

@@ -180,7 +180,15 @@ TEST_F(BookingsApi, AStationsScheduleShowsTakenSlotsWithoutNamingOthersToTrainee
   const auto staff = json_of(get(path, instructor_));
   ASSERT_EQ(staff.size(), 2u);
   EXPECT_EQ(staff[0]["id"], theirs.id);
-  EXPECT_EQ(staff[0]["username"], "trainee2");
+  EXPECT_EQ(staff[0]["username"], "trainee2");  // the demo instructor teaches trainee2
+  // A trainee the instructor does not teach stays unnamed to them, not to an admin.
+  const auto untaught = add_trainee("trainee3", false);
+  bookings.create(station_, untaught, t_ + 6 * kHour, t_ + 7 * kHour, now());
+  const auto by_instructor = json_of(get(path, instructor_));
+  ASSERT_EQ(by_instructor.size(), 3u);
+  EXPECT_TRUE(by_instructor[2]["id"].is_null());
+  EXPECT_TRUE(by_instructor[2]["username"].is_null());
+  EXPECT_EQ(json_of(get(path, admin_))[2]["username"], "trainee3");
 
   // Eight days on, both have ended more than a week ago.
   set_now(t_ + 2 * kHour + 8 * kDay);

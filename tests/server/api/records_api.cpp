@@ -258,6 +258,13 @@ TEST_F(RecordsApi, ProgressUnlocksTheNextTaskAfterEnoughConsecutivePasses) {
             json_of(get("/api/progress", token))["tasks"]);
   EXPECT_EQ(get(path, session_of(Who::trainee)).result_int(), 403);
   EXPECT_EQ(get("/api/trainees/999999/progress", session_of(Who::admin)).result_int(), 404);
+  // An instructor cannot tell an unknown id from a trainee they do not teach.
+  const auto untaught = add_trainee("una", false);
+  for (const auto id : {std::int64_t{999999}, untaught}) {
+    EXPECT_TRUE(is_error(
+        get("/api/trainees/" + std::to_string(id) + "/progress", session_of(Who::instructor)),
+        http::status::forbidden, "you do not teach trainee " + std::to_string(id)));
+  }
   // The overview has every trainee's, tess's the same as her own view.
   const auto overview = json_of(get("/api/trainees/progress", session_of(Who::instructor)));
   ASSERT_TRUE(overview.is_array());
@@ -324,7 +331,8 @@ TEST_F(RecordsApi, TheMetricCatalogueDefinesEveryMetricOnceWithItsUnit) {
        {"completion_time_s", "path_length_m", "peak_force_n", "rms_force_n", "contact_time_s",
         "economy_of_motion", "log_dimensionless_jerk", "idle_time_s", "path_length_m_left",
         "bimanual_dexterity", "protected_collisions", "never_events", "tissue_damage_ns",
-        "targets_fraction", "max_depth_m", "mean_depth_m_left"}) {
+        "targets_fraction", "max_depth_m", "mean_depth_m_left", "sim_damage_index",
+        "sim_peak_strain"}) {
     EXPECT_TRUE(keys.contains(key)) << key;
   }
   // Every metric the demo curriculum scores is in the catalogue, with the task's unit.
@@ -411,6 +419,17 @@ TEST_F(RecordsApi, InstructorsAnnotateAndAdjustAnAttemptWhichItsTraineeSees) {
                  {{"passed", true}, {"reason", "early"}}, instructor)
                 .result_int(),
             409);
+
+  // Nobody but an admin adjusts their own attempt.
+  const auto own = training.create_session(user_id("instructor"), std::nullopt, "palpation", now());
+  training.set_session_state(own, "finished", now() + 60);
+  const auto own_path = "/api/sessions/" + std::to_string(own) + "/adjustments";
+  EXPECT_TRUE(is_error(post(own_path, {{"passed", true}, {"reason", "felt good"}}, instructor),
+                       http::status::forbidden, "you cannot adjust the score of your own attempt"));
+  EXPECT_EQ(
+      post(own_path, {{"passed", true}, {"reason", "an admin decides"}}, session_of(Who::admin))
+          .result_int(),
+      201);
 }
 
 }  // namespace

@@ -23,10 +23,11 @@ constexpr double kTickHz = 500;
 class ReviewApi : public ApiTest {
  protected:
   // A finished palpation attempt of tess: `seconds` of the probe pressing down with a force
-  // rising linearly from 0 to peak_n, scored with one peak_force_n value.
-  std::int64_t attempt(double seconds, double peak_n, double score) {
+  // rising linearly from 0 to peak_n, scored with one peak_force_n value; #who's when given.
+  std::int64_t attempt(double seconds, double peak_n, double score, std::int64_t who = 0) {
     db::TrainingRepo training(db());
-    const auto session = training.create_session(tess_, std::nullopt, "palpation", now());
+    const auto session =
+        training.create_session(who != 0 ? who : tess_, std::nullopt, "palpation", now());
     db::RecordingsRepo recordings(db());
     const auto recording =
         recordings.create(session, "scenes/palpation.json", "v", 0, kTickHz, now());
@@ -93,6 +94,8 @@ TEST_F(ReviewApi, TheReviewShowsEventsTimelinesAndResultsAgainstThresholds) {
   EXPECT_EQ(result["threshold"]["op"], "<=");
   EXPECT_EQ(result["threshold"]["value"], 4.0);
   EXPECT_TRUE(result["expert"].is_null());
+  // No signal stored for this attempt: no simulation damage timeline.
+  EXPECT_TRUE(review["sim_damage"].is_null());
   const auto& never = review["results"][1];
   EXPECT_EQ(never["metric"], "never_events");
   EXPECT_EQ(never["threshold"], (nlohmann::json{{"op", "<="}, {"value", 0.0}}));
@@ -102,8 +105,9 @@ TEST_F(ReviewApi, AdminsMarkExpertRunsWhoseScoresMakeTheBenchmark) {
   const auto admin = session_of(Who::admin);
   const std::vector<double> expert_values = {1.5, 2.0, 2.9};
   std::vector<std::int64_t> experts;
+  const auto ines = user_id("instructor");  // experts are the staff
   for (const double v : expert_values)
-    experts.push_back(attempt(0.5, 1.0, v));
+    experts.push_back(attempt(0.5, 1.0, v, ines));
   for (const auto s : experts) {
     const auto marked =
         put("/api/sessions/" + std::to_string(s) + "/expert", {{"expert", true}}, admin);
@@ -115,14 +119,18 @@ TEST_F(ReviewApi, AdminsMarkExpertRunsWhoseScoresMakeTheBenchmark) {
           .result_int(),
       200);
   db::TrainingRepo training(db());
-  const auto running = training.create_session(tess_, std::nullopt, "palpation", now());
+  const auto running = training.create_session(ines, std::nullopt, "palpation", now());
   EXPECT_TRUE(is_error(
       put("/api/sessions/" + std::to_string(running) + "/expert", {{"expert", true}}, admin),
       http::status::conflict));
+  // A trainee's attempt never makes the benchmark: it would publish their scores.
+  EXPECT_TRUE(is_error(put("/api/sessions/" + std::to_string(attempt(0.5, 1.0, 2.0)) + "/expert",
+                           {{"expert", true}}, admin),
+                       http::status::unprocessable_entity));
   EXPECT_TRUE(is_error(
       put("/api/sessions/" + std::to_string(experts[0]) + "/expert", {{"expert", "yes"}}, admin),
       http::status::unprocessable_entity));
-  EXPECT_EQ(count("audit_log WHERE action = 'benchmark.add'"), 4);
+  EXPECT_EQ(count("audit_log WHERE action = 'benchmark.add'"), 3);  // marking twice: once
 
   const auto stats = curriculum::summarize(expert_values);
   const auto benchmarks = json_of(get("/api/benchmarks", tess_token_));
@@ -159,6 +167,16 @@ TEST_F(ReviewApi, AnAttemptWithoutACompleteRecordingHasNoReview) {
   EXPECT_TRUE(is_error(get(path, tess_token_), http::status::conflict,
                        "session " + std::to_string(session) + " is still being recorded"));
   EXPECT_TRUE(is_error(get("/api/sessions/999999/review", tess_token_), http::status::not_found));
+}
+
+// The simulation's damage index sampled during the live run comes with the review as stored.
+TEST_F(ReviewApi, TheReviewCarriesTheSimulationsDamageTimeline) {
+  const auto session = attempt(1.0, 1.0, 1.0);
+  db::TrainingRepo(db()).set_signal(session, "damage_index", {0.1, {0, 0, 0.01, 0.02}});
+  const auto review =
+      json_of(get("/api/sessions/" + std::to_string(session) + "/review", tess_token_));
+  EXPECT_EQ(review["sim_damage"],
+            (nlohmann::json{{"interval_s", 0.1}, {"values", {0.0, 0.0, 0.01, 0.02}}}));
 }
 
 }  // namespace

@@ -255,6 +255,12 @@ TEST_F(LiveSession, RunsStreamsRecordsScoresAndReplaysToTheSameState) {
   EXPECT_EQ(
       db_int("SELECT COUNT(*) FROM scores WHERE metric = 'never_events' AND session_id = " + sid),
       1);
+  // The simulation's damage index, measured during the run: one sample per 0.1 s.
+  const auto samples = db_int(
+      "SELECT length(data) / 8 FROM session_signals WHERE name = 'damage_index' AND "
+      "session_id = " +
+      sid);
+  EXPECT_NEAR(samples, duration / 0.1, 2);
   EXPECT_NEAR(std::stod(db_text("SELECT value FROM scores WHERE metric = 'completion_time_s' AND "
                                 "session_id = " +
                                 sid)),

@@ -120,6 +120,9 @@ TEST(SimEngine, RestoringACheckpointReproducesTheRun) {
   const auto metrics = engine.metrics();
   const auto tip = engine.tool_tip();
   const auto force = engine.contact().force_on_tool;
+  const double damage = engine.damage_index();
+  const double peak_strain = engine.peak_strain();
+  ASSERT_GT(peak_strain, 0);  // the script dips into the tissue
 
   engine.restore(checkpoint);
   EXPECT_EQ(engine.ticks(), 150);
@@ -133,6 +136,8 @@ TEST(SimEngine, RestoringACheckpointReproducesTheRun) {
   EXPECT_EQ(engine.metrics().peak_force_n, metrics.peak_force_n);
   EXPECT_EQ(engine.metrics().force_squared_time, metrics.force_squared_time);
   EXPECT_EQ(engine.metrics().contact_ticks, metrics.contact_ticks);
+  EXPECT_EQ(engine.damage_index(), damage);
+  EXPECT_EQ(engine.peak_strain(), peak_strain);
 
   // A checkpoint also carries over to another engine of the same scene.
   SimEngine other(scene, kTickS);
@@ -168,6 +173,46 @@ TEST(SimEngine, PressingTheTopFacePushesTheToolUp) {
   EXPECT_GT(model.stiffness[8], 0);  // pushing further down would push back harder
   EXPECT_EQ(model.sim_time_s, engine.time_s());
   EXPECT_DOUBLE_EQ(model.sim_time_s, 301 * kTickS);
+}
+
+// The simulation's damage (sim/tools/damage_tracker.h): a tet strained beyond kDamageStrain is
+// damaged for good. Lowering the probe into the block's centre to a depth d and holding it
+// there: no contact, no damage; the deeper the press, the larger the peak strain and the damage;
+// damage appears exactly when the peak strain passes the threshold, and stays once the probe is
+// lifted away.
+TEST(SimEngine, PressingDeepDamagesTheTissueAndTheDamageStays) {
+  const double z_touch = kTopZ + kToolRadius;
+  std::vector<double> damage;
+  std::vector<double> strain;
+  for (const double depth : {-0.005, 0.002, 0.008, 0.014}) {
+    SCOPED_TRACE(depth);
+    SimEngine engine(test::palpation_scene(), kTickS);
+    for (int i = 0; i <= 200; ++i)
+      engine.tick(at(kCentreXY, kCentreXY, z_touch + 0.01 - (0.01 + depth) * i / 200.0));
+    for (int i = 0; i < 150; ++i)
+      engine.tick(at(kCentreXY, kCentreXY, z_touch - depth));
+    damage.push_back(engine.damage_index());
+    strain.push_back(engine.peak_strain());
+    EXPECT_EQ(engine.damage_index() > 0, engine.peak_strain() > kDamageStrain);
+    EXPECT_GE(engine.damage_index(), 0);
+    EXPECT_LE(engine.damage_index(), 1);
+    // Lift the probe well clear: the strain relaxes, the damage does not.
+    for (int i = 0; i < 250; ++i)
+      engine.tick(at(kCentreXY, kCentreXY, z_touch + 0.02));
+    EXPECT_EQ(engine.damage_index(), damage.back());
+    EXPECT_EQ(engine.peak_strain(), strain.back());
+  }
+  EXPECT_EQ(damage[0], 0);  // never touched
+  // Untouched, the block only sags under its weight: strains below rho g h / E = 1000 x 9.81 x
+  // 0.03 / 3000 = 0.098, the compression at its base.
+  EXPECT_LT(strain[0], 1000 * 9.81 * 0.03 / 3000);
+  EXPECT_LT(strain[1], kDamageStrain);  // a gentle press does no harm
+  EXPECT_EQ(damage[1], 0);
+  EXPECT_GT(damage[3], 0);  // a deep press does
+  for (std::size_t i = 1; i < strain.size(); ++i) {
+    EXPECT_GT(strain[i], strain[i - 1]);
+    EXPECT_GE(damage[i], damage[i - 1]);
+  }
 }
 
 // The palpation tissue is far too soft to push back with kMaxForceN, so this uses the palpation

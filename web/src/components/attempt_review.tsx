@@ -1,6 +1,6 @@
 import { useMemo } from 'react';
-import { api, type Review, type ReviewResult, type RunEvent } from '../api';
-import { useResource } from '../use_resource';
+import type { Review, ReviewResult, RunEvent } from '../api';
+import type { Resource } from '../use_resource';
 import { ErrorAlert } from './alerts';
 import './review.css';
 import { DataTable } from './data_table';
@@ -24,16 +24,14 @@ const hand_colors = ['#2f6fb3', '#d9822b'];
  * speed and tissue damage over time, and each metric against its threshold and the experts.
  */
 export function AttemptReview({
-  session_id,
+  review,
   position_s,
   on_seek,
 }: {
-  session_id: number;
+  review: Resource<Review>;
   position_s: number;
   on_seek: (t_s: number) => void;
 }) {
-  const load = useMemo(() => () => api.review(session_id), [session_id]);
-  const review = useResource(load);
   return (
     <>
       <ErrorAlert message={review.error && `Could not load the review: ${review.error}`} />
@@ -63,6 +61,14 @@ function ReviewBody({ review, position_s, on_seek }: { review: Review; position_
       damage: [{ label: 'cumulative', values: timeline.damage_ns, color: '#c0392b' }],
     };
   }, [timeline]);
+  const sim = useMemo(() => {
+    const signal = review.sim_damage;
+    if (!signal || signal.values.length === 0) return null;
+    return {
+      t_s: signal.values.map((_, i) => (i + 1) * signal.interval_s),
+      series: [{ label: 'damaged volume', values: signal.values.map((v) => v * 100), color: '#7f0000' }],
+    };
+  }, [review.sim_damage]);
 
   return (
     <>
@@ -114,8 +120,20 @@ function ReviewBody({ review, position_s, on_seek }: { review: Review; position_
           on_seek={on_seek}
           test_id="timeline-speed"
         />
+        {sim && (
+          <TimelineChart
+            title="Tissue damage (simulation: tissue strained beyond its threshold)"
+            unit="% volume"
+            t_s={sim.t_s}
+            series={sim.series}
+            events={review.events}
+            position_s={position_s}
+            on_seek={on_seek}
+            test_id="timeline-sim-damage"
+          />
+        )}
         <TimelineChart
-          title="Tissue damage (overload impulse)"
+          title="Tissue overload (force above the safe force)"
           unit="N s"
           t_s={timeline.t_s}
           series={charts.damage}

@@ -66,7 +66,9 @@ export function BookingCalendar({
   const [busy, set_busy] = useState<string | null>(null);
   const [error, set_error] = useState<string | null>(null);
   const [status, set_status] = useState<string | null>(null);
-  const [schedule, set_schedule] = useState<ScheduleEntry[]>([]);
+  // The schedule with the station it belongs to, so that another station's never shows.
+  const [schedule, set_schedule] = useState<{ station_id: number; entries: ScheduleEntry[] } | null>(null);
+  const [load_error, set_load_error] = useState<string | null>(null);
   const [generation, set_generation] = useState(0);
   // Until the person picks one, the first station is shown.
   const found = stations.find((s) => String(s.id) === chosen_station) ?? stations[0];
@@ -76,8 +78,12 @@ export function BookingCalendar({
     if (station_id === undefined) return;
     let current = true;
     api.station_schedule(station_id).then(
-      (entries) => current && set_schedule(entries),
-      (reason: unknown) => current && set_error(`Could not load the station's bookings: ${error_text(reason)}`),
+      (entries) => {
+        if (!current) return;
+        set_schedule({ station_id, entries });
+        set_load_error(null);
+      },
+      (reason: unknown) => current && set_load_error(`Could not load the station's bookings: ${error_text(reason)}`),
     );
     return () => {
       current = false;
@@ -88,7 +94,10 @@ export function BookingCalendar({
   const station: Station = found;
   const now = Date.now();
   const staff = viewer.role !== 'trainee';
-  const active: Parsed[] = schedule.map((b) => ({ booking: b, starts: Date.parse(b.starts_at), ends: Date.parse(b.ends_at) }));
+  // Until the station's schedule is in, no slot can be booked: it may be taken.
+  const loading = schedule?.station_id !== station.id;
+  const entries = loading ? [] : schedule.entries;
+  const active: Parsed[] = entries.map((b) => ({ booking: b, starts: Date.parse(b.starts_at), ends: Date.parse(b.ends_at) }));
   const week_days = days.map((d) => add_days(week, d));
 
   async function run(key: string, action: () => Promise<void>, done: string, failed: string) {
@@ -174,7 +183,7 @@ export function BookingCalendar({
           className="slot-book"
           aria-label={label}
           title={past ? 'This slot has passed' : undefined}
-          disabled={past || busy !== null}
+          disabled={past || busy !== null || loading}
           onClick={() => book(starts, ends, `${station.name} ${weekday} ${hh_mm(starts)}-${hh_mm(ends)}`)}
         >
           {busy === `book-${starts.getTime()}` ? 'Booking…' : past ? '' : 'Book'}
@@ -212,6 +221,7 @@ export function BookingCalendar({
           {week_label}
         </span>
       </div>
+      <ErrorAlert message={load_error} />
       <ErrorAlert message={error} />
       <StatusMessage message={status} />
       <div className="table-wrap">

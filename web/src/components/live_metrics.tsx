@@ -31,6 +31,11 @@ const rows: Row[] = [
   { key: 'force_n', label: 'Force', value: (m) => `${m.force_n.toFixed(2)} N` },
   { key: 'peak_force_n', label: 'Peak force', value: (m) => `${m.peak_force_n.toFixed(2)} N` },
   { key: 'path_length_m', label: 'Path length', value: (m) => `${m.path_length_m.toFixed(3)} m` },
+  {
+    key: 'damage_index',
+    label: 'Tissue damaged',
+    value: (m) => `${((m.damage_index ?? 0) * 100).toFixed(2)} %`,
+  },
   { key: 'contact', label: 'Tool contact', value: (m) => (m.contact ? 'Yes' : 'No') },
   {
     key: 'force_2_n',

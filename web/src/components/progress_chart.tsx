@@ -2,17 +2,10 @@ import { useEffect, useMemo, useRef, useState } from 'react';
 import uPlot from 'uplot';
 import 'uplot/dist/uPlot.min.css';
 import type { Benchmark, CurriculumEntry, MetricRequirement, Score } from '../api';
+import { format_value } from './format';
 
 const chart_height = 220;
 const colors = { line: '#0f5e66', passed: '#1e6b34', failed: '#b3261e', threshold: '#c98a00', experts: '#2f6fd6' };
-
-const large_format = new Intl.NumberFormat(undefined, { maximumFractionDigits: 2 });
-const small_format = new Intl.NumberFormat(undefined, { maximumSignificantDigits: 3 });
-
-function format_value(value: number, unit: string): string {
-  const shown = (Math.abs(value) >= 1 ? large_format : small_format).format(value);
-  return unit ? `${shown} ${unit}` : shown;
-}
 
 /** One attempt at the chosen task: its number (1 = oldest session) and the chosen metric's score. */
 interface Attempt {

@@ -1,5 +1,5 @@
 import { useCallback } from 'react';
-import { api, type Score } from '../api';
+import { api, type Score, type ScoreAdjustment } from '../api';
 import { Link } from '../router';
 import { useResource } from '../use_resource';
 import { Card } from './card';
@@ -17,12 +17,15 @@ export function SessionResult({ session_id }: { session_id: number }) {
     () => api.recordings().then((recordings) => recordings.filter((r) => r.session_id === session_id)),
     [session_id],
   );
+  const load_adjustments = useCallback(() => api.adjustments(session_id), [session_id]);
   const scores = useResource(load_scores);
   const recordings = useResource(load_recordings);
+  const adjustments = useResource(load_adjustments);
 
   function reload() {
     scores.reload();
     recordings.reload();
+    adjustments.reload();
   }
 
   return (
@@ -30,7 +33,7 @@ export function SessionResult({ session_id }: { session_id: number }) {
       <ResourceView resource={scores} what="scores" empty="No scores are stored for this session yet.">
         {(data) => (
           <>
-            <Verdict scores={data} />
+            <Verdict scores={data} adjustment={adjustments.data?.at(-1) ?? null} />
             <ScoresTable scores={data} show_trainee={false} />
           </>
         )}
@@ -53,14 +56,24 @@ export function SessionResult({ session_id }: { session_id: number }) {
   );
 }
 
-/** Whether the attempt passed: every metric it was scored on met its threshold. */
-function Verdict({ scores }: { scores: Score[] }) {
+/**
+ * Whether the attempt passed: every metric it was scored on met its threshold, unless an
+ * instructor's adjustment (the latest one counts, as in the progress) says otherwise.
+ */
+function Verdict({ scores, adjustment }: { scores: Score[]; adjustment: ScoreAdjustment | null }) {
   const missed = scores.filter((s) => !s.passed);
+  const passed = adjustment ? adjustment.passed : missed.length === 0;
+  let text: string;
+  if (adjustment) {
+    text = `${passed ? 'Passed' : 'Not passed'}, as adjusted by ${adjustment.author}: ${adjustment.reason}`;
+  } else if (passed) {
+    text = `Passed: all ${scores.length} metrics met their thresholds.`;
+  } else {
+    text = `Not passed: ${missed.map((s) => s.metric).join(', ')} missed ${missed.length === 1 ? 'its threshold' : 'their thresholds'}.`;
+  }
   return (
-    <p className={`verdict ${missed.length === 0 ? 'verdict-pass' : 'verdict-fail'}`} data-testid="attempt-verdict">
-      {missed.length === 0
-        ? `Passed: all ${scores.length} metrics met their thresholds.`
-        : `Not passed: ${missed.map((s) => s.metric).join(', ')} missed ${missed.length === 1 ? 'its threshold' : 'their thresholds'}.`}
+    <p className={`verdict ${passed ? 'verdict-pass' : 'verdict-fail'}`} data-testid="attempt-verdict">
+      {text}
     </p>
   );
 }

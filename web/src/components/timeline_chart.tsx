@@ -93,7 +93,10 @@ export function TimelineChart({
       seek.current(Math.max(0, u.posToVal(left, 'x')));
     };
     u.over.addEventListener('click', on_click);
-    const resize = new ResizeObserver(() => u.setSize({ width: Math.max(element.clientWidth, 200), height: 120 }));
+    const resize = new ResizeObserver(() => {
+      const width = Math.max(element.clientWidth, 200);
+      if (width !== u.width) u.setSize({ width, height: 120 });
+    });
     resize.observe(element);
     return () => {
       resize.disconnect();

@@ -43,6 +43,9 @@ function ReplayView({ recording }: { recording: Recording }) {
   const { send } = stream;
   const position_s = stream.metrics?.sim_time_s ?? 0;
   const seek = useCallback((t_s: number) => send({ type: 'seek', t: t_s }), [send]);
+  // One review for the page: the results, the timelines and the expert switch share it.
+  const load_review = useMemo(() => () => api.review(recording.session_id), [recording.session_id]);
+  const review = useResource(load_review);
   return (
     <>
       <p className="muted">
@@ -58,28 +61,26 @@ function ReplayView({ recording }: { recording: Recording }) {
         />
         <ReplayControls metrics={stream.metrics} duration_s={recording.duration_s} send={send} />
       </section>
-      <AttemptReview session_id={recording.session_id} position_s={position_s} on_seek={seek} />
+      <AttemptReview review={review} position_s={position_s} on_seek={seek} />
       <ReviewNotes session_id={recording.session_id} viewer={viewer} position_s={position_s} on_seek={seek} />
-      {viewer.role === 'admin' && <ExpertRunToggle session_id={recording.session_id} />}
+      {viewer.role === 'admin' && review.data && (
+        <ExpertRunToggle session_id={recording.session_id} expert={review.data.expert_run} on_changed={review.reload} />
+      )}
     </>
   );
 }
 
 /** Admins choose the expert runs whose scores make each task's benchmark. */
-function ExpertRunToggle({ session_id }: { session_id: number }) {
-  const load = useMemo(() => () => api.review(session_id), [session_id]);
-  const review = useResource(load);
+function ExpertRunToggle({ session_id, expert, on_changed }: { session_id: number; expert: boolean; on_changed: () => void }) {
   const [error, set_error] = useState<string | null>(null);
   const [busy, set_busy] = useState(false);
-  if (!review.data) return null;
-  const expert = review.data.expert_run;
 
   async function toggle() {
     set_busy(true);
     set_error(null);
     try {
       await api.set_expert_run(session_id, !expert);
-      review.reload();
+      on_changed();
     } catch (reason) {
       set_error(`Could not change the expert run: ${error_text(reason)}`);
     } finally {
@@ -93,7 +94,7 @@ function ExpertRunToggle({ session_id }: { session_id: number }) {
       <p>
         {expert
           ? 'This attempt is an expert run: its scores are part of the task’s benchmark.'
-          : 'Mark this attempt as an expert run to add its scores to the task’s benchmark.'}
+          : 'Mark this attempt (an instructor’s or an admin’s) as an expert run to add its scores to the task’s benchmark.'}
       </p>
       <ErrorAlert message={error} />
       <button type="button" disabled={busy} onClick={() => void toggle()}>
