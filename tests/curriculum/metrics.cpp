@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "metric_lookup.h"
+#include "metric_test_helpers.h"
 
 namespace incise::curriculum {
 namespace {

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "metric_lookup.h"
+#include "metric_test_helpers.h"
 
 namespace incise::curriculum {
 namespace {
@@ -22,6 +22,7 @@ using Vec = std::array<double, 3>;
 
 const double pi = std::numbers::pi;
 
+using testing::error_of;
 using testing::metric;
 
 // #steps + 1 samples at t = T i / steps of a tip moving along #tip(t); orientation identity, jaw
@@ -39,16 +40,6 @@ std::vector<HandSample> sampled(double duration, int steps, const std::function<
 Vec move_pause_move(double t, double speed, double pause_from, double pause) {
   const double moving_time = t < pause_from ? t : std::max(pause_from, t - pause);
   return {speed * moving_time, 0, 0};
-}
-
-// The error message #f throws ("" if it does not throw).
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
 }
 
 TEST(HandMetrics, ReportsTheElevenMetricsInOrderWithUnitsAndOneLineDefinitions) {

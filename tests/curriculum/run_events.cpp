@@ -17,11 +17,12 @@
 #include <tuple>
 #include <vector>
 
-#include "metric_lookup.h"
+#include "metric_test_helpers.h"
 
 namespace incise::curriculum {
 namespace {
 
+using testing::error_of;
 using testing::metric;
 
 // Samples i = 0 .. n at t = i dt, each filled in by #fill(i, t, sample); orientation identity,
@@ -58,15 +59,6 @@ std::vector<RunEvent> of_kind(const std::vector<RunEvent>& events, EventKind kin
 ProtectedZone zone(const std::string& name, std::array<double, 3> center, double radius,
                    bool never = false) {
   return {{name, center, radius}, never};
-}
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
 }
 
 // A shaft tilted by theta about x points along d = (0, -sin theta, cos theta). The right hand's

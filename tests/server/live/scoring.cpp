@@ -86,6 +86,19 @@ class ScoreSession : public ::testing::Test {
     }
   }
 
+  // A new session of tess with its recording holding #records in one chunk; scores it on #task.
+  std::vector<curriculum::MetricResult> score_new_session(const std::vector<TickRecord>& records,
+                                                          const curriculum::Task& task) {
+    const auto session = db::TrainingRepo(db_).create_session(trainee_, std::nullopt, "t", kNow);
+    const auto recording = recordings_.create(session, "scenes/palpation.json", "0123456789abcdef",
+                                              0, 1 / kTickS, kNow);
+    std::vector<std::uint8_t> chunk;
+    for (const auto& r : records)
+      append_tick_record(r, chunk);
+    recordings_.append_chunk(recording, 0, 0, chunk, static_cast<double>(records.size()) * kTickS);
+    return score_session(db_, session, recording, task, kTickS, kNow + 60);
+  }
+
   server::test::TempDir dir_;
   db::Database db_{dir_.path() / "incise.db"};
   db::RecordingsRepo recordings_{db_};
@@ -181,15 +194,7 @@ TEST_F(ScoreSession, TwoHandedRecordingsScoreEachHandAndTheirCoordination) {
     // A task that asks for both hands moving together passes only when they do.
     curriculum::Task task;
     task.metrics = {{"bimanual_dexterity", {curriculum::ThresholdOp::at_least, 0.5}, ""}};
-    const auto session =
-        db::TrainingRepo(db_).create_session(trainee_, std::nullopt, "bimanual", kNow);
-    const auto recording = recordings_.create(session, "scenes/palpation.json", "0123456789abcdef",
-                                              0, 1 / kTickS, kNow);
-    std::vector<std::uint8_t> chunk;
-    for (const auto& r : records)
-      append_tick_record(r, chunk);
-    recordings_.append_chunk(recording, 0, 0, chunk, 1000 * kTickS);
-    const auto results = score_session(db_, session, recording, task, kTickS, kNow + 60);
+    const auto results = score_new_session(records, task);
     ASSERT_EQ(results.size(), 1u);
     EXPECT_EQ(results[0].passed, left_moves);
   }
@@ -209,14 +214,7 @@ TEST_F(ScoreSession, ANeverEventFailsAnAttemptWhoseMetricsAllPass) {
       records[i].tick = i;
       records[i].input.position = {0.1 * i * kTickS, y, 0.04};  // 0 to 0.2 m along x
     }
-    const auto session = db::TrainingRepo(db_).create_session(trainee_, std::nullopt, "t", kNow);
-    const auto recording = recordings_.create(session, "scenes/palpation.json", "0123456789abcdef",
-                                              0, 1 / kTickS, kNow);
-    std::vector<std::uint8_t> chunk;
-    for (const auto& r : records)
-      append_tick_record(r, chunk);
-    recordings_.append_chunk(recording, 0, 0, chunk, 1000 * kTickS);
-    const auto results = score_session(db_, session, recording, task, kTickS, kNow + 60);
+    const auto results = score_new_session(records, task);
     ASSERT_EQ(results.size(), 2u);
     EXPECT_TRUE(results[0].passed);
     EXPECT_EQ(results[1].key, "never_events");

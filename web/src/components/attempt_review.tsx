@@ -17,6 +17,15 @@ const event_names: Record<RunEvent['kind'], string> = {
 };
 
 const hand_names = ['right hand', 'left hand'];
+
+/** One chart under the replay: a signal of the attempt over time. */
+interface ChartSpec {
+  test_id: string;
+  title: string;
+  unit: string;
+  t_s: number[];
+  series: TimelineSeries[];
+}
 const hand_colors = ['#2f6fb3', '#d9822b'];
 
 /**
@@ -48,27 +57,36 @@ export function AttemptReview({
 function ReviewBody({ review, position_s, on_seek }: { review: Review; position_s: number; on_seek: (t: number) => void }) {
   const { timeline } = review;
   // Stable arrays: a new one would rebuild the charts on every frame's metrics.
-  const charts = useMemo(() => {
+  const charts = useMemo((): ChartSpec[] => {
     const per_hand = (pick: (h: Review['timeline']['hands'][number]) => number[], scale = 1): TimelineSeries[] =>
       timeline.hands.map((h, i) => ({
         label: hand_names[i] ?? `hand ${i}`,
         values: pick(h).map((v) => v * scale),
         color: hand_colors[i] ?? '#555',
       }));
-    return {
-      force: per_hand((h) => h.peak_force_n),
-      speed: per_hand((h) => h.speed_m_s, 1000),
-      damage: [{ label: 'cumulative', values: timeline.damage_ns, color: '#c0392b' }],
-    };
-  }, [timeline]);
-  const sim = useMemo(() => {
+    const specs: ChartSpec[] = [
+      { test_id: 'timeline-force', title: 'Peak force', unit: 'N', t_s: timeline.t_s, series: per_hand((h) => h.peak_force_n) },
+      { test_id: 'timeline-speed', title: 'Tip speed', unit: 'mm/s', t_s: timeline.t_s, series: per_hand((h) => h.speed_m_s, 1000) },
+    ];
     const signal = review.sim_damage;
-    if (!signal || signal.values.length === 0) return null;
-    return {
-      t_s: signal.values.map((_, i) => (i + 1) * signal.interval_s),
-      series: [{ label: 'damaged volume', values: signal.values.map((v) => v * 100), color: '#7f0000' }],
-    };
-  }, [review.sim_damage]);
+    if (signal && signal.values.length > 0) {
+      specs.push({
+        test_id: 'timeline-sim-damage',
+        title: 'Tissue damage (simulation: tissue strained beyond its threshold)',
+        unit: '% volume',
+        t_s: signal.values.map((_, i) => (i + 1) * signal.interval_s),
+        series: [{ label: 'damaged volume', values: signal.values.map((v) => v * 100), color: '#7f0000' }],
+      });
+    }
+    specs.push({
+      test_id: 'timeline-damage',
+      title: 'Tissue overload (force above the safe force)',
+      unit: 'N s',
+      t_s: timeline.t_s,
+      series: [{ label: 'cumulative', values: timeline.damage_ns, color: '#c0392b' }],
+    });
+    return specs;
+  }, [timeline, review.sim_damage]);
 
   return (
     <>
@@ -100,48 +118,15 @@ function ReviewBody({ review, position_s, on_seek }: { review: Review; position_
       <section className="card" aria-labelledby="timelines-title">
         <h2 id="timelines-title">Timelines</h2>
         <p className="hint">Click a chart to jump the replay there; the black line is the replay's position.</p>
-        <TimelineChart
-          title="Peak force"
-          unit="N"
-          t_s={timeline.t_s}
-          series={charts.force}
-          events={review.events}
-          position_s={position_s}
-          on_seek={on_seek}
-          test_id="timeline-force"
-        />
-        <TimelineChart
-          title="Tip speed"
-          unit="mm/s"
-          t_s={timeline.t_s}
-          series={charts.speed}
-          events={review.events}
-          position_s={position_s}
-          on_seek={on_seek}
-          test_id="timeline-speed"
-        />
-        {sim && (
+        {charts.map((chart) => (
           <TimelineChart
-            title="Tissue damage (simulation: tissue strained beyond its threshold)"
-            unit="% volume"
-            t_s={sim.t_s}
-            series={sim.series}
+            key={chart.test_id}
+            {...chart}
             events={review.events}
             position_s={position_s}
             on_seek={on_seek}
-            test_id="timeline-sim-damage"
           />
-        )}
-        <TimelineChart
-          title="Tissue overload (force above the safe force)"
-          unit="N s"
-          t_s={timeline.t_s}
-          series={charts.damage}
-          events={review.events}
-          position_s={position_s}
-          on_seek={on_seek}
-          test_id="timeline-damage"
-        />
+        ))}
       </section>
       <section className="card" aria-labelledby="results-title">
         <h2 id="results-title">Results</h2>
