@@ -297,6 +297,26 @@ scenario('an admin imports a curriculum, calibrates a station and assigns instru
   assert.equal(imported.status(), 201, await imported.text());
   await sees(importer.getByRole('status').filter({ hasText: 'Imported “Suturing basics”.' }), 'the import confirmed');
 
+  // The curriculum editor: a prerequisite naming no task is refused with its path; the stored
+  // definition, saved back unchanged, is accepted.
+  const editor = page.getByTestId('curriculum-editor');
+  await editor.getByLabel('Curriculum', { exact: true }).selectOption({ label: 'Basic laparoscopic skills' });
+  const json_text = editor.getByLabel('Curriculum JSON');
+  await page.waitForFunction(() => document.querySelector('[aria-label="Curriculum JSON"]')?.value.includes('Basic laparoscopic skills'));
+  const stored = await json_text.inputValue();
+  const broken = JSON.parse(stored);
+  broken.modules[0].tasks[1].prerequisites = ['suturing_101'];
+  await json_text.fill(JSON.stringify(broken, null, 2));
+  const rejected = await click_for_response(page, editor.getByRole('button', { name: 'Save curriculum' }), 'PUT', /^\/api\/curricula\/\d+$/);
+  assert.equal(rejected.status(), 422);
+  const { error: edit_error } = await rejected.json();
+  assert.equal(edit_error, 'modules[0].tasks[1].prerequisites[0]: unknown task "suturing_101"');
+  await sees(editor.getByRole('alert').filter({ hasText: edit_error }), 'the path of the problem in the edit');
+  await json_text.fill(stored);
+  const kept = await click_for_response(page, editor.getByRole('button', { name: 'Save curriculum' }), 'PUT', /^\/api\/curricula\/\d+$/);
+  assert.equal(kept.status(), 200, await kept.text());
+  await sees(editor.getByRole('status').filter({ hasText: 'Saved “Basic laparoscopic skills”.' }), 'the curriculum saved');
+
   // A calibration the server refuses, then the one it had, saved back.
   const calibration = page.getByTestId('calibration-editor');
   const text = calibration.getByLabel('Calibration JSON');
@@ -328,7 +348,7 @@ scenario('an admin imports a curriculum, calibrates a station and assigns instru
   // Every change is in the audit log.
   const audit = page.getByTestId('audit-log');
   await audit.getByRole('button', { name: 'Refresh' }).click();
-  for (const action of ['curriculum.import', 'station.calibrate', 'user.instructors']) {
+  for (const action of ['curriculum.import', 'curriculum.update', 'station.calibrate', 'user.instructors']) {
     await sees(audit.getByRole('row').filter({ hasText: action }), `"${action}" in the audit log`);
   }
   await snap(page, 'admin-home');

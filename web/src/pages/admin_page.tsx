@@ -3,6 +3,7 @@ import { AuditLog } from '../components/audit_log';
 import { BenchmarksTable } from '../components/benchmarks_table';
 import { CalibrationEditor } from '../components/calibration_editor';
 import { Card } from '../components/card';
+import { CurriculumEditor } from '../components/curriculum_editor';
 import { CurriculumImport } from '../components/curriculum_import';
 import { InstructorPicker } from '../components/instructor_picker';
 import { DataTable } from '../components/data_table';
@@ -108,6 +109,9 @@ export function AdminPage() {
           </ul>
         </Card>
       </div>
+      <Card id="curriculum-editor" title="Curriculum editor">
+        {curricula.data && <CurriculumEditor curricula={curricula.data} on_saved={curricula.reload} />}
+      </Card>
       <Card id="benchmarks" title="Expert benchmarks">
         {benchmarks.error && <p role="alert">Could not load the benchmarks: {benchmarks.error}</p>}
         {benchmarks.data && <BenchmarksTable benchmarks={benchmarks.data} />}
