@@ -43,14 +43,11 @@ ApiResponse session_response(ApiContext& ctx, std::int64_t session_id, const nlo
 
 // The live session behind the URL, for its owner, instructors and admins.
 std::shared_ptr<live::LiveSession> controllable_session(ApiContext& ctx) {
-  const auto& user = ctx.user();
-  const auto record = db::TrainingRepo(ctx.app.db()).find_session(ctx.path_id);
-  if (!record) throw ApiError(http::status::not_found, "no session " + std::to_string(ctx.path_id));
-  check_session_access(ctx.app.db(), user, *record);
+  const auto record = visible_session(ctx);
   auto session = ctx.app.live_sessions().find(ctx.path_id);
   if (!session || session->state() == live::LiveState::finished) {
     throw ApiError(http::status::conflict, "session " + std::to_string(ctx.path_id) +
-                                               " is not running (" + record->state + ")");
+                                               " is not running (" + record.state + ")");
   }
   return session;
 }
@@ -134,10 +131,7 @@ ApiResponse start_session(ApiContext& ctx) {
 }
 
 ApiResponse get_session(ApiContext& ctx) {
-  const auto& user = ctx.user();
-  const auto record = db::TrainingRepo(ctx.app.db()).find_session(ctx.path_id);
-  if (!record) throw ApiError(http::status::not_found, "no session " + std::to_string(ctx.path_id));
-  check_session_access(ctx.app.db(), user, *record);
+  visible_session(ctx);
   return session_response(ctx, ctx.path_id, live_json(ctx.app.live_sessions().find(ctx.path_id)));
 }
 
