@@ -61,7 +61,7 @@ TEST(CurriculumJson, DemoFileParses) {
       {"peak_force_n", {ThresholdOp::at_most, 4.0}, "N"},
       {"contact_time_s", {ThresholdOp::at_least, 5.0}, "s"},
       {"protected_collisions", {ThresholdOp::at_most, 2.0}, "count"},
-      {"sim_damage_index", {ThresholdOp::at_most, 0.01}, ""}};
+      {"sim_damage_index", {ThresholdOp::at_most, 0.02}, ""}};
   EXPECT_EQ(task.metrics, metrics);
   // Palpation keeps off a nerve and must never touch the artery or press above 12 N.
   ASSERT_EQ(task.protected_zones.size(), 2u);

@@ -1,7 +1,7 @@
-import { useEffect, useMemo, useRef, useState } from 'react';
+import { useMemo, useRef, useState } from 'react';
 import uPlot from 'uplot';
-import 'uplot/dist/uPlot.min.css';
 import type { Benchmark, CurriculumEntry, MetricRequirement, Score } from '../api';
+import { useUplot, type ChartMaker } from '../use_uplot';
 import { format_value } from './format';
 
 const chart_height = 220;
@@ -144,21 +144,14 @@ export function ProgressChart({
   const benchmark = benchmarks.find((b) => b.task === task && b.metric === metric);
   const unit = attempts[0]?.score.unit ?? requirement?.unit ?? benchmark?.unit ?? '';
 
-  useEffect(() => {
-    const element = plot_ref.current;
-    if (!element || attempts.length === 0) return;
-    const [options, data] = chart_options(element.clientWidth || 600, attempts, requirement, benchmark, unit);
-    const plot = new uPlot(options, data, element);
-    const observer = new ResizeObserver((entries) => {
-      const width = Math.floor(entries[0]?.contentRect.width ?? 0);
-      if (width > 0 && width !== plot.width) plot.setSize({ width, height: chart_height });
-    });
-    observer.observe(element);
-    return () => {
-      observer.disconnect();
-      plot.destroy();
-    };
-  }, [attempts, requirement, benchmark, unit]);
+  const make: ChartMaker | null =
+    attempts.length === 0
+      ? null
+      : (width) => {
+          const [options, data] = chart_options(width, attempts, requirement, benchmark, unit);
+          return { options, data };
+        };
+  useUplot(plot_ref, make, chart_height, [attempts, requirement, benchmark, unit]);
 
   if (task_options.length === 0) {
     return (

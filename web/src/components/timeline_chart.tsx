@@ -1,7 +1,9 @@
 import { useEffect, useRef } from 'react';
-import uPlot from 'uplot';
-import 'uplot/dist/uPlot.min.css';
+import type uPlot from 'uplot';
 import type { EventKind, RunEvent } from '../api';
+import { useUplot, type ChartMaker } from '../use_uplot';
+
+const chart_height = 120;
 
 /** The colour of each kind of event, shared by the chart's marker lines and the event list. */
 export const event_colors: Record<EventKind, string> = {
@@ -44,23 +46,20 @@ export function TimelineChart({
   test_id: string;
 }) {
   const box = useRef<HTMLDivElement>(null);
-  const plot = useRef<uPlot | null>(null);
   // The draw hook reads these, so that a new position redraws without rebuilding the chart.
   const position = useRef(position_s);
   const seek = useRef(on_seek);
   seek.current = on_seek;
 
-  useEffect(() => {
-    const element = box.current;
-    if (!element) return;
+  const make: ChartMaker = (width) => {
     const draw_markers = (u: uPlot) => {
       const ctx = u.ctx;
       const top = u.bbox.top;
       const height = u.bbox.height;
-      const line = (t: number, color: string, width: number) => {
+      const line = (t: number, color: string, line_width: number) => {
         const x = u.valToPos(t, 'x', true);
         ctx.strokeStyle = color;
-        ctx.lineWidth = width;
+        ctx.lineWidth = line_width;
         ctx.beginPath();
         ctx.moveTo(x, top);
         ctx.lineTo(x, top + height);
@@ -71,45 +70,37 @@ export function TimelineChart({
       line(position.current, '#111', 2 * devicePixelRatio);
       ctx.restore();
     };
-    const options: uPlot.Options = {
-      width: Math.max(element.clientWidth, 200),
-      height: 120,
-      legend: { show: true },
-      cursor: { drag: { x: false, y: false } },
-      scales: { x: { time: false } },
-      axes: [
-        { label: 'time [s]', size: 36 },
-        { label: unit, size: 56 },
-      ],
-      series: [{ label: 't [s]' }, ...series.map((s) => ({ label: s.label, stroke: s.color, width: 1.5 }))],
-      hooks: { draw: [draw_markers] },
+    // A click on the plot seeks the replay to the time under the cursor.
+    const listen_for_clicks = (u: uPlot) => {
+      u.over.addEventListener('click', () => {
+        const left = u.cursor.left;
+        if (left === undefined || left < 0) return;
+        seek.current(Math.max(0, u.posToVal(left, 'x')));
+      });
     };
-    const data: uPlot.AlignedData = [t_s, ...series.map((s) => s.values)];
-    const u = new uPlot(options, data, element);
-    plot.current = u;
-    const on_click = () => {
-      const left = u.cursor.left;
-      if (left === undefined || left < 0) return;
-      seek.current(Math.max(0, u.posToVal(left, 'x')));
+    return {
+      options: {
+        width,
+        height: chart_height,
+        legend: { show: true },
+        cursor: { drag: { x: false, y: false } },
+        scales: { x: { time: false } },
+        axes: [
+          { label: 'time [s]', size: 36 },
+          { label: unit, size: 56 },
+        ],
+        series: [{ label: 't [s]' }, ...series.map((s) => ({ label: s.label, stroke: s.color, width: 1.5 }))],
+        hooks: { draw: [draw_markers], ready: [listen_for_clicks] },
+      },
+      data: [t_s, ...series.map((s) => s.values)],
     };
-    u.over.addEventListener('click', on_click);
-    const resize = new ResizeObserver(() => {
-      const width = Math.max(element.clientWidth, 200);
-      if (width !== u.width) u.setSize({ width, height: 120 });
-    });
-    resize.observe(element);
-    return () => {
-      resize.disconnect();
-      u.over.removeEventListener('click', on_click);
-      u.destroy();
-      plot.current = null;
-    };
-  }, [t_s, series, events, unit]);
+  };
+  const plot = useUplot(box, make, chart_height, [t_s, series, events, unit]);
 
   useEffect(() => {
     position.current = position_s;
     plot.current?.redraw(false, false);
-  }, [position_s]);
+  }, [position_s, plot]);
 
   return (
     <figure className="timeline-chart" data-testid={test_id}>
