@@ -26,6 +26,9 @@ out=results/bench-$(date -u +%Y%m%dT%H%M%SZ).txt
   echo "## one 2 ms simulation tick of the demo scene"
   "$bin/bench_live_step"
   echo
+  echo "## the simulation's damage tracker in a tick; review and scoring of a 2 min recording"
+  "$bin/bench_scoring"
+  echo
   echo "## agent haptic loop, ${seconds} s"
   "$bin/bench_agent_loop" --seconds "$seconds"
   echo
