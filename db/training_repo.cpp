@@ -34,6 +34,11 @@ void check_scores(std::span<const ScoreInput> scores) {
       throw std::invalid_argument("score metric " + s.metric + " appears twice");
     if (!std::isfinite(s.value))
       throw std::invalid_argument("score " + s.metric + " is not finite");
+    if (s.threshold_op != "" && s.threshold_op != "<=" && s.threshold_op != ">=")
+      throw std::invalid_argument("score " + s.metric + " has threshold op '" + s.threshold_op +
+                                  "', not <= or >=");
+    if (!std::isfinite(s.threshold_value))
+      throw std::invalid_argument("score " + s.metric + " has a threshold that is not finite");
   }
 }
 
@@ -100,10 +105,13 @@ void TrainingRepo::add_scores(std::int64_t session_id, std::span<const ScoreInpu
   if (!session.bind(1, session_id).step())
     throw NotFound("session " + std::to_string(session_id) + " does not exist");
   auto insert = db_.prepare(
-      "INSERT INTO scores (session_id, metric, value, unit, passed, created_at) VALUES (?, ?, ?, "
-      "?, ?, ?) ON CONFLICT (session_id, metric) DO UPDATE SET value = excluded.value, unit = "
-      "excluded.unit, passed = excluded.passed, created_at = excluded.created_at");
+      "INSERT INTO scores (session_id, metric, value, unit, passed, created_at, threshold_op, "
+      "threshold_value) VALUES (?, ?, ?, ?, ?, ?, ?, ?) ON CONFLICT (session_id, metric) DO "
+      "UPDATE SET value = excluded.value, unit = excluded.unit, passed = excluded.passed, "
+      "created_at = excluded.created_at, threshold_op = excluded.threshold_op, threshold_value = "
+      "excluded.threshold_value");
   for (const ScoreInput& s : scores) {
+    const bool judged = !s.threshold_op.empty();
     insert.reset();
     insert.bind(1, session_id)
         .bind(2, s.metric)
@@ -111,6 +119,8 @@ void TrainingRepo::add_scores(std::int64_t session_id, std::span<const ScoreInpu
         .bind(4, s.unit)
         .bind(5, s.passed ? 1 : 0)
         .bind(6, now)
+        .bind(7, judged ? std::optional<std::string>(s.threshold_op) : std::nullopt)
+        .bind(8, judged ? std::optional<double>(s.threshold_value) : std::nullopt)
         .run();
   }
   tx.commit();
@@ -153,14 +163,14 @@ namespace {
 
 constexpr const char* kScoreSelect =
     "SELECT sc.id, sc.session_id, u.username, se.task, sc.metric, sc.value, sc.unit, sc.passed, "
-    "sc.created_at FROM scores sc JOIN sessions se ON se.id = sc.session_id JOIN users u ON u.id "
-    "= se.trainee_id ";
+    "sc.created_at, COALESCE(sc.threshold_op, ''), COALESCE(sc.threshold_value, 0) FROM scores sc "
+    "JOIN sessions se ON se.id = sc.session_id JOIN users u ON u.id = se.trainee_id ";
 
 std::vector<ScoreRecord> read_scores(Statement& q) {
   std::vector<ScoreRecord> out;
   while (q.step()) {
     out.push_back(ScoreRecord{q.int64(0), q.int64(1), q.text(2), q.text(3), q.text(4), q.real(5),
-                              q.text(6), q.int64(7) != 0, q.int64(8)});
+                              q.text(6), q.int64(7) != 0, q.int64(8), q.text(9), q.real(10)});
   }
   return out;
 }

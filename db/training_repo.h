@@ -43,6 +43,8 @@ struct ScoreRecord {
   std::string unit;
   bool passed = false;
   std::int64_t created_at = 0;
+  std::string threshold_op{};  // "<=" or ">=" it was judged against; "" when not known
+  double threshold_value = 0;  // in the score's unit
 };
 
 // One metric's score of an attempt, for add_scores.
@@ -51,6 +53,8 @@ struct ScoreInput {
   double value = 0;  // finite
   std::string unit;
   bool passed = false;
+  std::string threshold_op{};  // "<=", ">=", or "" for none
+  double threshold_value = 0;  // finite
 };
 
 // A signal the simulation sampled during a session (session_signals), e.g. "damage_index".

@@ -74,7 +74,7 @@ nlohmann::json sim_damage_json(db::Database& db, std::int64_t session_id) {
 }
 
 // The session's stored scores in the order the task scores them (others after), with the
-// thresholds the task sets now and the experts' benchmark.
+// thresholds they were judged against and the experts' benchmark.
 nlohmann::json results_json(db::Database& db, const db::SessionRecord& session,
                             const curriculum::Task* task) {
   const auto experts = benchmarks(db);
@@ -91,13 +91,23 @@ nlohmann::json results_json(db::Database& db, const db::SessionRecord& session,
 
   auto out = nlohmann::json::array();
   for (const auto& score : scores) {
-    nlohmann::json row = {{"metric", score.metric}, {"value", score.value}, {"unit", score.unit},
-                          {"passed", score.passed}, {"threshold", nullptr}, {"expert", nullptr}};
+    nlohmann::json row = {{"metric", score.metric}, {"value", score.value},
+                          {"unit", score.unit},     {"passed", score.passed},
+                          {"threshold", nullptr},   {"threshold_now", nullptr},
+                          {"expert", nullptr}};
+    // The threshold the score was judged against; the task's today when it differs (the
+    // curriculum changed since), or when the score predates stored thresholds.
     const auto r = static_cast<std::size_t>(rank(score.metric));
+    nlohmann::json now = nullptr;
     if (r < requirements.size()) {
       const auto& threshold = requirements[r].threshold;
-      row["threshold"] = {{"op", curriculum::threshold_op_symbol(threshold.op)},
-                          {"value", threshold.value}};
+      now = {{"op", curriculum::threshold_op_symbol(threshold.op)}, {"value", threshold.value}};
+    }
+    if (!score.threshold_op.empty()) {
+      row["threshold"] = {{"op", score.threshold_op}, {"value", score.threshold_value}};
+      if (!now.is_null() && now != row["threshold"]) row["threshold_now"] = now;
+    } else {
+      row["threshold"] = now;
     }
     const auto expert = experts.find({session.task, score.metric});
     if (expert != experts.end()) {

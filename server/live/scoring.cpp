@@ -144,7 +144,10 @@ std::vector<curriculum::MetricResult> score_session(
   std::vector<db::ScoreInput> scores;
   for (const auto& r : results) {
     // An undefined metric (the smoothness of a tool that never moved: NaN) fails; stored as 0.
-    scores.push_back({r.key, std::isfinite(r.value) ? r.value : 0.0, r.unit, r.passed});
+    // With the threshold it was judged against, which the curriculum may change later.
+    scores.push_back({r.key, std::isfinite(r.value) ? r.value : 0.0, r.unit, r.passed,
+                      std::string(curriculum::threshold_op_symbol(r.threshold.op)),
+                      r.threshold.value});
   }
   db::TrainingRepo(db).add_scores(session_id, scores, now);
   return results;

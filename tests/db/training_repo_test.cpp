@@ -326,5 +326,28 @@ TEST_F(TrainingRepoTest, SignalsRoundTripExactlyAndGoWithTheirSession) {
   EXPECT_EQ(row_count(db(), "session_signals"), 0);
 }
 
+// A score keeps the threshold it was judged against (migration 008); a score without one reads
+// back with none, and an unknown comparison is refused before anything is written.
+TEST_F(TrainingRepoTest, ScoresKeepTheThresholdTheyWereJudgedAgainst) {
+  const auto s = training_.create_session(ann_, std::nullopt, "suture", 1);
+  const std::vector<ScoreInput> scores = {{"peak_force_n", 3.5, "N", true, "<=", 4.0},
+                                          {"contact_time_s", 2.0, "s", false, ">=", 5.0},
+                                          {"jaw_closures", 3.0, "count", true}};
+  training_.add_scores(s, scores, 10);
+  const auto read = training_.session_scores(s);
+  ASSERT_EQ(read.size(), 3u);
+  for (std::size_t i = 0; i < read.size(); ++i) {
+    EXPECT_EQ(read[i].metric, scores[i].metric);
+    EXPECT_EQ(read[i].threshold_op, scores[i].threshold_op);
+    EXPECT_EQ(read[i].threshold_value, scores[i].threshold_value);
+  }
+  const std::vector<ScoreInput> bad = {{"x", 1.0, "", true, "<", 2.0}};
+  EXPECT_THROW(training_.add_scores(s, bad, 11), std::invalid_argument);
+  const std::vector<ScoreInput> infinite = {
+      {"x", 1.0, "", true, "<=", std::numeric_limits<double>::infinity()}};
+  EXPECT_THROW(training_.add_scores(s, infinite, 11), std::invalid_argument);
+  EXPECT_EQ(training_.session_scores(s).size(), 3u);
+}
+
 }  // namespace
 }  // namespace incise::db

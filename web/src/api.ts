@@ -169,7 +169,10 @@ export interface ReviewResult {
   value: number;
   unit: string;
   passed: boolean;
+  /** The threshold the score was judged against. */
   threshold: { op: '<=' | '>='; value: number } | null;
+  /** The task's threshold today, when the curriculum changed it since the attempt. */
+  threshold_now: { op: '<=' | '>='; value: number } | null;
   /** z: (value - mean) / sd, null without spread. */
   expert: (BenchmarkStats & { z: number | null }) | null;
 }

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -177,6 +178,27 @@ TEST_F(ReviewApi, TheReviewCarriesTheSimulationsDamageTimeline) {
       json_of(get("/api/sessions/" + std::to_string(session) + "/review", tess_token_));
   EXPECT_EQ(review["sim_damage"],
             (nlohmann::json{{"interval_s", 0.1}, {"values", {0.0, 0.0, 0.01, 0.02}}}));
+}
+
+// A score shows the threshold it was judged against; when the curriculum changed it since, the
+// task's threshold today comes beside it. A score stored without one (before migration 008)
+// shows today's.
+TEST_F(ReviewApi, ResultsShowTheThresholdTheAttemptWasJudgedAgainst) {
+  const auto session = attempt(1.0, 1.0, 3.0);  // peak_force_n stored without a threshold
+  db::TrainingRepo training(db());
+  training.add_scores(session, {{{"contact_time_s", 6.0, "s", true, ">=", 4.0}}}, now() + 60);
+  const auto results =
+      json_of(get("/api/sessions/" + std::to_string(session) + "/review", tess_token_))["results"];
+  std::map<std::string, nlohmann::json> by_metric;
+  for (const auto& r : results)
+    by_metric[r["metric"].get<std::string>()] = r;
+  // The demo task asks contact_time_s >= 5 today; the attempt was judged against >= 4.
+  EXPECT_EQ(by_metric["contact_time_s"]["threshold"],
+            (nlohmann::json{{"op", ">="}, {"value", 4.0}}));
+  EXPECT_EQ(by_metric["contact_time_s"]["threshold_now"],
+            (nlohmann::json{{"op", ">="}, {"value", 5.0}}));
+  EXPECT_EQ(by_metric["peak_force_n"]["threshold"], (nlohmann::json{{"op", "<="}, {"value", 4.0}}));
+  EXPECT_TRUE(by_metric["peak_force_n"]["threshold_now"].is_null());
 }
 
 }  // namespace

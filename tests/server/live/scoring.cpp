@@ -162,6 +162,9 @@ TEST_F(ScoreSession, StoresTheCurriculumsMetricsOfTheRecordingWithTheirPassFlags
     EXPECT_EQ(s.unit, task.metrics[i].unit);
     EXPECT_EQ(s.passed, expected_pass[i]) << s.metric;
     EXPECT_EQ(s.created_at, kNow + 60);
+    // With the threshold it was judged against.
+    EXPECT_EQ(s.threshold_op, curriculum::threshold_op_symbol(task.metrics[i].threshold.op));
+    EXPECT_EQ(s.threshold_value, task.metrics[i].threshold.value);
   }
 }
 

@@ -157,7 +157,12 @@ function ResultsTable({ results }: { results: ReviewResult[] }) {
         {
           header: 'Threshold',
           className: 'numeric',
-          cell: (r) => (r.threshold ? `${r.threshold.op} ${format_value(r.threshold.value, r.unit)}` : '—'),
+          cell: (r) => {
+            if (!r.threshold) return '—';
+            const then = `${r.threshold.op} ${format_value(r.threshold.value, r.unit)}`;
+            if (!r.threshold_now) return then;
+            return `${then} (now ${r.threshold_now.op} ${format_value(r.threshold_now.value, r.unit)})`;
+          },
         },
         {
           header: 'Result',

@@ -1,0 +1,5 @@
+-- The threshold each score was judged against when it was stored, so that a review shows why an
+-- attempt passed even after the curriculum's thresholds changed. NULL for scores stored before
+-- (and for scores of a metric the task did not set a threshold for).
+ALTER TABLE scores ADD COLUMN threshold_op TEXT CHECK (threshold_op IN ('<=', '>='));
+ALTER TABLE scores ADD COLUMN threshold_value REAL;
