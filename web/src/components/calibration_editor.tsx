@@ -1,6 +1,7 @@
 import { useEffect, useState, type FormEvent } from 'react';
 import { api, type CalibrationAnswer, type Station } from '../api';
 import { error_text } from '../use_resource';
+import { parse_json, useFormAction } from '../use_form_action';
 import { ErrorAlert, StatusMessage } from './alerts';
 
 /**
@@ -13,9 +14,7 @@ export function CalibrationEditor({ stations }: { stations: Station[] }) {
   const [answer, set_answer] = useState<CalibrationAnswer | null>(null);
   const [text, set_text] = useState('');
   const [load_error, set_load_error] = useState<string | null>(null);
-  const [error, set_error] = useState<string | null>(null);
-  const [status, set_status] = useState<string | null>(null);
-  const [busy, set_busy] = useState(false);
+  const { busy, error, status, run, clear } = useFormAction();
 
   // The chosen station, or the first one when it is gone from the list (or none was chosen yet).
   const chosen = stations.find((s) => s.id === station_id) ?? stations[0] ?? null;
@@ -44,25 +43,11 @@ export function CalibrationEditor({ stations }: { stations: Station[] }) {
   async function on_submit(event: FormEvent<HTMLFormElement>) {
     event.preventDefault();
     if (chosen_id === null) return;
-    set_error(null);
-    set_status(null);
-    let calibration: unknown;
-    try {
-      calibration = JSON.parse(text);
-    } catch (reason) {
-      set_error(`Not valid JSON: ${reason instanceof Error ? reason.message : String(reason)}`);
-      return;
-    }
-    set_busy(true);
-    try {
+    await run(async () => {
       // The answer holds the calibration as stored (normalised), i.e. what a reload would show.
-      show(await api.set_calibration(chosen_id, calibration));
-      set_status('Calibration saved.');
-    } catch (reason) {
-      set_error(`Could not save the calibration: ${error_text(reason)}`);
-    } finally {
-      set_busy(false);
-    }
+      show(await api.set_calibration(chosen_id, parse_json(text)));
+      return 'Calibration saved.';
+    }, 'Could not save the calibration');
   }
 
   if (chosen === null) {
@@ -86,8 +71,7 @@ export function CalibrationEditor({ stations }: { stations: Station[] }) {
         disabled={busy}
         onChange={(e) => {
           set_station_id(Number(e.target.value));
-          set_error(null);
-          set_status(null);
+          clear();
         }}
       >
         {stations.map((s) => (

@@ -1,6 +1,6 @@
 import { useEffect, useState, type FormEvent } from 'react';
 import { api, type CurriculumEntry } from '../api';
-import { error_text } from '../use_resource';
+import { parse_json, useFormAction } from '../use_form_action';
 import { ErrorAlert, StatusMessage } from './alerts';
 
 /**
@@ -12,9 +12,7 @@ import { ErrorAlert, StatusMessage } from './alerts';
 export function CurriculumEditor({ curricula, on_saved }: { curricula: CurriculumEntry[]; on_saved: () => void }) {
   const [chosen_id, set_chosen_id] = useState<number | null>(curricula[0]?.id ?? null);
   const [text, set_text] = useState('');
-  const [error, set_error] = useState<string | null>(null);
-  const [status, set_status] = useState<string | null>(null);
-  const [busy, set_busy] = useState(false);
+  const { busy, error, status, run, clear } = useFormAction();
   const chosen = curricula.find((c) => c.id === chosen_id) ?? curricula[0] ?? null;
 
   // The stored definition, whenever another curriculum is chosen or the list reloads.
@@ -25,25 +23,12 @@ export function CurriculumEditor({ curricula, on_saved }: { curricula: Curriculu
   async function on_submit(event: FormEvent<HTMLFormElement>) {
     event.preventDefault();
     if (!chosen) return;
-    set_error(null);
-    set_status(null);
-    let definition: CurriculumEntry['definition'];
-    try {
-      definition = JSON.parse(text) as CurriculumEntry['definition'];
-    } catch (reason) {
-      set_error(`Not valid JSON: ${reason instanceof Error ? reason.message : String(reason)}`);
-      return;
-    }
-    set_busy(true);
-    try {
+    await run(async () => {
+      const definition = parse_json(text) as CurriculumEntry['definition'];
       const saved = await api.update_curriculum(chosen.id, definition);
-      set_status(`Saved “${saved.name}”.`);
       on_saved();
-    } catch (reason) {
-      set_error(`Could not save the curriculum: ${error_text(reason)}`);
-    } finally {
-      set_busy(false);
-    }
+      return `Saved “${saved.name}”.`;
+    }, 'Could not save the curriculum');
   }
 
   if (!chosen) return <p className="empty">No curricula yet. Import one.</p>;
@@ -56,8 +41,7 @@ export function CurriculumEditor({ curricula, on_saved }: { curricula: Curriculu
         disabled={busy}
         onChange={(e) => {
           set_chosen_id(Number(e.target.value));
-          set_error(null);
-          set_status(null);
+          clear();
         }}
       >
         {curricula.map((c) => (

@@ -1,6 +1,6 @@
 import { useState, type FormEvent } from 'react';
 import { api } from '../api';
-import { error_text } from '../use_resource';
+import { parse_json, useFormAction } from '../use_form_action';
 import { ErrorAlert, StatusMessage } from './alerts';
 
 /**
@@ -12,37 +12,21 @@ export function CurriculumImport({ on_imported }: { on_imported: () => void }) {
   const [file, set_file] = useState<File | null>(null);
   // Changed after an import to give a fresh, empty file input.
   const [input_generation, set_input_generation] = useState(0);
-  const [error, set_error] = useState<string | null>(null);
-  const [status, set_status] = useState<string | null>(null);
-  const [busy, set_busy] = useState(false);
+  const { busy, error, status, run, clear } = useFormAction();
 
   async function on_submit(event: FormEvent<HTMLFormElement>) {
     event.preventDefault();
     if (!file) return;
-    set_error(null);
-    set_status(null);
-    set_busy(true);
-    try {
+    await run(async () => {
       // An editor's byte-order mark is not part of the JSON.
-      const text = (await file.text()).replace(/^\uFEFF/, '');
-      let definition: unknown;
-      try {
-        definition = JSON.parse(text);
-      } catch (reason) {
-        set_error(`Not valid JSON: ${reason instanceof Error ? reason.message : String(reason)}`);
-        return;
-      }
+      const definition = parse_json((await file.text()).replace(/^\uFEFF/, ''));
       // The body is the curriculum definition itself, as in the file; the answer wraps it.
       const created = await api.import_curriculum(definition);
-      set_status(`Imported “${created.name}”.`);
       set_file(null);
       set_input_generation((g) => g + 1);
       on_imported();
-    } catch (reason) {
-      set_error(`Could not import the curriculum: ${error_text(reason)}`);
-    } finally {
-      set_busy(false);
-    }
+      return `Imported “${created.name}”.`;
+    }, 'Could not import the curriculum');
   }
 
   return (
@@ -57,8 +41,7 @@ export function CurriculumImport({ on_imported }: { on_imported: () => void }) {
         aria-describedby="curriculum-file-hint"
         onChange={(e) => {
           set_file(e.target.files?.[0] ?? null);
-          set_error(null);
-          set_status(null);
+          clear();
         }}
       />
       <p className="hint" id="curriculum-file-hint">

@@ -1,7 +1,8 @@
 import { useMemo, useState, type FormEvent } from 'react';
 import { api, type Annotation, type ScoreAdjustment, type User } from '../api';
 import { format_date_time } from '../time';
-import { error_text, useResource } from '../use_resource';
+import { useFormAction } from '../use_form_action';
+import { useResource } from '../use_resource';
 import { ErrorAlert, StatusMessage } from './alerts';
 import { format_seconds } from './format';
 
@@ -62,22 +63,15 @@ function AnnotationList({ annotations, on_seek }: { annotations: Annotation[]; o
 
 function AnnotationForm({ session_id, position_s, on_added }: { session_id: number; position_s: number; on_added: () => void }) {
   const [text, set_text] = useState('');
-  const [error, set_error] = useState<string | null>(null);
-  const [busy, set_busy] = useState(false);
+  const { busy, error, run } = useFormAction();
 
   async function on_submit(event: FormEvent<HTMLFormElement>) {
     event.preventDefault();
-    set_busy(true);
-    set_error(null);
-    try {
+    await run(async () => {
       await api.add_annotation(session_id, Math.max(0, position_s), text.trim());
       set_text('');
       on_added();
-    } catch (reason) {
-      set_error(`Could not add the annotation: ${error_text(reason)}`);
-    } finally {
-      set_busy(false);
-    }
+    }, 'Could not add the annotation');
   }
 
   return (
@@ -113,25 +107,16 @@ function AdjustmentList({ adjustments }: { adjustments: ScoreAdjustment[] }) {
 function AdjustmentForm({ session_id, on_added }: { session_id: number; on_added: () => void }) {
   const [passed, set_passed] = useState(true);
   const [reason, set_reason] = useState('');
-  const [error, set_error] = useState<string | null>(null);
-  const [status, set_status] = useState<string | null>(null);
-  const [busy, set_busy] = useState(false);
+  const { busy, error, status, run } = useFormAction();
 
   async function on_submit(event: FormEvent<HTMLFormElement>) {
     event.preventDefault();
-    set_busy(true);
-    set_error(null);
-    set_status(null);
-    try {
+    await run(async () => {
       await api.adjust_score(session_id, passed, reason.trim());
       set_reason('');
-      set_status(`The attempt now counts as ${passed ? 'passed' : 'not passed'}.`);
       on_added();
-    } catch (reason) {
-      set_error(`Could not adjust the score: ${error_text(reason)}`);
-    } finally {
-      set_busy(false);
-    }
+      return `The attempt now counts as ${passed ? 'passed' : 'not passed'}.`;
+    }, 'Could not adjust the score');
   }
 
   return (

@@ -1,33 +1,26 @@
 import { useState, type FormEvent } from 'react';
 import { api, type Station } from '../api';
-import { error_text } from '../use_resource';
+import { useFormAction } from '../use_form_action';
 import { ErrorAlert } from './alerts';
 
 /** Creates a station and shows its agent token, which the server reveals only this once. */
 export function StationForm({ on_created }: { on_created: (station: Station) => void }) {
   const [name, set_name] = useState('');
   const [location, set_location] = useState('');
-  const [error, set_error] = useState<string | null>(null);
+  const { busy, error, run, set_error } = useFormAction();
   const [created, set_created] = useState<{ station: Station; token: string } | null>(null);
   const [copied, set_copied] = useState(false);
-  const [busy, set_busy] = useState(false);
 
   async function on_submit(event: FormEvent<HTMLFormElement>) {
     event.preventDefault();
-    set_busy(true);
-    set_error(null);
-    try {
+    await run(async () => {
       const result = await api.create_station(name.trim(), location.trim());
       set_created(result);
       set_copied(false);
       set_name('');
       set_location('');
       on_created(result.station);
-    } catch (reason) {
-      set_error(`Could not create the station: ${error_text(reason)}`);
-    } finally {
-      set_busy(false);
-    }
+    }, 'Could not create the station');
   }
 
   async function copy_token(token: string) {

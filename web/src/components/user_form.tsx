@@ -1,7 +1,7 @@
 import { useState, type FormEvent } from 'react';
 import { api, type Role, type User } from '../api';
 import { role_label } from '../pages/access';
-import { error_text } from '../use_resource';
+import { useFormAction } from '../use_form_action';
 import { ErrorAlert, StatusMessage } from './alerts';
 
 const roles: Role[] = ['trainee', 'instructor', 'admin'];
@@ -11,27 +11,18 @@ export function UserForm({ on_created }: { on_created: (user: User) => void }) {
   const [display_name, set_display_name] = useState('');
   const [role, set_role] = useState<Role>('trainee');
   const [password, set_password] = useState('');
-  const [error, set_error] = useState<string | null>(null);
-  const [status, set_status] = useState<string | null>(null);
-  const [busy, set_busy] = useState(false);
+  const { busy, error, status, run } = useFormAction();
 
   async function on_submit(event: FormEvent<HTMLFormElement>) {
     event.preventDefault();
-    set_busy(true);
-    set_error(null);
-    set_status(null);
-    try {
+    await run(async () => {
       const user = await api.create_user({ username: username.trim(), display_name: display_name.trim(), role, password });
-      set_status(`Created ${role_label(user.role).toLowerCase()} “${user.username}”.`);
       set_username('');
       set_display_name('');
       set_password('');
       on_created(user);
-    } catch (reason) {
-      set_error(`Could not create the user: ${error_text(reason)}`);
-    } finally {
-      set_busy(false);
-    }
+      return `Created ${role_label(user.role).toLowerCase()} “${user.username}”.`;
+    }, 'Could not create the user');
   }
 
   return (
