@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Starts the product: the server with its SQLite database (created with demo data on first run)
-# and one simulated station agent. Ctrl-C stops both.
+# and the demo stations' simulated agents. Ctrl-C stops them all.
 #   INCISE_PORT (default 8080), INCISE_HOST (default 127.0.0.1), INCISE_DATA (default ./data)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -17,11 +17,13 @@ mkdir -p "$log_dir"
 
 server_pid=""
 agent_pid=""
+surgical_agent_pid=""
 stop() {
   trap - INT TERM EXIT
   echo
   echo "Stopping..."
   [ -n "$agent_pid" ] && kill -TERM "$agent_pid" 2>/dev/null || true
+  [ -n "$surgical_agent_pid" ] && kill -TERM "$surgical_agent_pid" 2>/dev/null || true
   [ -n "$server_pid" ] && kill -TERM "$server_pid" 2>/dev/null || true
   wait 2>/dev/null || true
   echo "Stopped."
@@ -46,6 +48,11 @@ done
 "$bin/incise-agent" --server "ws://$host:$port/agent" --token incise-demo-station-token \
   2>> "$log_dir/agent.log" &
 agent_pid=$!
+# The surgical station's agent: its simulated scalpel cuts along the liver's marked line every 12 s
+# (deploy/agent/liver_cut_demo.json); its grasper (device 1) is not connected.
+"$bin/incise-agent" --server "ws://$host:$port/agent" --token incise-demo-surgical-station-token \
+  --script "$root/deploy/agent/liver_cut_demo.json" 2>> "$log_dir/surgical-agent.log" &
+surgical_agent_pid=$!
 
 cat <<MSG
 
@@ -56,7 +63,8 @@ cat <<MSG
     instructor  / incise-instructor-demo
     admin       / incise-admin-demo
 
-  Station 1 is connected through a simulated station agent (log: $log_dir/agent.log).
+  Station 1 (palpation) is connected through a simulated station agent (log: $log_dir/agent.log);
+  the Surgical station (the liver task) through another (log: $log_dir/surgical-agent.log).
   Database: $data/incise.db.   Press Ctrl-C to stop.
 
 MSG

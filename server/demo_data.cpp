@@ -29,6 +29,8 @@ bool seed_demo_data(db::Database& db, std::int64_t now) {
   users.set_instructors(trainee_id, {instructor_id}, now);
   const auto station =
       db::StationsRepo(db).create("Station 1", "Skills lab, room 2", kDemoStationToken, now);
+  db::StationsRepo(db).create(kDemoSurgicalStationName, "Skills lab, room 3: scalpel and grasper",
+                              kDemoSurgicalStationToken, now);
 
   // Validated by curriculum/ before it is stored, like every curriculum.
   const auto curriculum = curriculum::parse_curriculum_text(kDemoCurriculumJson);

@@ -253,6 +253,11 @@ void ViewSession::send_metrics() {
     m["peak_strain"] = s->peak_strain;
     m["path_length_m"] = s->path_length_m;
     m["contact"] = s->contact;
+    if (s->surgical) {
+      m["cut_area_m2"] = s->cut_area_m2;
+      m["cut_mean_distance_m"] = s->cut_mean_distance_m;
+      m["never_event"] = s->never_event;
+    }
     if (s->hands > 1) {
       m["tool_2"] = {s->second_tool_tip.x(), s->second_tool_tip.y(), s->second_tool_tip.z()};
       m["force_2_n"] = s->second_force_n.norm();

@@ -14,6 +14,7 @@
 #include "server/api/live_access.h"
 #include "server/api/request_fields.h"
 #include "server/live/scene_library.h"
+#include "server/live/session_scene.h"
 #include "sim/io/scene_json.h"
 #include "sim/scene/scene_error.h"
 
@@ -96,10 +97,14 @@ ApiResponse start_session(ApiContext& ctx) {
 
   live::LiveSessionParams params;
   try {
-    params.scene = sim::parse_scene_text(scene_source->text);
+    params.scene = live::load_session_scene(scene_source->id, scene_source->text);
   } catch (const std::exception& e) {
     throw ApiError(http::status::unprocessable_entity,
                    "scene \"" + task->scene + "\" is invalid: " + e.what());
+  }
+  if (const auto mismatch = live::tools_mismatch(params.scene, task->tools); !mismatch.empty()) {
+    throw ApiError(http::status::unprocessable_entity,
+                   "task \"" + task_key + "\" does not fit its scene: " + mismatch);
   }
   db::TrainingRepo training(db);
   params.session_id = training.create_session(user.id, station_id, task_key, ctx.now);

@@ -13,6 +13,7 @@
 #include "db/audit_repo.h"
 #include "db/recordings_repo.h"
 #include "db/reviews_repo.h"
+#include "db/session_events_repo.h"
 #include "db/training_repo.h"
 #include "db/transaction.h"
 #include "db/users_repo.h"
@@ -139,13 +140,26 @@ ApiResponse session_review(ApiContext& ctx) {
   const auto tick_s = recording->tick_hz > 0 ? 1.0 / recording->tick_hz : 0.002;
   const auto review = live::review_session(ticks, tick_s, events_task, kTimelineInterval);
 
-  auto events = nlohmann::json::array();
+  // The recording's events and those the simulation saw (a surgical scene's grasps, cuts,
+  // collisions and never events), in time order; at equal times the recording's first.
+  std::vector<nlohmann::json> events;
   for (const auto& e : review.events) {
     events.push_back({{"t_s", e.t_s},
                       {"kind", curriculum::event_kind_name(e.kind)},
                       {"hand", e.hand},
-                      {"label", e.label}});
+                      {"label", e.label},
+                      {"source", "recording"}});
   }
+  for (const auto& e : db::SessionEventsRepo(db).list(session.id)) {
+    events.push_back({{"t_s", e.t_s},
+                      {"kind", e.kind},
+                      {"hand", e.hand},
+                      {"label", e.label},
+                      {"source", "simulation"}});
+  }
+  std::stable_sort(events.begin(), events.end(), [](const auto& a, const auto& b) {
+    return a["t_s"].template get<double>() < b["t_s"].template get<double>();
+  });
   return {http::status::ok,
           {{"session_id", session.id},
            {"task", session.task},
@@ -153,7 +167,7 @@ ApiResponse session_review(ApiContext& ctx) {
            {"recording_id", recording->id},
            {"duration_s", recording->duration_s},
            {"expert_run", db::ReviewsRepo(db).is_expert_run(session.id)},
-           {"events", std::move(events)},
+           {"events", nlohmann::json(std::move(events))},
            {"timeline", timeline_json(review.timeline)},
            {"sim_damage", sim_damage_json(db, session.id)},
            {"results", results_json(db, session, task ? &*task : nullptr)}}};

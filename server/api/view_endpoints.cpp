@@ -10,6 +10,7 @@
 #include "server/api/router.h"
 #include "server/live/scene_library.h"
 #include "server/live/scoring.h"
+#include "server/live/session_scene.h"
 #include "sim/io/scene_json.h"
 
 namespace incise::server {
@@ -47,6 +48,7 @@ ViewTarget live_target(ApiContext& ctx, std::int64_t session_id) {
 
 // What a replay needs, read under the database lock; the replay itself is built after it.
 struct ReplayInput {
+  std::string_view scene_id;
   std::string_view scene_text;
   double tick_s = 0;
   std::vector<live::TickRecord> ticks;
@@ -82,7 +84,7 @@ ReplayInput replay_input(ApiContext& ctx, std::int64_t recording_id) {
   }
   auto ticks = live::load_tick_records(db, recording_id);
   if (ticks.empty()) throw ApiError(http::status::conflict, name + " is empty");
-  return {scene->text, 1.0 / meta->tick_hz, std::move(ticks)};
+  return {scene->id, scene->text, 1.0 / meta->tick_hz, std::move(ticks)};
 }
 
 }  // namespace
@@ -116,9 +118,9 @@ std::variant<ViewTarget, Response> resolve_view(const Request& request, AppState
       input = replay_input(ctx, id);
     }
     // Building the engine takes a moment; other requests need not wait for it.
-    return ViewTarget{
-        nullptr, std::make_unique<live::ReplaySession>(sim::parse_scene_text(input->scene_text),
-                                                       input->tick_s, std::move(input->ticks))};
+    return ViewTarget{nullptr, std::make_unique<live::ReplaySession>(
+                                   live::load_session_scene(input->scene_id, input->scene_text),
+                                   input->tick_s, std::move(input->ticks))};
   } catch (const ApiError& e) {
     return json_error(e.status(), e.what(), request.version(), false);
   } catch (const std::exception& e) {

@@ -5,6 +5,7 @@
 
 #include "db/database.h"
 #include "db/recordings_repo.h"
+#include "db/session_events_repo.h"
 #include "db/training_repo.h"
 #include "server/live/scoring.h"
 #include "server/live/tick_record.h"
@@ -44,20 +45,6 @@ const char* to_string(LiveState state) {
       return "finished";
   }
   return "?";
-}
-
-render::Camera camera_for(const sim::Scene& scene) {
-  render::Camera camera;
-  if (scene.view) {
-    camera.eye = scene.view->eye;
-    camera.target = scene.view->target;
-    camera.up = scene.view->up;
-    camera.fov_y_deg = scene.view->fov_y_deg;
-  }
-  const double distance = (camera.eye - camera.target).norm();
-  camera.near_m = std::max(1e-3, distance / 100);
-  camera.far_m = distance * 10;
-  return camera;
 }
 
 // The session's recording: ticks are buffered and written as one chunk per chunk_s, each chunk in
@@ -115,8 +102,7 @@ constexpr double kMaxUnrecordedS = 10.0;
 LiveSession::LiveSession(LiveSessionParams params, AgentLink agent)
     : params_(std::move(params)),
       agent_(std::move(agent)),
-      engine_(params_.scene, 1.0 / params_.tick_hz, hands_for(params_.task)),
-      surface_(std::make_shared<const sim::BoundarySurface>(engine_.surface())) {
+      engine_(params_.scene, 1.0 / params_.tick_hz, hands_for(params_.task)) {
   publish_snapshot();
 }
 
@@ -236,7 +222,7 @@ nlohmann::json LiveSession::status() const {
 }
 
 void LiveSession::publish_snapshot() {
-  snapshot_.publish(make_snapshot(engine_, surface_));
+  snapshot_.publish(make_snapshot(engine_));
   if (streamer_) streamer_->poke();
 }
 
@@ -420,7 +406,11 @@ void LiveSession::run() {
       recordings.finish(params_.recording_id, duration, complete ? engine_.state_hash() : "");
       db::TrainingRepo(*db).set_signal(params_.session_id, "damage_index",
                                        {ticks_per_damage_sample * tick_s, damage_samples});
-      const auto simulated = simulation_metrics(engine_.damage_index(), engine_.peak_strain());
+      std::vector<db::SessionEvent> events;
+      for (const auto& e : engine_.scene_events().events())
+        events.push_back({e.t_s, e.kind, e.hand, e.label});
+      db::SessionEventsRepo(*db).set(params_.session_id, events);
+      const auto simulated = simulation_metrics(engine_.damage());
       score_session(*db, params_.session_id, params_.recording_id, params_.task, tick_s, now,
                     simulated);
     } catch (const std::exception& e) {

@@ -28,6 +28,7 @@
 #include "devices/device_state.h"
 #include "devices/protocol.h"
 #include "server/live/frame_streamer.h"
+#include "server/live/session_scene.h"
 #include "server/live/sim_engine.h"
 #include "server/live/snapshot.h"
 #include "sim/scene/scene.h"
@@ -38,7 +39,7 @@ struct LiveSessionParams {
   std::int64_t session_id = 0;
   std::int64_t station_id = 0;
   std::int64_t recording_id = 0;
-  sim::Scene scene;
+  SessionScene scene = sim::Scene{};
   curriculum::Task task;
   std::filesystem::path db_path;
   double tick_hz = 500;         // simulation ticks per second of real time
@@ -98,7 +99,6 @@ class LiveSession : public StreamSource {
   LiveSessionParams params_;
   AgentLink agent_;
   SimEngine engine_;
-  std::shared_ptr<const sim::BoundarySurface> surface_;
   SnapshotSlot snapshot_;
 
   mutable std::mutex mutex_;
@@ -128,8 +128,5 @@ class LiveSession : public StreamSource {
 
 // The number of hands a task needs: its tools[i] is held by device i (1 or 2).
 int hands_for(const curriculum::Task& task);
-
-// The camera a scene's view asks for (a default one looking at the scene if it has none).
-render::Camera camera_for(const sim::Scene& scene);
 
 }  // namespace incise::server::live

@@ -31,12 +31,12 @@ void replay_tick(SimEngine& engine, const TickRecord& record) {
   engine.tick(inputs);
 }
 
-ReplaySession::ReplaySession(const sim::Scene& scene, double tick_s, std::vector<TickRecord> ticks)
+ReplaySession::ReplaySession(const SessionScene& scene, double tick_s,
+                             std::vector<TickRecord> ticks)
     : engine_(scene, tick_s, hands_of(ticks)),
       camera_(camera_for(scene)),
       tick_s_(tick_s),
-      ticks_(std::move(ticks)),
-      surface_(std::make_shared<const sim::BoundarySurface>(engine_.surface())) {
+      ticks_(std::move(ticks)) {
   // The first recorded input places the tool before anything is drawn.
   checkpoints_.emplace(0, engine_.checkpoint());
   publish_snapshot();
@@ -107,7 +107,7 @@ nlohmann::json ReplaySession::status() const {
 }
 
 void ReplaySession::publish_snapshot() {
-  snapshot_.publish(make_snapshot(engine_, surface_));
+  snapshot_.publish(make_snapshot(engine_));
   if (streamer_) streamer_->poke();
 }
 
@@ -125,7 +125,7 @@ bool ReplaySession::advance_to(std::int64_t target) {
   }
   while (engine_.ticks() < target) {
     replay_tick(engine_, ticks_[static_cast<std::size_t>(engine_.ticks())]);
-    if (engine_.ticks() % kCheckpointTicks == 0) {
+    if (engine_.ticks() % kCheckpointTicks == 0 && engine_.checkpoints_anywhere()) {
       checkpoints_.try_emplace(engine_.ticks(), engine_.checkpoint());
     }
     if (engine_.ticks() % kAbortCheckTicks == 0 && abort_.load()) return false;
@@ -195,7 +195,7 @@ void ReplaySession::run() {
   }
 }
 
-std::string ReplaySession::final_state_hash(const sim::Scene& scene, double tick_s,
+std::string ReplaySession::final_state_hash(const SessionScene& scene, double tick_s,
                                             const std::vector<TickRecord>& ticks) {
   SimEngine engine(scene, tick_s, hands_of(ticks));
   for (const auto& r : ticks)

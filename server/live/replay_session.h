@@ -31,7 +31,7 @@ class ReplaySession : public StreamSource {
   static constexpr double kMaxSpeed = 4.0;
 
   // Throws like SimEngine for a bad scene.
-  ReplaySession(const sim::Scene& scene, double tick_s, std::vector<TickRecord> ticks);
+  ReplaySession(const SessionScene& scene, double tick_s, std::vector<TickRecord> ticks);
   ~ReplaySession() override;
 
   // Starts the replay thread (playing from t = 0 at 1x, as a video would) and the render thread.
@@ -48,7 +48,7 @@ class ReplaySession : public StreamSource {
   nlohmann::json status() const override;
 
   // Runs the whole recording without pacing and returns SimEngine::state_hash() at the end.
-  static std::string final_state_hash(const sim::Scene& scene, double tick_s,
+  static std::string final_state_hash(const SessionScene& scene, double tick_s,
                                       const std::vector<TickRecord>& ticks);
 
  private:
@@ -62,7 +62,6 @@ class ReplaySession : public StreamSource {
   render::Camera camera_;
   double tick_s_;
   std::vector<TickRecord> ticks_;
-  std::shared_ptr<const sim::BoundarySurface> surface_;
   std::map<std::int64_t, SimEngine::Checkpoint> checkpoints_;  // engine thread only
   SnapshotSlot snapshot_;
 

@@ -95,14 +95,26 @@ SessionReview review_session(const std::vector<TickRecord>& ticks, double tick_s
           curriculum::run_timeline(task, right, left, interval_s)};
 }
 
-std::vector<curriculum::MetricValue> simulation_metrics(double damage_index, double peak_strain) {
+std::vector<curriculum::MetricValue> simulation_metrics(const sim::tools::DamageMetrics& damage) {
+  const double on_target =
+      damage.cut_area > 0 ? 1.0 - damage.cut_area_outside_target / damage.cut_area : 0.0;
   return {
-      {"sim_damage_index", damage_index, "",
+      {"sim_damage_index", damage.damage_index, "",
        "Share of the tissue's volume the simulation strained beyond its damage threshold (max "
-       "principal Green strain " +
-           curriculum::shortest_text(kDamageStrain) + ")."},
-      {"sim_peak_strain", peak_strain, "",
+       "principal Green strain; " +
+           curriculum::shortest_text(kDamageStrain) + " in the palpation block)."},
+      {"sim_peak_strain", damage.peak_strain, "",
        "Largest principal Green strain of any tissue element in the simulation."},
+      {"cut_area_m2", damage.cut_area, "m^2",
+       "Area the scalpel cut (rest area of the cut surface, one side); surgical scenes."},
+      {"cut_on_target_fraction", on_target, "",
+       "Share of the cut area within the marked line's band (0 without a cut); surgical scenes."},
+      {"cut_mean_distance_m", damage.cut_mean_distance, "m",
+       "Area-weighted mean distance of the cut surface from the marked line; surgical scenes."},
+      {"cut_max_distance_m", damage.cut_max_distance, "m",
+       "Largest distance of any cut face from the marked line; surgical scenes."},
+      {"sim_never_events", damage.never_event ? 1.0 : 0.0, "count",
+       "Protected structures the scalpel cut (a never event; also counted in never_events)."},
   };
 }
 
@@ -120,7 +132,7 @@ std::vector<curriculum::MetricValue> metric_catalogue() {
   curriculum::Task every_metric;
   every_metric.portal_m = std::array<double, 3>{0, 0, 0};
   auto values = session_metrics(ticks, 0.002, every_metric);
-  for (auto& v : simulation_metrics(0, 0))
+  for (auto& v : simulation_metrics({}))
     values.push_back(std::move(v));
   // Where a key comes twice (the basic metrics and a hand's), the first is the one scored.
   std::vector<curriculum::MetricValue> catalogue;
@@ -140,6 +152,14 @@ std::vector<curriculum::MetricResult> score_session(
     std::span<const curriculum::MetricValue> simulation_values) {
   auto values = session_metrics(load_tick_records(db, recording_id), tick_s, task);
   values.insert(values.end(), simulation_values.begin(), simulation_values.end());
+  // A protected structure the simulation saw cut is a never event like one the recording shows.
+  const auto value_of = [&](std::string_view key) {
+    return std::find_if(values.begin(), values.end(),
+                        [&](const curriculum::MetricValue& v) { return v.key == key; });
+  };
+  const auto never = value_of("never_events");
+  const auto cut_never = value_of("sim_never_events");
+  if (never != values.end() && cut_never != values.end()) never->value += cut_never->value;
   auto results = curriculum::score_attempt(task, values);
   std::vector<db::ScoreInput> scores;
   for (const auto& r : results) {

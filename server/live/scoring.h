@@ -12,6 +12,7 @@
 #include "curriculum/run_events.h"
 #include "db/database.h"
 #include "server/live/tick_record.h"
+#include "sim/tools/damage_metrics.h"
 
 namespace incise::server::live {
 
@@ -43,15 +44,17 @@ struct SessionReview {
 SessionReview review_session(const std::vector<TickRecord>& ticks, double tick_s,
                              const curriculum::Task& task, double interval_s);
 
-// What the simulation measured during a live run that the recording does not hold: its tissue
-// damage (SimEngine::damage_index, peak_strain).
-std::vector<curriculum::MetricValue> simulation_metrics(double damage_index, double peak_strain);
+// What the simulation measured during a live run that the recording does not hold
+// (SimEngine::damage): its tissue damage, and a surgical scene's cuts against the marked line and
+// the protected structures it cut (sim_never_events; score_session counts them as never events).
+std::vector<curriculum::MetricValue> simulation_metrics(const sim::tools::DamageMetrics& damage);
 
 // Every metric a task may score: key, unit and the one-line definition (value 0).
 std::vector<curriculum::MetricValue> metric_catalogue();
 
 // Computes the task's metrics from the recording, adds #simulation_values (simulation_metrics of
-// the run), and stores them as the session's scores (one transaction). Returns the results.
+// the run; its sim_never_events add to never_events), and stores them as the session's scores
+// (one transaction). Returns the results.
 std::vector<curriculum::MetricResult> score_session(
     db::Database& db, std::int64_t session_id, std::int64_t recording_id,
     const curriculum::Task& task, double tick_s, std::int64_t now,

@@ -44,18 +44,40 @@ sim::tools::DamageSettings damage_settings(const sim::TetMesh& mesh) {
 
 }  // namespace
 
-SimEngine::SimEngine(const sim::Scene& scene, double tick_s, int hands)
-    : simulation_(scene),
-      surface_(sim::boundary_surface(simulation_.mesh())),
-      tool_(scene.tool.value_or(sim::SphereTool{})),
-      tick_s_(tick_s),
-      substeps_(substeps_for(scene, tick_s)),
-      hands_(hands),
-      node_forces_(sim::Points::Zero(simulation_.mesh().num_nodes(), 3)),
-      damage_(simulation_.mesh(), damage_settings(simulation_.mesh())) {
+SimEngine::SimEngine(const SessionScene& scene, double tick_s, int hands)
+    : tick_s_(tick_s), hands_(hands) {
   if (hands < 1 || hands > kMaxHands) {
     throw std::invalid_argument("a session has 1 or 2 hands, not " + std::to_string(hands));
   }
+  if (const auto* surgery = scene.surgery()) {
+    surgery_ = std::make_unique<SurgeryWorld>(*surgery, tick_s);
+    substeps_ = surgery_->substeps();
+    return;
+  }
+  const sim::Scene& block = *scene.block();
+  substeps_ = substeps_for(block, tick_s);
+  simulation_.emplace(block);
+  surface_ =
+      std::make_shared<const sim::BoundarySurface>(sim::boundary_surface(simulation_->mesh()));
+  tool_ = block.tool.value_or(sim::SphereTool{});
+  node_forces_ = sim::Points::Zero(simulation_->mesh().num_nodes(), 3);
+  damage_.emplace(simulation_->mesh(), damage_settings(simulation_->mesh()));
+}
+
+const sim::Points& SimEngine::positions() const {
+  return surgery_ ? surgery_->scene().tissue().mesh().x : simulation_->mesh().x;
+}
+
+std::shared_ptr<const sim::BoundarySurface> SimEngine::surface() const {
+  return surgery_ ? surgery_->surface() : surface_;
+}
+
+sim::tools::DamageMetrics SimEngine::damage() const {
+  return surgery_ ? surgery_->scene().damage() : damage_->metrics();
+}
+
+bool SimEngine::state_finite() const {
+  return surgery_ ? surgery_->scene().state_finite() : simulation_->state_finite();
 }
 
 void SimEngine::tick(const devices::DeviceState& input) {
@@ -66,21 +88,31 @@ void SimEngine::tick(std::span<const devices::DeviceState> inputs) {
   const int n = std::min(hands_, static_cast<int>(inputs.size()));
   std::array<sim::Vec3, kMaxHands> from;
   std::array<sim::Vec3, kMaxHands> to;
+  std::array<devices::DeviceState, kMaxHands> from_input;
   for (int h = 0; h < n; ++h) {
     const auto i = static_cast<std::size_t>(h);
     to[i] = to_vec(inputs[i].position);
     from[i] = hand_[i].has_input ? hand_[i].tip : to[i];
+    from_input[i] = hand_[i].has_input ? hand_[i].last_input : inputs[i];
   }
-  for (int s = 1; s <= substeps_; ++s) {
-    const double a = static_cast<double>(s) / substeps_;
-    node_forces_.setZero();
-    for (int h = 0; h < n; ++h) {
-      const auto i = static_cast<std::size_t>(h);
-      const sim::Vec3 centre = (1 - a) * from[i] + a * to[i];
-      hand_[i].contact =
-          sim::apply_sphere_contact(tool_, centre, surface_, simulation_.mesh().x, node_forces_);
+  if (surgery_) {
+    const auto count = static_cast<std::size_t>(n);
+    surgery_->tick(std::span<const devices::DeviceState>(from_input.data(), count),
+                   inputs.first(count));
+    for (std::size_t i = 0; i < count; ++i)
+      hand_[i].contact = surgery_->contact(static_cast<int>(i));
+  } else {
+    for (int s = 1; s <= substeps_; ++s) {
+      const double a = static_cast<double>(s) / substeps_;
+      node_forces_.setZero();
+      for (int h = 0; h < n; ++h) {
+        const auto i = static_cast<std::size_t>(h);
+        const sim::Vec3 centre = (1 - a) * from[i] + a * to[i];
+        hand_[i].contact = sim::apply_sphere_contact(tool_, centre, *surface_,
+                                                     simulation_->mesh().x, node_forces_);
+      }
+      simulation_->step(node_forces_);
     }
-    simulation_.step(node_forces_);
   }
   const sim::Vec3 parked(0, 0, kParkedToolHeight);
   for (int h = 0; h < n; ++h) {
@@ -99,9 +131,13 @@ void SimEngine::tick(std::span<const devices::DeviceState> inputs) {
   metrics_.force_squared_time += force * force * tick_s_;
   if (primary.nodes_in_contact > 0) ++metrics_.contact_ticks;
   ++ticks_;
+  if (surgery_ && !surgery_->events().empty()) {
+    scene_events_.add(surgery_->events(), time_s(), surgery_->setup().spec.tools, damage());
+  }
   // A non-finite state is the session's to report (state_finite); the damage stays as it was.
-  if (ticks_ % kDamageEvery == 0 && simulation_.state_finite()) {
-    damage_.record_strain(simulation_.mesh().x, kDamageEvery * tick_s_);
+  // (A surgical scene tracks its own damage, every spec.damage_every steps.)
+  if (damage_ && ticks_ % kDamageEvery == 0 && simulation_->state_finite()) {
+    damage_->record_strain(simulation_->mesh().x, kDamageEvery * tick_s_);
   }
 }
 
@@ -131,20 +167,30 @@ devices::ForceModel SimEngine::force_model(int hand) const {
 }
 
 SimEngine::Checkpoint SimEngine::checkpoint() const {
-  return {simulation_.save_state(), hand_, metrics_, ticks_,
-          std::make_shared<const sim::tools::DamageTracker>(damage_)};
+  if (surgery_) {
+    if (ticks_ != 0) throw std::logic_error("a surgical scene keeps no checkpoint but its start");
+    return {{}, hand_, metrics_, 0, nullptr};
+  }
+  return {simulation_->save_state(), hand_, metrics_, ticks_,
+          std::make_shared<const sim::tools::DamageTracker>(*damage_)};
 }
 
 void SimEngine::restore(const Checkpoint& c) {
-  simulation_.restore_state(c.simulation);
+  if (surgery_) {
+    if (c.ticks != 0) throw std::logic_error("a surgical scene restores only its start");
+    surgery_->reset();
+    scene_events_.clear();
+  } else {
+    simulation_->restore_state(c.simulation);
+    if (c.damage) *damage_ = *c.damage;
+  }
   hand_ = c.hands;
   metrics_ = c.metrics;
   ticks_ = c.ticks;
-  if (c.damage) damage_ = *c.damage;
 }
 
 std::string SimEngine::state_hash() const {
-  const auto& x = simulation_.mesh().x;
+  const auto& x = positions();
   std::uint64_t h = 14695981039346656037ull;
   const auto* bytes = reinterpret_cast<const unsigned char*>(x.data());
   const std::size_t n = static_cast<std::size_t>(x.size()) * sizeof(double);
@@ -157,13 +203,12 @@ std::string SimEngine::state_hash() const {
   return text;
 }
 
-std::shared_ptr<Snapshot> make_snapshot(const SimEngine& engine,
-                                        std::shared_ptr<const sim::BoundarySurface> surface) {
+std::shared_ptr<Snapshot> make_snapshot(const SimEngine& engine) {
   auto s = std::make_shared<Snapshot>();
   s->tick = engine.ticks();
   s->sim_time_s = engine.time_s();
-  s->surface = std::move(surface);
-  s->positions = engine.simulation().mesh().x;
+  s->surface = engine.surface();
+  s->positions = engine.positions();
   s->tool_tip = engine.tool_tip();
   s->tool_radius = engine.tool().radius;
   s->hands = engine.hands();
@@ -175,8 +220,13 @@ std::shared_ptr<Snapshot> make_snapshot(const SimEngine& engine,
   s->force_n = engine.contact().force_on_tool;
   s->peak_force_n = engine.metrics().peak_force_n;
   s->path_length_m = engine.metrics().path_length_m;
-  s->damage_index = engine.damage_index();
-  s->peak_strain = engine.peak_strain();
+  const auto damage = engine.damage();
+  s->damage_index = damage.damage_index;
+  s->peak_strain = damage.peak_strain;
+  s->surgical = engine.surgery() != nullptr;
+  s->cut_area_m2 = damage.cut_area;
+  s->cut_mean_distance_m = damage.cut_mean_distance;
+  s->never_event = damage.never_event;
   s->published_at = std::chrono::steady_clock::now();
   return s;
 }

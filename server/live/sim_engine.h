@@ -1,18 +1,26 @@
 #pragma once
 // The deterministic heart of a session, shared by live runs and replays: a scene's simulation plus
 // one tool per hand (a station has one or two devices; the task's tools[i] is held by device i),
-// advanced one tick (e.g. 2 ms) per device input. Within a tick each tool tip moves linearly from
-// its previous position to its input's, and every sub-step (the scene's solver.dt) applies the
-// sphere-tip penalty contacts of both. Same scene + same inputs = same state, bit for bit.
+// advanced one tick (e.g. 2 ms) per device input. Same scene + same inputs = same state, bit for
+// bit. Two kinds of scene (session_scene.h):
+//   a sim core scene (the palpation block): within a tick each tool tip moves linearly from its
+//     previous position to its input's, and every sub-step (the scene's solver.dt) applies the
+//     sphere-tip penalty contacts of both;
+//   a surgical scene (liver, knee): the scene's own tools (probe, grasper, scalpel, scope) follow
+//     their devices' inputs, and the scene cuts, grasps and refines (surgery_world.h).
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 
 #include "devices/device_state.h"
 #include "devices/protocol.h"
+#include "server/live/scene_event_log.h"
+#include "server/live/session_scene.h"
 #include "server/live/snapshot.h"
+#include "server/live/surgery_world.h"
 #include "sim/interact/tool_contact.h"
 #include "sim/mesh/boundary_surface.h"
 #include "sim/scene/scene.h"
@@ -40,10 +48,10 @@ struct RunningMetrics {
 
 class SimEngine {
  public:
-  // tick_s: the tick length [s]; must be a whole number of the scene's solver.dt (within 1e-9).
-  // hands: 1 or kMaxHands tools. Throws sim::SceneError for an invalid scene and
-  // std::invalid_argument for a bad tick or hand count.
-  SimEngine(const sim::Scene& scene, double tick_s, int hands = 1);
+  // tick_s: the tick length [s]; for a sim core scene it must be a whole number of the scene's
+  // solver.dt (within 1e-9). hands: 1 or kMaxHands tools. Throws sim::SceneError for an invalid
+  // scene and std::invalid_argument for a bad tick or hand count.
+  SimEngine(const SessionScene& scene, double tick_s, int hands = 1);
 
   static constexpr int kMaxHands = 2;
 
@@ -57,8 +65,16 @@ class SimEngine {
   int substeps() const { return substeps_; }
   std::int64_t ticks() const { return ticks_; }
   double time_s() const { return static_cast<double>(ticks_) * tick_s_; }
-  const sim::Simulation& simulation() const { return simulation_; }
-  const sim::BoundarySurface& surface() const { return surface_; }
+  // The sim core scene's simulation; precondition: !surgery().
+  const sim::Simulation& simulation() const { return *simulation_; }
+  // The surgical scene, or nullptr for a sim core scene.
+  const SurgeryWorld* surgery() const { return surgery_.get(); }
+  // Every tissue node's current position [m] (#nodes by 3; a surgical scene's count changes with
+  // cuts and refinement).
+  const sim::Points& positions() const;
+  // The tissue's boundary for the renderer; a new object only when the topology changed.
+  std::shared_ptr<const sim::BoundarySurface> surface() const;
+  // The sphere tool of a sim core scene (its tip radius is what the renderer draws).
   const sim::SphereTool& tool() const { return tool_; }
   const sim::Vec3& tool_tip(int hand = 0) const { return hand_[hand].tip; }
   const devices::DeviceState& last_input(int hand = 0) const { return hand_[hand].last_input; }
@@ -71,10 +87,16 @@ class SimEngine {
   devices::ForceModel force_model(int hand = 0) const;
   // The simulation's tissue damage so far: damaged rest volume over the tissue's, and the largest
   // principal Green strain any tet reached.
-  double damage_index() const { return damage_.metrics().damage_index; }
-  double peak_strain() const { return damage_.metrics().peak_strain; }
+  double damage_index() const { return damage().damage_index; }
+  double peak_strain() const { return damage().peak_strain; }
+  // Every damage metric (sim/tools/damage_metrics.h): a surgical scene's include its cuts against
+  // the marked line and its never events.
+  sim::tools::DamageMetrics damage() const;
   // Whether the state is finite (the engine resets nothing silently: the session reports it).
-  bool state_finite() const { return simulation_.state_finite(); }
+  bool state_finite() const;
+  // A surgical scene's events so far (grasps, cuts, collisions, never events); none for a sim
+  // core scene.
+  const SceneEventLog& scene_events() const { return scene_events_; }
 
   // One hand's tool: where it is and what it touches.
   struct Hand {
@@ -91,6 +113,9 @@ class SimEngine {
     std::int64_t ticks = 0;
     std::shared_ptr<const sim::tools::DamageTracker> damage;
   };
+  // A surgical scene keeps no checkpoints but its start: checkpoint() at tick 0 only (it throws
+  // std::logic_error elsewhere), and restore() of it rebuilds the scene.
+  bool checkpoints_anywhere() const { return surgery_ == nullptr; }
   Checkpoint checkpoint() const;
   void restore(const Checkpoint& checkpoint);
 
@@ -102,21 +127,22 @@ class SimEngine {
   static constexpr double kMaxForceN = 20.0;
 
  private:
-  sim::Simulation simulation_;
-  sim::BoundarySurface surface_;
+  std::optional<sim::Simulation> simulation_;
+  std::unique_ptr<SurgeryWorld> surgery_;
+  std::shared_ptr<const sim::BoundarySurface> surface_;  // of the sim core scene
   sim::SphereTool tool_;
-  double tick_s_;
-  int substeps_;
-  int hands_;
+  double tick_s_ = 0;
+  int substeps_ = 1;
+  int hands_ = 1;
   sim::Points node_forces_;
   std::array<Hand, kMaxHands> hand_;
   RunningMetrics metrics_;
   std::int64_t ticks_ = 0;
-  sim::tools::DamageTracker damage_;
+  std::optional<sim::tools::DamageTracker> damage_;  // of the sim core scene
+  SceneEventLog scene_events_;
 };
 
 // The engine's current state as an immutable snapshot for the renderer and the viewers.
-std::shared_ptr<Snapshot> make_snapshot(const SimEngine& engine,
-                                        std::shared_ptr<const sim::BoundarySurface> surface);
+std::shared_ptr<Snapshot> make_snapshot(const SimEngine& engine);
 
 }  // namespace incise::server::live

@@ -31,6 +31,12 @@ struct Snapshot {
   double path_length_m = 0;
   double damage_index = 0;  // the simulation's damaged tissue volume fraction (SimEngine)
   double peak_strain = 0;   // the largest principal Green strain so far [-]
+  // A surgical scene's cuts (surgical only): their area (rest, one side) and mean distance to the
+  // marked line, and whether a protected structure was cut (a never event).
+  bool surgical = false;
+  double cut_area_m2 = 0;
+  double cut_mean_distance_m = 0;
+  bool never_event = false;
   std::chrono::steady_clock::time_point published_at;
 };
 

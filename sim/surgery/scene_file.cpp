@@ -167,6 +167,8 @@ const ToolSetting kToolSettings[] = {
      0, false, kInfinity},
     {"jaw_length", bit(ToolKind::grasper), [](ToolSpec& t) -> Real& { return t.grasp.jaw_length; },
      0, false, kInfinity},
+    {"reach", bit(ToolKind::grasper), [](ToolSpec& t) -> Real& { return t.grasp.reach; }, 0, true,
+     kInfinity},
     {"max_jaw_angle", bit(ToolKind::grasper), [](ToolSpec& t) -> Real& { return t.max_jaw_angle; },
      0, false, std::numbers::pi},
     {"blade_length", bit(ToolKind::scalpel), [](ToolSpec& t) -> Real& { return t.blade_length; }, 0,
@@ -190,7 +192,7 @@ ToolSpec read_tool(const json& value, const std::string& path,
   const JsonObjectReader o(
       value, path,
       {"kind", "device", "shaft_length", "shaft_radius", "radius", "coupling_stiffness",
-       "max_force", "tear_force", "jaw_length", "max_jaw_angle", "blade_length",
+       "max_force", "tear_force", "jaw_length", "reach", "max_jaw_angle", "blade_length",
        "view_angle_degrees", "field_of_view_degrees"});
   const std::string name = o.string("kind");
   const auto* found = std::find_if(std::begin(kToolKinds), std::end(kToolKinds),

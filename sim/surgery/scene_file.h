@@ -20,7 +20,8 @@
 // A tool starts from the preset's default tool of its kind (the knee's probe has a 1.5 mm hook
 // tip, its scope a 4 mm shaft), else from ToolSpec's defaults. Its settings and the kinds they
 // belong to: shaft_length, shaft_radius (all); radius (probe); coupling_stiffness, max_force
-// (probe, scope); tear_force, jaw_length, max_jaw_angle [rad] (grasper); blade_length (scalpel);
+// (probe, scope); tear_force, jaw_length, reach, max_jaw_angle [rad] (grasper); blade_length
+// (scalpel);
 // view_angle_degrees, field_of_view_degrees (scope). A setting on a kind it does not belong to is
 // refused, as is any unknown member. The time step is the preset's (the tissue's stable step).
 //

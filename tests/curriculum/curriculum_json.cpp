@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <functional>
 #include <sstream>
@@ -43,7 +44,7 @@ TEST(CurriculumJson, DemoFileParses) {
   ASSERT_FALSE(text.empty()) << INCISE_DEMO_CURRICULUM;
   const Curriculum curriculum = parse_curriculum_text(text);
   EXPECT_EQ(curriculum.name, "Basic laparoscopic skills");
-  ASSERT_EQ(curriculum.modules.size(), 1u);
+  ASSERT_EQ(curriculum.modules.size(), 2u);
   ASSERT_EQ(curriculum.modules[0].tasks.size(), 2u);
   // The second task is two-handed: its tools are held by devices 0 and 1.
   const Task& bimanual = curriculum.modules[0].tasks[1];
@@ -74,6 +75,20 @@ TEST(CurriculumJson, DemoFileParses) {
   EXPECT_EQ(task.never_force_n, 12.0);
   EXPECT_TRUE(bimanual.protected_zones.empty());
   EXPECT_EQ(bimanual.never_force_n, 0.0);
+  // The liver task cuts in a surgical scene, scalpel right and grasper left, after the two-handed
+  // palpation; scored on the cut and never events.
+  ASSERT_EQ(curriculum.modules[1].tasks.size(), 1u);
+  const Task& cut = curriculum.modules[1].tasks[0];
+  EXPECT_EQ(cut.key, "liver_cut");
+  EXPECT_EQ(cut.scene, "scenes/surgery/liver_station.json");
+  EXPECT_EQ(cut.tools, (std::vector<std::string>{"scalpel", "grasper"}));
+  EXPECT_EQ(cut.prerequisites, std::vector<std::string>{"bimanual_palpation"});
+  const auto scored = [&](const std::string& key) {
+    return std::any_of(cut.metrics.begin(), cut.metrics.end(),
+                       [&](const MetricRequirement& m) { return m.key == key; });
+  };
+  for (const char* key : {"cut_area_m2", "cut_on_target_fraction", "never_events"})
+    EXPECT_TRUE(scored(key)) << key;
   EXPECT_EQ(parse_curriculum(to_json(curriculum)), curriculum);
 }
 

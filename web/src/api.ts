@@ -153,7 +153,7 @@ export interface Benchmark extends BenchmarkStats {
   unit: string;
 }
 
-export type EventKind = 'contact' | 'grasp' | 'cut' | 'collision' | 'never_event' | 'target';
+export type EventKind = 'contact' | 'grasp' | 'release' | 'cut' | 'collision' | 'never_event' | 'target';
 
 export interface RunEvent {
   t_s: number;
@@ -161,6 +161,8 @@ export interface RunEvent {
   /** 0: device 0 (right hand), 1: device 1 (left hand). */
   hand: number;
   label: string;
+  /** Found in the recorded input, or seen by the simulation (a surgical scene's grasps, cuts...). */
+  source: 'recording' | 'simulation';
 }
 
 /** One metric of an attempt against its threshold and the experts (GET /api/sessions/{id}/review). */

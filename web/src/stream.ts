@@ -61,6 +61,11 @@ export interface StreamMetrics {
   /** The simulation's damaged share of the tissue volume and the largest strain so far. */
   damage_index?: number;
   peak_strain?: number;
+  /** Surgical scenes only: the area cut [m^2], its mean distance from the marked line [m], and
+   * whether a protected structure was cut. */
+  cut_area_m2?: number;
+  cut_mean_distance_m?: number;
+  never_event?: boolean;
   contact: boolean;
   steps: number;
   sim_rate_hz: number;

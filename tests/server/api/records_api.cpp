@@ -76,11 +76,13 @@ TEST_F(RecordsApi, SessionShape) {
 
 TEST_F(RecordsApi, StationsShowWhetherAnAgentIsOnline) {
   const auto list = json_of(get("/api/stations", session_of(Who::trainee)));
-  ASSERT_EQ(list.size(), 1u);
+  ASSERT_EQ(list.size(), 2u);  // the demo's palpation bench and surgical station
   EXPECT_EQ(list[0], (nlohmann::json{{"id", demo_station_id()},
                                      {"name", "Station 1"},
                                      {"location", "Skills lab, room 2"},
                                      {"online", false}}));
+  EXPECT_EQ(list[1]["name"], "Surgical station");
+  EXPECT_EQ(list[1]["online"], false);
 }
 
 TEST_F(RecordsApi, AdminsCreateStationsWithATokenShownOnce) {
@@ -92,7 +94,7 @@ TEST_F(RecordsApi, AdminsCreateStationsWithATokenShownOnce) {
   EXPECT_EQ(body["station"]["location"], "");
   EXPECT_EQ(body["station"]["online"], false);
   EXPECT_EQ(body["token"].get<std::string>().size(), 64u);
-  EXPECT_EQ(json_of(get("/api/stations", token)).size(), 2u);
+  EXPECT_EQ(json_of(get("/api/stations", token)).size(), 3u);
   EXPECT_EQ(json_of(get("/api/stations", token)).dump().find(body["token"].get<std::string>()),
             std::string::npos);
   EXPECT_TRUE(

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -98,43 +99,53 @@ class Viewer {
   WsClient ws_;
 };
 
+// The demo data's stations: Station 1 (the palpation bench) and the surgical station (scalpel and
+// grasper).
+struct Station {
+  int id = 1;
+  const char* token = kStationToken;
+};
+constexpr Station kBench{1, kStationToken};
+constexpr Station kSurgical{2, "incise-demo-surgical-station-token"};
+
 class LiveSession : public ServerTest {
  protected:
-  // The real agent for Station 1; extra arguments (devices) after the defaults, and the port it
-  // connects to (the server's unless a proxy sits between).
-  std::unique_ptr<ChildProcess> start_agent(std::vector<std::string> extra = {}, int port = 0) {
+  // The real agent for a station (Station 1 unless said); extra arguments (devices) after the
+  // defaults, and the port it connects to (the server's unless a proxy sits between).
+  std::unique_ptr<ChildProcess> start_agent(std::vector<std::string> extra = {}, int port = 0,
+                                            Station station = kBench) {
     std::vector<std::string> args = {
         INCISE_AGENT_BIN,
         "--server",
         "ws://127.0.0.1:" + std::to_string(port ? port : server().port()) + "/agent",
         "--token",
-        kStationToken,
+        station.token,
         "--rate",
         "500"};
     args.insert(args.end(), extra.begin(), extra.end());
     auto agent = std::make_unique<ChildProcess>(args);
     const auto deadline = Clock::now() + 5s;
-    while (Clock::now() < deadline && !station_online())
+    while (Clock::now() < deadline && !station_online(station.id))
       std::this_thread::sleep_for(20ms);
     return agent;
   }
 
-  bool station_online() {
+  bool station_online(int station_id = kBench.id) {
     for (const auto& s : as(kTrainee).get("/api/stations").json()) {
-      if (s["id"] == 1) return s["online"].get<bool>();
+      if (s["id"] == station_id) return s["online"].get<bool>();
     }
     return false;
   }
 
-  // A booking of Station 1 for the trainee covering now (the quarter hour in progress).
-  std::int64_t book_now() {
+  // A booking of a station for the trainee covering now (the quarter hour in progress).
+  std::int64_t book_now(int station_id = kBench.id) {
     const auto now = std::chrono::duration_cast<std::chrono::seconds>(
                          std::chrono::system_clock::now().time_since_epoch())
                          .count();
     const auto start = now - now % 900;
-    const auto response = as(kTrainee).post(
-        "/api/bookings",
-        {{"station_id", 1}, {"starts_at", utc_text(start)}, {"ends_at", utc_text(start + 3600)}});
+    const auto response = as(kTrainee).post("/api/bookings", {{"station_id", station_id},
+                                                              {"starts_at", utc_text(start)},
+                                                              {"ends_at", utc_text(start + 3600)}});
     EXPECT_EQ(response.status, 201) << response.body;
     return response.json().value("id", 0);
   }
@@ -151,11 +162,13 @@ class LiveSession : public ServerTest {
     std::int64_t recording = 0;
   };
   void start_booked_session(Running& out, const std::string& task = "palpation",
-                            std::vector<std::string> agent_args = {}, int agent_port = 0) {
-    out.agent = start_agent(std::move(agent_args), agent_port);
-    ASSERT_TRUE(station_online()) << out.agent->stderr_text();
-    out.booking = book_now();
-    const auto started = as(kTrainee).post("/api/sessions", {{"station_id", 1}, {"task", task}});
+                            std::vector<std::string> agent_args = {}, int agent_port = 0,
+                            Station station = kBench) {
+    out.agent = start_agent(std::move(agent_args), agent_port, station);
+    ASSERT_TRUE(station_online(station.id)) << out.agent->stderr_text();
+    out.booking = book_now(station.id);
+    const auto started =
+        as(kTrainee).post("/api/sessions", {{"station_id", station.id}, {"task", task}});
     ASSERT_EQ(started.status, 201) << started.body;
     EXPECT_EQ(started.json()["live"]["state"], "running");
     out.session = started.json()["id"].get<std::int64_t>();
@@ -647,6 +660,89 @@ TEST_F(LiveSession, AStationsCalibrationMapsItsDeviceIntoTheScene) {
   }
   // Back to identity mappings for the other tests, now that no session runs.
   ASSERT_EQ(as(kAdmin).put(path, identity).status, 200);
+}
+
+// The surgical station: the liver scene live, its scalpel and grasper bound to the station's two
+// devices. The agent plays the demo's liver cut (deploy/agent/liver_cut_demo.json): the scalpel
+// enters at the marked line's start, draws along it 6 mm deep and withdraws at its end.
+constexpr double kLiverStrokeEndS = 10.5;
+
+TEST_F(LiveSession, TheSurgicalStationCutsTheLiverLiveScoresTheCutAndReplaysIt) {
+  Running run;
+  const std::string script = std::string(INCISE_SOURCE_DIR) + "/deploy/agent/liver_cut_demo.json";
+  ASSERT_NO_FATAL_FAILURE(
+      start_booked_session(run, "liver_cut", {"--script", script}, 0, kSurgical));
+  const EndRun end_run(*this, run);
+  const auto sid = std::to_string(run.session);
+  {
+    auto viewer = view("/api/sessions/" + sid + "/view?fps=10&width=320&height=240");
+    // The stroke is over once the blade has left the tissue above the line's end (t = 10 s).
+    ASSERT_TRUE(viewer->read_until(
+        [&] { return viewer->metrics.value("sim_time_s", 0.0) > kLiverStrokeEndS; }, 60s))
+        << viewer->metrics.dump() << run.agent->stderr_text();
+    EXPECT_EQ(viewer->metrics["hands"], 2);
+    EXPECT_GT(viewer->metrics["cut_area_m2"].get<double>(), 30e-6);
+    EXPECT_LT(viewer->metrics["cut_mean_distance_m"].get<double>(), 0.003);
+    EXPECT_FALSE(viewer->metrics["never_event"].get<bool>());
+    ASSERT_FALSE(viewer->frames.empty());
+    const auto picture = render::decode_jpeg(viewer->frames.back().jpeg);
+    EXPECT_EQ(picture.width, 320);
+    EXPECT_FALSE(viewer->metrics.contains("render_error")) << viewer->metrics.dump();
+  }
+  const auto stopped =
+      as(kTrainee).post("/api/sessions/" + sid + "/stop", nlohmann::json::object());
+  ASSERT_EQ(stopped.status, 200) << stopped.body;
+
+  // Scored on the task's metrics: the cut from the simulation, never events from both.
+  const auto score = [&](const std::string& metric) {
+    return std::stod(db_text("SELECT value FROM scores WHERE metric = '" + metric +
+                             "' AND session_id = " + sid));
+  };
+  const auto passed = [&](const std::string& metric) {
+    return db_int("SELECT passed FROM scores WHERE metric = '" + metric +
+                  "' AND session_id = " + sid) == 1;
+  };
+  EXPECT_GT(score("cut_area_m2"), 60e-6);
+  EXPECT_GE(score("cut_on_target_fraction"), 0.8);
+  EXPECT_EQ(score("never_events"), 0);
+  for (const char* metric : {"cut_area_m2", "cut_on_target_fraction", "never_events"})
+    EXPECT_TRUE(passed(metric)) << metric;
+
+  // The simulation's events are stored: the stroke is one cut by the right hand.
+  EXPECT_EQ(db_int("SELECT COUNT(*) FROM session_events WHERE kind = 'cut' AND hand = 0 AND "
+                   "session_id = " +
+                   sid),
+            1);
+  const auto review = as(kInstructor).get("/api/sessions/" + sid + "/review");
+  ASSERT_EQ(review.status, 200) << review.body;
+  const auto body = review.json();
+  const auto& events = body["events"];
+  const auto cut = std::find_if(events.begin(), events.end(), [](const nlohmann::json& e) {
+    return e["kind"] == "cut" && e["source"] == "simulation";
+  });
+  ASSERT_NE(cut, events.end()) << events.dump();
+  // The blade reaches the tissue 3 s into the agent's script (which started a moment before the
+  // session).
+  EXPECT_GT((*cut)["t_s"].get<double>(), 1.0);
+  EXPECT_LT((*cut)["t_s"].get<double>(), kLiverStrokeEndS);
+
+  // The replay re-runs the liver and ends in the very same state.
+  const auto rid = std::to_string(run.recording);
+  const auto final_hash = db_text("SELECT final_state_hash FROM recordings WHERE id = " + rid);
+  ASSERT_EQ(final_hash.size(), 16u);
+  auto replay = view("/api/recordings/" + rid + "/replay?fps=5&width=160&height=120", kInstructor);
+  replay->send({{"type", "speed"}, {"value", 4}});
+  replay->send({{"type", "play"}});
+  ASSERT_TRUE(
+      replay->read_until([&] { return replay->metrics.value("state", "") == "ended"; }, 90s))
+      << replay->metrics.dump();
+  EXPECT_EQ(replay->metrics["state_hash"], final_hash);
+  // A seek backwards rebuilds the scene and runs it forward again.
+  replay->send({{"type", "seek"}, {"t", 1.0}});
+  ASSERT_TRUE(replay->read_until(
+      [&] { return std::abs(replay->metrics.value("sim_time_s", -1.0) - 1.0) < 0.01; }, 20s))
+      << replay->metrics.dump();
+  EXPECT_EQ(replay->metrics["cut_area_m2"], 0.0);
 }
 
 }  // namespace

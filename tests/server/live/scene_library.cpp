@@ -5,12 +5,14 @@
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
 #include "sim/io/scene_json.h"
 #include "sim/scene/scene_validation.h"
 #include "sim/scene/simulation.h"
+#include "sim/surgery/scene_file.h"
 
 namespace incise::server::live {
 namespace {
@@ -54,6 +56,25 @@ TEST(SceneLibrary, EverySceneOfTheSourceTreeIsEmbedded) {
     ++count;
   }
   EXPECT_GE(count, 2);  // palpation.json and clamped_box.json at least
+}
+
+TEST(SceneLibrary, EverySurgicalSceneIsEmbeddedUnderScenesSurgery) {
+  const auto dir = std::filesystem::path(__FILE__).parent_path() / "../../../sim/scenes/surgery";
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().extension() != ".json") continue;
+    const auto name = "surgery/" + entry.path().filename().string();
+    const auto source = find_scene("scenes/" + name);
+    ASSERT_TRUE(source.has_value()) << name;
+    EXPECT_EQ(source->text, read_source_scene(name)) << name;
+    // Read and validated (not meshed: that is the surgery tests' and a session's).
+    EXPECT_NO_THROW(sim::surgery::parse_surgical_scene_file(nlohmann::json::parse(source->text)))
+        << name;
+    ++count;
+  }
+  EXPECT_GE(count, 3);  // liver_surgery, knee_surgery and liver_station at least
+  // The scripts folder holds tool scripts, not scenes.
+  EXPECT_FALSE(find_scene("scenes/surgery/scripts/liver_cut.json").has_value());
 }
 
 TEST(SceneLibrary, UnknownIdsAreNotFound) {

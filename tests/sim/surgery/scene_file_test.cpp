@@ -160,7 +160,8 @@ TEST(SceneFile, DefaultsAreThePresets) {
   const SurgicalSceneFile knee = parse_surgical_scene_file(json::parse(R"({
     "anatomy": "knee", "anatomy_options": {"flexion_deg": 30},
     "materials": {"ligament": {"E": 80000}},
-    "tools": [{"kind": "probe", "device": 1}, {"kind": "grasper", "device": 0, "tear_force": 2}],
+    "tools": [{"kind": "probe", "device": 1},
+              {"kind": "grasper", "device": 0, "tear_force": 2, "reach": 0.007}],
     "ambient_damping": 0, "solver": {"cut_every": 5},
     "adaptivity": {"enabled": true, "radius": 0.02}})"));
   const KneeSceneOptions knee_preset;
@@ -173,6 +174,7 @@ TEST(SceneFile, DefaultsAreThePresets) {
   expect_same_tool(knee.knee.tools[0], knee_preset.tools[1], 0);  // the hook probe
   ToolSpec grasper = make_tool(ToolKind::grasper, 0);
   grasper.grasp.tear_force = 2;
+  grasper.grasp.reach = 0.007;
   expect_same_tool(knee.knee.tools[1], grasper, 1);
   EXPECT_EQ(knee.cut_every, 5);
   EXPECT_EQ(knee.knee.ambient_damping, 0);
@@ -245,8 +247,12 @@ TEST(SceneFile, EveryBadInputNamesItsPath) {
        "tools[0].max_jaw_angle: must be in (0, 3.141592653589793) (got 4)"},
       {R"({"anatomy": "liver", "tools": [{"kind": "probe", "device": 0, "shaft": 1}]})",
        "tools[0].shaft: unknown key (expected one of: kind, device, shaft_length, shaft_radius, "
-       "radius, coupling_stiffness, max_force, tear_force, jaw_length, max_jaw_angle, "
+       "radius, coupling_stiffness, max_force, tear_force, jaw_length, reach, max_jaw_angle, "
        "blade_length, view_angle_degrees, field_of_view_degrees)"},
+      {R"({"anatomy": "liver", "tools": [{"kind": "grasper", "device": 0, "reach": -0.001}]})",
+       "tools[0].reach: must be >= 0 (got -0.001)"},
+      {R"({"anatomy": "liver", "tools": [{"kind": "scalpel", "device": 0, "reach": 0.005}]})",
+       "tools[0].reach: is a setting of grasper, not of a scalpel"},
       {R"({"anatomy": "liver", "materials": {"liver": {"nu": 0.5}}})",
        "materials.liver.nu: must be in (-1, 0.5) (got 0.5)"},
       {R"({"anatomy": "liver", "materials": {"liver": {"E": "4"}}})",

@@ -10,6 +10,7 @@ import { event_colors, TimelineChart, type TimelineSeries } from './timeline_cha
 const event_names: Record<RunEvent['kind'], string> = {
   contact: 'Contact',
   grasp: 'Grasp',
+  release: 'Release',
   cut: 'Cut',
   collision: 'Collision',
   never_event: 'Never event',
@@ -103,12 +104,14 @@ function ReviewBody({ review, position_s, on_seek }: { review: Review; position_
                   className="event-marker"
                   data-testid="event-marker"
                   data-kind={e.kind}
+                  data-source={e.source}
+                  title={e.label}
                   style={{ borderColor: event_colors[e.kind] }}
                   aria-label={`Jump to ${event_names[e.kind].toLowerCase()} at ${format_seconds(e.t_s)}: ${e.label}`}
                   onClick={() => on_seek(e.t_s)}
                 >
                   <span className="event-dot" style={{ background: event_colors[e.kind] }} />
-                  {event_names[e.kind]} · {format_seconds(e.t_s)} · {hand_names[e.hand] ?? `hand ${e.hand}`}
+                  {event_names[e.kind]} · {format_seconds(e.t_s)} · {hand_names[e.hand] ?? 'no hand'}
                 </button>
               </li>
             ))}

@@ -36,6 +36,17 @@ const rows: Row[] = [
     label: 'Tissue damaged',
     value: (m) => `${((m.damage_index ?? 0) * 100).toFixed(2)} %`,
   },
+  {
+    key: 'cut',
+    label: 'Cut',
+    value: (m) =>
+      `${((m.cut_area_m2 ?? 0) * 1e6).toFixed(1)} mm², ${((m.cut_mean_distance_m ?? 0) * 1e3).toFixed(1)} mm from the line on average`,
+  },
+  {
+    key: 'never_event',
+    label: 'Protected structure cut',
+    value: (m) => (m.never_event ? 'Yes: never event' : 'No'),
+  },
   { key: 'contact', label: 'Tool contact', value: (m) => (m.contact ? 'Yes' : 'No') },
   {
     key: 'force_2_n',
@@ -71,10 +82,15 @@ const rows: Row[] = [
  * leave out the second tool.
  */
 const live_only = new Set(['agent_online', 'link', 'haptic_loop', 'haptic_devices']);
+/** Rows only a surgical scene (one that cuts) has. */
+const surgical_only = new Set(['cut', 'never_event']);
 
 export function LiveMetrics({ metrics, fps, replay }: { metrics: StreamMetrics | null; fps: number | null; replay: boolean }) {
   const shown = rows.filter(
-    (row) => !(replay && live_only.has(row.key)) && !(row.key === 'force_2_n' && (metrics?.hands ?? 1) < 2),
+    (row) =>
+      !(replay && live_only.has(row.key)) &&
+      !(row.key === 'force_2_n' && (metrics?.hands ?? 1) < 2) &&
+      !(surgical_only.has(row.key) && metrics?.cut_area_m2 === undefined),
   );
   return (
     <dl className="metrics" aria-label={replay ? 'Replay metrics' : 'Live metrics'}>

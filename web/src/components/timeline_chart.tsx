@@ -9,6 +9,7 @@ const chart_height = 120;
 export const event_colors: Record<EventKind, string> = {
   contact: '#2f6fb3',
   grasp: '#7b4fb3',
+  release: '#a58bd0',
   cut: '#b36b00',
   collision: '#c0392b',
   never_event: '#7f0000',

@@ -1,0 +1,76 @@
+#include "server/live/session_scene.h"
+
+#include <algorithm>
+
+#include "sim/io/scene_json.h"
+#include "sim/surgery/scene_file.h"
+
+namespace incise::server::live {
+
+SessionScene load_session_scene(std::string_view id, std::string_view text) {
+  if (id.starts_with(kSurgicalScenePrefix)) {
+    return SessionScene(std::make_shared<const sim::surgery::SurgicalSceneSetup>(
+        sim::surgery::parse_surgical_scene(text)));
+  }
+  return SessionScene(sim::parse_scene_text(text));
+}
+
+std::string tools_mismatch(const SessionScene& scene, const std::vector<std::string>& tools) {
+  const auto* surgery = scene.surgery();
+  if (surgery == nullptr) return "";
+  for (std::size_t i = 0; i < tools.size(); ++i) {
+    std::vector<std::string_view> held;
+    for (const auto& t : (*surgery)->spec.tools) {
+      if (t.device == static_cast<int>(i)) held.push_back(sim::surgery::to_string(t.kind));
+    }
+    if (std::find(held.begin(), held.end(), tools[i]) != held.end()) continue;
+    std::string what = "tools[" + std::to_string(i) + "] is \"" + tools[i] + "\" but the scene ";
+    if (held.empty()) return what + "has no tool on device " + std::to_string(i);
+    what += "gives device " + std::to_string(i) + " a";
+    for (std::size_t k = 0; k < held.size(); ++k)
+      what += std::string(k == 0 ? " " : " and a ") + std::string(held[k]);
+    return what;
+  }
+  return "";
+}
+
+namespace {
+
+render::Camera with_clip_planes(render::Camera camera) {
+  const double distance = (camera.eye - camera.target).norm();
+  camera.near_m = std::max(1e-3, distance / 100);
+  camera.far_m = distance * 10;
+  return camera;
+}
+
+}  // namespace
+
+render::Camera camera_for(const SessionScene& scene) {
+  render::Camera camera;
+  if (const sim::Scene* block = scene.block()) {
+    if (block->view) {
+      camera.eye = block->view->eye;
+      camera.target = block->view->target;
+      camera.up = block->view->up;
+      camera.fov_y_deg = block->view->fov_y_deg;
+    }
+    return with_clip_planes(camera);
+  }
+  const auto& setup = **scene.surgery();
+  const sim::Points& rest = setup.spec.tissue.rest;
+  const sim::Vec3 low = rest.colwise().minCoeff().transpose();
+  const sim::Vec3 high = rest.colwise().maxCoeff().transpose();
+  sim::Vec3 target = 0.5 * (low + high);
+  if (!setup.cut_target.empty()) {
+    target = 0.5 * (setup.cut_target.front() + setup.cut_target.back());
+  }
+  // As a laparoscope sees an organ: from above and a little in front, the whole organ in view.
+  const double extent = (high - low).norm();
+  camera.target = target;
+  camera.eye = target + extent * sim::Vec3(0, -0.45, 0.75);
+  camera.up = sim::Vec3::UnitZ();
+  camera.fov_y_deg = 45;
+  return with_clip_planes(camera);
+}
+
+}  // namespace incise::server::live

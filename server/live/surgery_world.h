@@ -1,0 +1,61 @@
+#pragma once
+// A surgical scene (sim/surgery/) hosted by a session's SimEngine: the station's device i drives
+// the scene's tools bound to device i (the task's tools[i]). One tick is a whole number of the
+// scene's steps; the scene's dt is shortened to tick / ceil(tick / dt) (a shorter step is as
+// stable). Within a tick each hand's tip and jaw move linearly and its orientation by slerp from
+// the previous input to the new one. Deterministic, like the scene.
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "devices/device_state.h"
+#include "sim/interact/tool_contact.h"
+#include "sim/mesh/boundary_surface.h"
+#include "sim/surgery/scene_presets.h"
+#include "sim/surgery/surgical_scene.h"
+
+namespace incise::server::live {
+
+class SurgeryWorld {
+ public:
+  // Throws std::invalid_argument for a bad tick (or as SurgicalScene does for a bad spec).
+  SurgeryWorld(std::shared_ptr<const sim::surgery::SurgicalSceneSetup> setup, double tick_s);
+
+  int substeps() const { return substeps_; }
+  // One tick: hand h from from[h] to to[h] (from.size() == to.size()).
+  void tick(std::span<const devices::DeviceState> from, std::span<const devices::DeviceState> to);
+  // Back to the scene's start (a replay's seek backwards: the scene keeps no checkpoints).
+  void reset();
+
+  // What device `hand` feels: the force on the hand and the PSD stiffness of its tools' local
+  // force models (SurgicalScene::force_model), and 1 node in contact while one of them touches.
+  const sim::ToolContact& contact(int hand) const {
+    return contacts_[static_cast<std::size_t>(hand)];
+  }
+
+  const sim::surgery::SurgicalScene& scene() const { return *scene_; }
+  const sim::surgery::SurgicalSceneSetup& setup() const { return *setup_; }
+  // The tissue's boundary; a new object whenever the topology changed (cuts, refinement).
+  const std::shared_ptr<const sim::BoundarySurface>& surface() const { return surface_; }
+  // The scene's events of the last tick (grab, release, cut, collision, never event).
+  const std::vector<sim::surgery::SceneEvent>& events() const { return events_; }
+
+ private:
+  void follow_surface();
+
+  std::shared_ptr<const sim::surgery::SurgicalSceneSetup> setup_;
+  double dt_ = 0;
+  int substeps_ = 1;
+  std::unique_ptr<sim::surgery::SurgicalScene> scene_;
+  std::vector<sim::surgery::ToolInput> inputs_;
+  std::array<sim::ToolContact, 2> contacts_;  // per hand (SimEngine::kMaxHands)
+  std::shared_ptr<const sim::BoundarySurface> surface_;
+  std::vector<sim::surgery::SceneEvent> events_;
+};
+
+// The scene's input for a device state: tip, orientation (normalised), jaw, buttons.
+sim::surgery::ToolInput tool_input(const devices::DeviceState& state);
+
+}  // namespace incise::server::live

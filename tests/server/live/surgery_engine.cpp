@@ -1,0 +1,253 @@
+// A surgical scene hosted by a session's engine (server/live/surgery_world.h, sim_engine.h,
+// scene_event_log.h): the liver station scene as the server embeds it, the scalpel on device 0
+// and the grasper on device 1 driven tick by tick as a station's devices would drive them.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "server/live/scene_library.h"
+#include "server/live/scoring.h"
+#include "server/live/session_scene.h"
+#include "server/live/sim_engine.h"
+
+namespace incise::server::live {
+namespace {
+
+constexpr const char* kLiverId = "scenes/surgery/liver_station.json";
+constexpr double kTickS = 0.002;
+constexpr double kDepth = 0.006;  // how deep the blade's tip goes below the marked line [m]
+
+// The scene, meshed once for the whole suite (about a second).
+const SessionScene& liver() {
+  static const SessionScene scene = [] {
+    const auto source = find_scene(kLiverId);
+    if (!source) throw std::runtime_error("the liver station scene is not embedded");
+    return load_session_scene(source->id, source->text);
+  }();
+  return scene;
+}
+const sim::surgery::SurgicalSceneSetup& setup() {
+  return **liver().surgery();
+}
+
+sim::Vec3 place(const std::string& name) {
+  for (const auto& l : setup().landmarks)
+    if (l.name == name) return l.position;
+  throw std::runtime_error("no landmark " + name);
+}
+
+// A tool pointing straight down (R = 180 degrees about x: d = R e_z = -e_z), or up (R = I).
+constexpr devices::Quat kDown{0, 1, 0, 0};
+constexpr devices::Quat kUp{1, 0, 0, 0};
+devices::DeviceState pointing_down(const sim::Vec3& tip, float jaw = 1.0f,
+                                   devices::Quat orientation = kDown) {
+  devices::DeviceState s;
+  s.position = {tip.x(), tip.y(), tip.z()};
+  s.orientation = orientation;
+  s.jaw = jaw;
+  return s;
+}
+devices::DeviceState parked() {
+  devices::DeviceState s;
+  s.position = {0, 0, kParkedToolHeight};
+  return s;
+}
+
+// Hand 0's tip through the given waypoints, `seconds_each` from one to the next, hand 1 parked.
+void stroke(SimEngine& engine, const std::vector<sim::Vec3>& waypoints, double seconds_each,
+            devices::Quat orientation = kDown) {
+  const auto ticks_each = static_cast<int>(seconds_each / kTickS);
+  for (std::size_t k = 0; k + 1 < waypoints.size(); ++k) {
+    for (int i = 1; i <= ticks_each; ++i) {
+      const double a = static_cast<double>(i) / ticks_each;
+      const std::array<devices::DeviceState, 2> inputs = {
+          pointing_down((1 - a) * waypoints[k] + a * waypoints[k + 1], 1.0f, orientation),
+          parked()};
+      engine.tick(inputs);
+    }
+  }
+}
+
+// Above the line's start, into the tissue, along the line, out above its end.
+std::vector<sim::Vec3> along_the_line() {
+  const sim::Vec3 down(0, 0, kDepth);
+  const sim::Vec3 up(0, 0, 0.01);
+  return {place("cut_start") + up, place("cut_start") - down, place("cut_end") - down,
+          place("cut_end") + up};
+}
+
+TEST(SurgeryEngine, TheTickIsTheFewestStepsNoLongerThanTheScenesStableStep) {
+  const SimEngine engine(liver(), kTickS, 2);
+  ASSERT_NE(engine.surgery(), nullptr);
+  const int n = engine.substeps();
+  ASSERT_GE(n, 1);
+  EXPECT_LE(kTickS / n, setup().spec.dt);
+  if (n > 1) {
+    EXPECT_GT(kTickS / (n - 1), setup().spec.dt);
+  }
+  EXPECT_EQ(engine.positions().rows(), setup().spec.tissue.rest.rows());
+  EXPECT_EQ(engine.surface()->faces.rows(),
+            engine.surgery()->scene().tissue().surface().faces.rows());
+  EXPECT_TRUE(engine.state_finite());
+  EXPECT_THROW(SimEngine(liver(), 0.0, 2), std::invalid_argument);
+  EXPECT_THROW(SimEngine(liver(), kTickS, 3), std::invalid_argument);
+}
+
+TEST(SurgeryEngine, AStrokeAlongTheMarkedLineCutsOnTargetAndReplaysBitForBit) {
+  SimEngine engine(liver(), kTickS, 2);
+  const auto surface_before = engine.surface();
+  const auto start = engine.checkpoint();
+  stroke(engine, along_the_line(), 0.15);
+  ASSERT_TRUE(engine.state_finite());
+  const auto damage = engine.damage();
+  std::printf("cut %.1f mm^2, %.1f mm^2 off target, mean distance %.2f mm, %d tets\n",
+              1e6 * damage.cut_area, 1e6 * damage.cut_area_outside_target,
+              1e3 * damage.cut_mean_distance, engine.surgery()->scene().tissue().mesh().num_tets());
+  // 4 cm along the line, 6 mm deep: at most 240 mm^2 (docs/surgical_scenes.md: shallow cuts
+  // open in part).
+  EXPECT_GT(damage.cut_area, 40e-6);
+  EXPECT_LT(damage.cut_area, 0.04 * (kDepth + 0.003));
+  EXPECT_LE(damage.cut_area_outside_target, 0.1 * damage.cut_area);
+  EXPECT_LT(damage.cut_mean_distance, setup().spec.damage.target.half_width);
+  EXPECT_FALSE(damage.never_event);
+  // The cut changed the tissue's boundary: the renderer gets a new surface.
+  EXPECT_NE(engine.surface(), surface_before);
+
+  // One stroke, one cut event, by the right hand, labelled with the stroke's area.
+  const auto& events = engine.scene_events().events();
+  const auto cuts = std::count_if(events.begin(), events.end(),
+                                  [](const SceneEventRecord& e) { return e.kind == "cut"; });
+  EXPECT_EQ(cuts, 1);
+  ASSERT_FALSE(events.empty());
+  EXPECT_EQ(events.front().kind, "cut");
+  EXPECT_EQ(events.front().hand, 0);
+  char area[32];
+  std::snprintf(area, sizeof area, "cut %.1f mm^2", 1e6 * damage.cut_area);
+  EXPECT_EQ(events.front().label.rfind(area, 0), 0u) << events.front().label;
+  EXPECT_GT(events.front().t_s, 0.15);  // not before the blade reached the tissue
+
+  // The same inputs give the same state, from a second engine and from the restored start.
+  const auto hash = engine.state_hash();
+  SimEngine again(liver(), kTickS, 2);
+  stroke(again, along_the_line(), 0.15);
+  EXPECT_EQ(again.state_hash(), hash);
+  engine.restore(start);
+  EXPECT_EQ(engine.ticks(), 0);
+  EXPECT_EQ(engine.damage().cut_area, 0);
+  EXPECT_TRUE(engine.scene_events().events().empty());
+  stroke(engine, along_the_line(), 0.15);
+  EXPECT_EQ(engine.state_hash(), hash);
+  EXPECT_FALSE(engine.checkpoints_anywhere());
+  EXPECT_THROW(engine.checkpoint(), std::logic_error);
+
+  // What scoring makes of it.
+  const auto metrics = simulation_metrics(engine.damage());
+  const auto value = [&](const std::string& key) {
+    const auto it = std::find_if(metrics.begin(), metrics.end(),
+                                 [&](const curriculum::MetricValue& v) { return v.key == key; });
+    return it == metrics.end() ? -1.0 : it->value;
+  };
+  EXPECT_EQ(value("cut_area_m2"), damage.cut_area);
+  EXPECT_DOUBLE_EQ(value("cut_on_target_fraction"),
+                   1 - damage.cut_area_outside_target / damage.cut_area);
+  EXPECT_EQ(value("sim_never_events"), 0);
+}
+
+TEST(SurgeryEngine, CuttingIntoTheGallbladderBedIsANeverEvent) {
+  SimEngine engine(liver(), kTickS, 2);
+  // The gallbladder lies under the right lobe, on the flat side (its bed is the organ's tissue
+  // within its radius). A scalpel cuts from the surface its blade crosses: pointing up, in from
+  // the flat side 2 cm beside the gallbladder's centre, 6 mm deep, sideways past it, and out.
+  const sim::Vec3 gallbladder = place("gallbladder");
+  const sim::Vec3 side(0.02, 0, 0);
+  const sim::Vec3 in(0, 0, 0.006);
+  const sim::Vec3 out(0, 0, -0.01);
+  stroke(engine,
+         {gallbladder - side + out, gallbladder - side + in, gallbladder + side + in,
+          gallbladder + side + out},
+         0.3, kUp);
+  ASSERT_TRUE(engine.state_finite());
+  const auto damage = engine.damage();
+  EXPECT_TRUE(damage.never_event);
+  EXPECT_GT(damage.protected_cut_area, 0);
+  const auto& events = engine.scene_events().events();
+  EXPECT_TRUE(std::any_of(events.begin(), events.end(), [](const SceneEventRecord& e) {
+    return e.kind == "never_event" && e.hand == 0;
+  }));
+  const auto metrics = simulation_metrics(damage);
+  const auto never = std::find_if(metrics.begin(), metrics.end(),
+                                  [](const auto& v) { return v.key == "sim_never_events"; });
+  ASSERT_NE(never, metrics.end());
+  EXPECT_EQ(never->value, 1);
+}
+
+TEST(SurgeryEngine, TheGrasperHoldsTheLiverAndTheLeftHandFeelsItsPull) {
+  SimEngine engine(liver(), kTickS, 2);
+  // The grasper's jaws laid along the right lobe's top (its axis along +x: R = 90 degrees about
+  // y; the hinge 0.5 mm above the surface 5 mm before the cut line's middle), closed, then
+  // lifted 1 cm.
+  const devices::Quat along_x{std::sqrt(0.5), 0, std::sqrt(0.5), 0};
+  const sim::Vec3 top = 0.5 * (place("cut_start") + place("cut_end")) - sim::Vec3(0.005, 0, 0);
+  const auto run = [&](const sim::Vec3& from, const sim::Vec3& to, float jaw_from, float jaw_to,
+                       double seconds) {
+    const auto n = static_cast<int>(seconds / kTickS);
+    for (int i = 1; i <= n; ++i) {
+      const double a = static_cast<double>(i) / n;
+      const std::array<devices::DeviceState, 2> inputs = {
+          parked(), pointing_down((1 - a) * from + a * to,
+                                  static_cast<float>((1 - a) * jaw_from + a * jaw_to), along_x)};
+      engine.tick(inputs);
+    }
+  };
+  const sim::Vec3 above = top + sim::Vec3(0, 0, 0.02);
+  const sim::Vec3 on = top + sim::Vec3(0, 0, 0.0005);
+  const sim::Vec3 lifted = top + sim::Vec3(0, 0, 0.01);
+  run(above, on, 1, 1, 0.1);
+  run(on, on, 1, 0, 0.1);
+  run(on, lifted, 0, 0, 0.2);
+  run(lifted, lifted, 0, 0, 0.1);
+  ASSERT_TRUE(engine.state_finite());
+  const auto& events = engine.scene_events().events();
+  EXPECT_TRUE(std::any_of(events.begin(), events.end(), [](const SceneEventRecord& e) {
+    return e.kind == "grasp" && e.hand == 1;
+  })) << "nothing grabbed";
+  // The lifted tissue pulls the jaws back down; the right hand (parked) feels nothing.
+  const sim::Vec3 pull = engine.contact(1).force_on_tool;
+  std::printf("pull on the left hand %.3f %.3f %.3f N\n", pull.x(), pull.y(), pull.z());
+  EXPECT_LT(pull.z(), -0.01);
+  EXPECT_EQ(engine.contact(0).force_on_tool.norm(), 0);
+  const auto model = engine.force_model(1);
+  EXPECT_EQ(model.device_index, 1);
+  EXPECT_NEAR(model.force.z, pull.z(), 1e-12);
+  EXPECT_EQ(model.reference_position.z, lifted.z());
+}
+
+TEST(SurgeryEngine, TasksMustNameTheToolsTheSceneGivesEachDevice) {
+  EXPECT_EQ(tools_mismatch(liver(), {"scalpel", "grasper"}), "");
+  EXPECT_EQ(tools_mismatch(liver(), {"scalpel"}), "");
+  EXPECT_EQ(tools_mismatch(liver(), {"probe"}),
+            "tools[0] is \"probe\" but the scene gives device 0 a scalpel");
+  EXPECT_EQ(tools_mismatch(liver(), {"scalpel", "scope"}),
+            "tools[1] is \"scope\" but the scene gives device 1 a grasper");
+  // A sim core scene's sphere tools stand for any tool.
+  const auto palpation = find_scene("scenes/palpation.json");
+  ASSERT_TRUE(palpation);
+  EXPECT_EQ(tools_mismatch(load_session_scene(palpation->id, palpation->text), {"scalpel"}), "");
+}
+
+TEST(SurgeryEngine, TheCameraLooksAtTheMarkedLineFromAbove) {
+  const auto camera = camera_for(liver());
+  const sim::Vec3 middle = 0.5 * (setup().cut_target.front() + setup().cut_target.back());
+  EXPECT_LT((camera.target - middle).norm(), 1e-12);
+  EXPECT_GT(camera.eye.z(), middle.z() + 0.05);
+  EXPECT_GT(camera.far_m, (camera.eye - camera.target).norm());
+  EXPECT_LT(camera.near_m, (camera.eye - camera.target).norm());
+}
+
+}  // namespace
+}  // namespace incise::server::live
