@@ -41,12 +41,14 @@ void SceneEventLog::add(std::span<const sim::surgery::SceneEvent> events, double
       const int device = tools[static_cast<std::size_t>(e.tool)].device;
       if (device == 0 || device == 1) hand = device;
     }
+    const bool stroke =
+        e.kind == sim::surgery::EventKind::cut || e.kind == sim::surgery::EventKind::never_event;
     Open* open = nullptr;
     for (Open& o : open_) {
       const SceneEventRecord& r = events_[o.index];
       if (r.kind == kind && r.hand == hand) open = &o;
     }
-    const bool continues = open != nullptr && t_s - open->last_t_s <= kStrokeGapS;
+    const bool continues = stroke && open != nullptr && t_s - open->last_t_s <= kStrokeGapS;
     if (continues) {
       open->last_t_s = t_s;
     } else {

@@ -13,6 +13,7 @@
 #include "curriculum/benchmarks.h"
 #include "db/auth_sessions_repo.h"
 #include "db/recordings_repo.h"
+#include "db/session_events_repo.h"
 #include "db/training_repo.h"
 #include "server/live/tick_record.h"
 
@@ -178,6 +179,32 @@ TEST_F(ReviewApi, TheReviewCarriesTheSimulationsDamageTimeline) {
       json_of(get("/api/sessions/" + std::to_string(session) + "/review", tess_token_));
   EXPECT_EQ(review["sim_damage"],
             (nlohmann::json{{"interval_s", 0.1}, {"values", {0.0, 0.0, 0.01, 0.02}}}));
+}
+
+// The events the simulation saw (stored with the session) come among the recording's, in time
+// order, each saying where it came from.
+TEST_F(ReviewApi, TheSimulationsEventsComeInTimeOrderAmongTheRecordings) {
+  const auto session = attempt(2.0, 2.0, 3.0);
+  db::SessionEventsRepo(db()).set(
+      session, std::vector<db::SessionEvent>{{0.02, "grasp", 1, "3 vertices"},
+                                             {1.5, "cut", 0, "cut 12.0 mm^2"},
+                                             {1.5, "never_event", 0, "a protected tissue"}});
+  const auto review =
+      json_of(get("/api/sessions/" + std::to_string(session) + "/review", tess_token_));
+  const auto& events = review["events"];
+  ASSERT_EQ(events.size(), 5u) << events;
+  // The recording's target (0 s) and contact (0.05 s) around the simulation's grasp (0.02 s).
+  EXPECT_EQ(events[0]["kind"], "target");
+  EXPECT_EQ(events[0]["source"], "recording");
+  EXPECT_EQ(events[1], (nlohmann::json{{"t_s", 0.02},
+                                       {"kind", "grasp"},
+                                       {"hand", 1},
+                                       {"label", "3 vertices"},
+                                       {"source", "simulation"}}));
+  EXPECT_EQ(events[2]["kind"], "contact");
+  EXPECT_EQ(events[3]["kind"], "cut");
+  EXPECT_EQ(events[4]["kind"], "never_event");
+  EXPECT_EQ(events[4]["source"], "simulation");
 }
 
 // A score shows the threshold it was judged against; when the curriculum changed it since, the
