@@ -16,6 +16,8 @@ namespace {
 
 // How often the render thread looks for due viewers when nothing pokes it.
 constexpr auto kIdleWait = std::chrono::milliseconds(2);
+// The marked cut line's ink dots [m].
+constexpr double kMarkRadius = 0.0015;
 
 std::shared_ptr<std::vector<std::uint8_t>> frame_message(std::uint32_t frame_number, int width,
                                                          int height, double sim_time_s,
@@ -94,6 +96,7 @@ void FrameStreamer::render_loop() {
   std::int64_t pass = 0;
   std::vector<std::uint8_t> jpeg;
   sim::Points V, N;
+  std::vector<render::MarkView> marks;
   struct Job {
     std::shared_ptr<FrameSink> sink;
     FrameSink::Request request;
@@ -136,6 +139,11 @@ void FrameStreamer::render_loop() {
     tools[1].tip = snapshot->second_tool_tip;
     tools[1].radius = snapshot->tool_radius;
     tools[1].in_contact = snapshot->second_force_n.squaredNorm() > 0;
+    for (std::size_t h = 0; h < tools.size(); ++h)
+      tools[h].shaft_direction = snapshot->shaft_direction[h];
+    marks.clear();
+    for (const sim::Vec3& p : snapshot->marks)
+      marks.push_back({p, kMarkRadius});
     const std::span<const render::ToolView> tool(tools.data(),
                                                  static_cast<std::size_t>(snapshot->hands));
     // Viewers asking for the same size share one rendering.
@@ -159,7 +167,7 @@ void FrameStreamer::render_loop() {
                    .first;
         }
         it->second.last_used = pass;
-        it->second.encoder->render_jpeg(renderer, camera_, tissue, tool, jpeg);
+        it->second.encoder->render_jpeg(renderer, camera_, tissue, tool, jpeg, marks);
         ++frames_rendered_;
         jpeg_of_size = std::make_shared<const std::vector<std::uint8_t>>(jpeg);
       }

@@ -60,14 +60,16 @@ render::Camera camera_for(const SessionScene& scene) {
   const sim::Points& rest = setup.spec.tissue.rest;
   const sim::Vec3 low = rest.colwise().minCoeff().transpose();
   const sim::Vec3 high = rest.colwise().maxCoeff().transpose();
+  // Halfway between the tissue's centre and the marked line's middle (if it has one): the
+  // line near the middle of the picture, the whole organ in view, from above and a little in
+  // front as a laparoscope sees it.
   sim::Vec3 target = 0.5 * (low + high);
   if (!setup.cut_target.empty()) {
-    target = 0.5 * (setup.cut_target.front() + setup.cut_target.back());
+    target = 0.5 * (target + 0.5 * (setup.cut_target.front() + setup.cut_target.back()));
   }
-  // As a laparoscope sees an organ: from above and a little in front, the whole organ in view.
   const double extent = (high - low).norm();
   camera.target = target;
-  camera.eye = target + extent * sim::Vec3(0, -0.45, 0.75);
+  camera.eye = target + extent * sim::Vec3(0, -0.5, 0.8);
   camera.up = sim::Vec3::UnitZ();
   camera.fov_y_deg = 45;
   return with_clip_planes(camera);

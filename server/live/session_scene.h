@@ -47,8 +47,8 @@ SessionScene load_session_scene(std::string_view id, std::string_view text);
 std::string tools_mismatch(const SessionScene& scene, const std::vector<std::string>& tools);
 
 // The camera the live view starts with: the scene's "view" if it has one; for a surgical scene a
-// view from above and in front of the tissue, aimed at the marked cut line's middle if it has
-// one, else at the tissue's centre.
+// view of the whole tissue from above and in front, aimed halfway between the tissue's centre
+// (of its bounding box) and the marked cut line's middle (the centre alone without a line).
 render::Camera camera_for(const SessionScene& scene);
 
 }  // namespace incise::server::live

@@ -224,6 +224,17 @@ std::shared_ptr<Snapshot> make_snapshot(const SimEngine& engine) {
   s->damage_index = damage.damage_index;
   s->peak_strain = damage.peak_strain;
   s->surgical = engine.surgery() != nullptr;
+  if (const SurgeryWorld* world = engine.surgery()) {
+    s->marks = world->marked_line();
+    for (int h = 0; h < engine.hands(); ++h) {
+      const auto& q = engine.last_input(h).orientation;
+      const Eigen::Quaternion<sim::Real> rotation(q.w, q.x, q.y, q.z);
+      if (rotation.norm() > 0) {
+        s->shaft_direction[static_cast<std::size_t>(h)] =
+            -(rotation.normalized() * sim::Vec3::UnitZ());
+      }
+    }
+  }
   s->cut_area_m2 = damage.cut_area;
   s->cut_mean_distance_m = damage.cut_mean_distance;
   s->never_event = damage.never_event;

@@ -9,6 +9,7 @@
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "sim/core/types.h"
 #include "sim/mesh/boundary_surface.h"
@@ -27,6 +28,12 @@ struct Snapshot {
   int hands = 1;                          // tools in the scene (a two-handed task has 2)
   sim::Vec3 second_tool_tip = sim::Vec3::Zero();
   sim::Vec3 second_force_n = sim::Vec3::Zero();
+  // From each tool's tip back along its shaft, unit (surgical scenes: from the device's
+  // orientation; the palpation block's probes stand upright).
+  std::array<sim::Vec3, 2> shaft_direction = {sim::Vec3::UnitZ(), sim::Vec3::UnitZ()};
+  // The marked cut line's points as the tissue carries them now (surgical scenes), for the
+  // renderer to draw as ink dots.
+  std::vector<sim::Vec3> marks;
   double peak_force_n = 0;
   double path_length_m = 0;
   double damage_index = 0;  // the simulation's damaged tissue volume fraction (SimEngine)

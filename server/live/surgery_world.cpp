@@ -84,6 +84,28 @@ void SurgeryWorld::tick(std::span<const devices::DeviceState> from,
   follow_surface();
 }
 
+std::vector<sim::Vec3> SurgeryWorld::marked_line() const {
+  const sim::TetMesh& mesh = scene_->tissue().mesh();
+  const std::vector<int>& nodes = surface_->nodes;
+  std::vector<sim::Vec3> out;
+  out.reserve(setup_->cut_target.size());
+  for (const sim::Vec3& p : setup_->cut_target) {
+    int nearest = -1;
+    double best = 0;
+    for (const int n : nodes) {
+      const double d = (mesh.rest.row(n).transpose() - p).squaredNorm();
+      if (nearest < 0 || d < best) {
+        nearest = n;
+        best = d;
+      }
+    }
+    out.push_back(nearest < 0
+                      ? p
+                      : sim::Vec3(p + (mesh.x.row(nearest) - mesh.rest.row(nearest)).transpose()));
+  }
+  return out;
+}
+
 void SurgeryWorld::follow_surface() {
   const sim::BoundarySurface& now = scene_->tissue().surface();
   if (surface_ && surface_->nodes == now.nodes && surface_->faces.rows() == now.faces.rows() &&

@@ -39,6 +39,10 @@ class SurgeryWorld {
   const sim::surgery::SurgicalSceneSetup& setup() const { return *setup_; }
   // The tissue's boundary; a new object whenever the topology changed (cuts, refinement).
   const std::shared_ptr<const sim::BoundarySurface>& surface() const { return surface_; }
+  // The marked cut line's points as the tissue carries them now: each point moves with the
+  // surface node nearest to it at rest (cuts and refinement renumber nodes, so it is looked up
+  // each time; a few hundred distances).
+  std::vector<sim::Vec3> marked_line() const;
   // The scene's events of the last tick (grab, release, cut, collision, never event).
   const std::vector<sim::surgery::SceneEvent>& events() const { return events_; }
 

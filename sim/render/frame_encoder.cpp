@@ -42,10 +42,10 @@ void FrameEncoder::render_jpeg(SceneRenderer& renderer, const Camera& camera,
 
 void FrameEncoder::render_jpeg(SceneRenderer& renderer, const Camera& camera,
                                const TissueView& tissue, std::span<const ToolView> tools,
-                               std::vector<std::uint8_t>& jpeg) {
+                               std::vector<std::uint8_t>& jpeg, std::span<const MarkView> marks) {
   using clock = std::chrono::steady_clock;
   const clock::time_point start = clock::now();
-  renderer.render(*framebuffer_, camera, tissue, tools);
+  renderer.render(*framebuffer_, camera, tissue, tools, marks);
   // The readback would wait for the drawing anyway; finishing first only splits the time.
   glFinish();
   const clock::time_point drawn = clock::now();

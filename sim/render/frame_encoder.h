@@ -15,6 +15,7 @@ namespace incise::render {
 class SceneRenderer;
 struct TissueView;
 struct ToolView;
+struct MarkView;
 
 // Time spent in each stage of the last FrameEncoder::render_jpeg [ms].
 struct FrameTimings {
@@ -44,9 +45,10 @@ class FrameEncoder {
   // SceneRenderer::render and JpegEncoder::encode.
   void render_jpeg(SceneRenderer& renderer, const Camera& camera, const TissueView& tissue,
                    const ToolView& tool, std::vector<std::uint8_t>& jpeg);
-  // The same with any number of tools (a two-handed station's).
+  // The same with any number of tools (a two-handed station's) and marks on the tissue.
   void render_jpeg(SceneRenderer& renderer, const Camera& camera, const TissueView& tissue,
-                   std::span<const ToolView> tools, std::vector<std::uint8_t>& jpeg);
+                   std::span<const ToolView> tools, std::vector<std::uint8_t>& jpeg,
+                   std::span<const MarkView> marks = {});
 
   // The raw frame behind the last JPEG: width * height * 3 bytes, RGB, top row first.
   const std::vector<std::uint8_t>& rgb() const { return rgb_; }

@@ -118,6 +118,7 @@ SceneStyle normalised(SceneStyle style) {
   validate_look(style.tool, "tool");
   validate_look(style.tool_in_contact, "tool_in_contact");
   validate_look(style.floor, "floor");
+  validate_look(style.marker, "marker");
   style.up.normalize();
   style.to_light.normalize();
   return style;
@@ -262,13 +263,19 @@ void SceneRenderer::draw_tool(const ToolView& tool) const {
 }
 
 void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
-                           const TissueView& tissue, std::span<const ToolView> tools) {
+                           const TissueView& tissue, std::span<const ToolView> tools,
+                           std::span<const MarkView> marks) {
   const double aspect = static_cast<double>(target.width()) / target.height();
   // Eigen stores column-major, as GL expects without transposing.
   const Eigen::Matrix4f view_projection =
       (projection_matrix(camera, aspect) * view_matrix(camera)).cast<float>();
   for (const ToolView& tool : tools)
     validate_tool(tool);
+  for (const MarkView& mark : marks) {
+    if (!mark.centre.allFinite() || !(mark.radius > 0.0)) {
+      throw std::invalid_argument("a mark needs a finite centre and a positive radius");
+    }
+  }
   const bool has_tissue = upload_tissue(tissue);
 
   target.bind();
@@ -292,6 +299,11 @@ void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
   // Nearest first, so that the depth test spares shading hidden pixels of the larger shapes.
   for (const ToolView& tool : tools)
     draw_tool(tool);
+  for (const MarkView& mark : marks) {
+    Eigen::Affine3d sphere = Eigen::Affine3d::Identity();
+    sphere.translate(mark.centre).scale(mark.radius);
+    draw_lit(sphere_, sphere, style_.marker);
+  }
 
   if (has_tissue) {
     draw_lit(tissue_, Eigen::Affine3d::Identity(), style_.tissue);

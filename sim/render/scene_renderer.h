@@ -36,6 +36,13 @@ struct ToolView {
   bool in_contact = false;                   // drawn in SceneStyle::tool_in_contact when true
 };
 
+// A mark drawn on the tissue, e.g. a dot of the line a surgeon marks to cut along: a small sphere
+// in SceneStyle::marker.
+struct MarkView {
+  Eigen::Vector3d centre{0, 0, 0};  // [m], finite
+  double radius = 0.0015;           // [m], > 0
+};
+
 // How one kind of surface looks under the scene's light (see SceneStyle for the formula).
 struct SurfaceLook {
   Eigen::Vector3f albedo;  // linear RGB in [0, 1]
@@ -62,6 +69,7 @@ struct SceneStyle {
   SurfaceLook tool{{0.62f, 0.65f, 0.70f}, 0.45f, 48.0f};
   SurfaceLook tool_in_contact{{0.95f, 0.72f, 0.15f}, 0.45f, 48.0f};
   SurfaceLook floor{{0.30f, 0.31f, 0.30f}, 0.0f, 1.0f};
+  SurfaceLook marker{{0.30f, 0.12f, 0.55f}, 0.0f, 1.0f};  // a surgical skin marker's violet
   // The floor is a square perpendicular to up, floor_gap below the tissue's lowest point (along
   // up) and centred under the tissue's bounding box, floor_half_size from centre to each edge.
   double floor_gap = 0.001;      // [m], >= 0
@@ -95,9 +103,10 @@ class SceneRenderer {
   // zero shaft direction, non-finite tip).
   void render(const Framebuffer& target, const Camera& camera, const TissueView& tissue,
               const ToolView& tool);
-  // The same with any number of tools (a two-handed station's); every one is validated first.
+  // The same with any number of tools (a two-handed station's) and marks on the tissue; every
+  // one is validated first (a mark: finite centre, positive radius).
   void render(const Framebuffer& target, const Camera& camera, const TissueView& tissue,
-              std::span<const ToolView> tools);
+              std::span<const ToolView> tools, std::span<const MarkView> marks = {});
 
  private:
   // Validates and uploads the tissue; returns false when there is none.

@@ -2,75 +2,22 @@
 // incise-agent (node --test): what the trainee sees while training, then what an instructor sees
 // when replaying the recording. Needs web/dist, the server and agent binaries; see support.mjs.
 import assert from 'node:assert/strict';
-import { browser_suite, click_for_response, demo, log_in, region, sees, snap } from './support.mjs';
+import {
+  api_call,
+  browser_suite,
+  canvas_state,
+  click_for_response,
+  demo,
+  log_in,
+  metric,
+  region,
+  sees,
+  snap,
+  wait_for_canvas,
+} from './support.mjs';
 
 const { scenario } = browser_suite({ time_zone: 'Asia/Kolkata', with_agent: true });
 
-/** Calls the API from the page, with its login cookie. */
-async function api_call(page, method, path, body) {
-  return page.evaluate(
-    async ({ method, path, body }) => {
-      const init = { method, headers: { Accept: 'application/json' }, credentials: 'same-origin' };
-      if (body !== undefined) {
-        init.headers['Content-Type'] = 'application/json';
-        init.body = JSON.stringify(body);
-      }
-      const response = await fetch(path, init);
-      const text = await response.text();
-      return { status: response.status, body: text ? JSON.parse(text) : null };
-    },
-    { method, path, body },
-  );
-}
-
-/**
- * The canvas' last drawn frame and its simulated time (its data-frame and data-sim-time), and the
- * grey level of a 64 x 48 grid of its pixels, read back with getImageData.
- */
-async function canvas_state(page, test_id) {
-  return page.evaluate((test_id) => {
-    const canvas = document.querySelector(`[data-testid="${test_id}"]`);
-    const { data } = canvas.getContext('2d').getImageData(0, 0, canvas.width, canvas.height);
-    const grid = [];
-    for (let gy = 0; gy < 48; gy++) {
-      for (let gx = 0; gx < 64; gx++) {
-        const x = Math.floor(((gx + 0.5) * canvas.width) / 64);
-        const y = Math.floor(((gy + 0.5) * canvas.height) / 48);
-        const i = 4 * (y * canvas.width + x);
-        grid.push(0.299 * data[i] + 0.587 * data[i + 1] + 0.114 * data[i + 2]);
-      }
-    }
-    return { frame: Number(canvas.dataset.frame), sim_time: Number(canvas.dataset.simTime), grid };
-  }, test_id);
-}
-
-/**
- * Waits until `test_id`'s canvas has drawn a frame after `after_frame` whose simulated time lies in
- * [time_min, time_max] (either bound may be left out); says what it waited for when it times out.
- */
-async function wait_for_canvas(page, test_id, { after_frame = 0, time_min = null, time_max = null }, what, timeout = 15_000) {
-  try {
-    await page.waitForFunction(
-      ({ test_id, after_frame, time_min, time_max }) => {
-        const canvas = document.querySelector(`[data-testid="${test_id}"]`);
-        const frame = Number(canvas?.dataset.frame);
-        const sim_time = Number(canvas?.dataset.simTime);
-        return frame > after_frame && (time_min === null || sim_time >= time_min) && (time_max === null || sim_time <= time_max);
-      },
-      { test_id, after_frame, time_min, time_max },
-      { timeout, polling: 50 },
-    );
-  } catch (error) {
-    const state = await canvas_state(page, test_id).catch(() => null);
-    throw new assert.AssertionError({
-      message: `expected ${what}; the canvas shows frame ${state?.frame}, sim time ${state?.sim_time}: ${error.message.split('\n')[0]}`,
-    });
-  }
-}
-
-function metric(page, key) {
-  return page.getByTestId(`metric-${key}`);
-}
 
 scenario(
   'a trainee trains live at a station, then an instructor replays and seeks the recording',

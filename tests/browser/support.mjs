@@ -28,15 +28,17 @@ export const demo = {
   instructor: { username: 'instructor', password: 'incise-instructor-demo' },
   trainee: { username: 'trainee', password: 'incise-trainee-demo' },
   station_token: 'incise-demo-station-token',
+  surgical_station_token: 'incise-demo-surgical-station-token',
 };
 
 /**
- * Registers before/after hooks that start the server (and the demo station's agent when
- * `with_agent`) and a browser, and returns `scenario(name, body, { timeout_ms })`, which runs
- * `body(page, env)` in a fresh context whose browser runs in `time_zone`. `env.server` is
- * `{ url, log }`. On failure a screenshot and the processes' logs go to tests/browser/output/.
+ * Registers before/after hooks that start the server (and a station's agent when `with_agent`:
+ * Station 1's with its built-in script, or `agent` = `{ token, args }`) and a browser, and
+ * returns `scenario(name, body, { timeout_ms })`, which runs `body(page, env)` in a fresh context
+ * whose browser runs in `time_zone`. `env.server` is `{ url, log }`. On failure a screenshot and
+ * the processes' logs go to tests/browser/output/.
  */
-export function browser_suite({ time_zone, with_agent = false }) {
+export function browser_suite({ time_zone, with_agent = false, agent = {} }) {
   const env = { server: null, agent: null, browser: null, data_dir: null };
 
   before(async () => {
@@ -45,7 +47,7 @@ export function browser_suite({ time_zone, with_agent = false }) {
     if (with_agent) assert.ok(fs.existsSync(agent_bin), `agent binary not found at ${agent_bin}; build it first`);
     env.data_dir = fs.mkdtempSync(path.join(os.tmpdir(), 'incise-browser-'));
     env.server = await start_server(env.data_dir);
-    if (with_agent) env.agent = await start_agent(env.server.url);
+    if (with_agent) env.agent = await start_agent(env.server.url, agent);
     env.browser = await chromium.launch({
       executablePath: chromium_path,
       args: [
@@ -139,10 +141,13 @@ async function start_server(data_dir) {
   return { process: started.process, log: started.log, url: started.match[1] };
 }
 
-/** The demo station's agent with its built-in simulated device; resolves once the server welcomed it. */
-async function start_agent(server_url) {
+/**
+ * A demo station's agent (Station 1's with its built-in simulated device unless `token` and
+ * `args` say otherwise); resolves once the server welcomed it.
+ */
+async function start_agent(server_url, { token = demo.station_token, args: extra = [] } = {}) {
   const agent_url = `${server_url.replace(/^http/, 'ws')}/agent`;
-  const args = ['--server', agent_url, '--token', demo.station_token];
+  const args = ['--server', agent_url, '--token', token, ...extra];
   const started = await start_process(agent_bin, args, /incise-agent: connected to \S+ as station (\d+)/, 'incise-agent');
   return { process: started.process, log: started.log, station_id: Number(started.match[1]) };
 }
@@ -195,4 +200,71 @@ export async function log_in(page, { username, password }) {
 
 export function region(page, name) {
   return page.getByRole('region', { name, exact: true });
+}
+
+/** Calls the API from the page, with its login cookie. */
+export async function api_call(page, method, path, body) {
+  return page.evaluate(
+    async ({ method, path, body }) => {
+      const init = { method, headers: { Accept: 'application/json' }, credentials: 'same-origin' };
+      if (body !== undefined) {
+        init.headers['Content-Type'] = 'application/json';
+        init.body = JSON.stringify(body);
+      }
+      const response = await fetch(path, init);
+      const text = await response.text();
+      return { status: response.status, body: text ? JSON.parse(text) : null };
+    },
+    { method, path, body },
+  );
+}
+
+/**
+ * The canvas' last drawn frame and its simulated time (its data-frame and data-sim-time), and the
+ * grey level of a 64 x 48 grid of its pixels, read back with getImageData.
+ */
+export async function canvas_state(page, test_id) {
+  return page.evaluate((test_id) => {
+    const canvas = document.querySelector(`[data-testid="${test_id}"]`);
+    const { data } = canvas.getContext('2d').getImageData(0, 0, canvas.width, canvas.height);
+    const grid = [];
+    for (let gy = 0; gy < 48; gy++) {
+      for (let gx = 0; gx < 64; gx++) {
+        const x = Math.floor(((gx + 0.5) * canvas.width) / 64);
+        const y = Math.floor(((gy + 0.5) * canvas.height) / 48);
+        const i = 4 * (y * canvas.width + x);
+        grid.push(0.299 * data[i] + 0.587 * data[i + 1] + 0.114 * data[i + 2]);
+      }
+    }
+    return { frame: Number(canvas.dataset.frame), sim_time: Number(canvas.dataset.simTime), grid };
+  }, test_id);
+}
+
+/**
+ * Waits until `test_id`'s canvas has drawn a frame after `after_frame` whose simulated time lies in
+ * [time_min, time_max] (either bound may be left out); says what it waited for when it times out.
+ */
+export async function wait_for_canvas(page, test_id, { after_frame = 0, time_min = null, time_max = null }, what, timeout = 15_000) {
+  try {
+    await page.waitForFunction(
+      ({ test_id, after_frame, time_min, time_max }) => {
+        const canvas = document.querySelector(`[data-testid="${test_id}"]`);
+        const frame = Number(canvas?.dataset.frame);
+        const sim_time = Number(canvas?.dataset.simTime);
+        return frame > after_frame && (time_min === null || sim_time >= time_min) && (time_max === null || sim_time <= time_max);
+      },
+      { test_id, after_frame, time_min, time_max },
+      { timeout, polling: 50 },
+    );
+  } catch (error) {
+    const state = await canvas_state(page, test_id).catch(() => null);
+    throw new assert.AssertionError({
+      message: `expected ${what}; the canvas shows frame ${state?.frame}, sim time ${state?.sim_time}: ${error.message.split('\n')[0]}`,
+    });
+  }
+}
+
+/** A row of the live or replay metrics list, by its key (data-testid "metric-<key>"). */
+export function metric(page, key) {
+  return page.getByTestId(`metric-${key}`);
 }

@@ -204,6 +204,11 @@ TEST(SurgeryEngine, TheGrasperHoldsTheLiverAndTheLeftHandFeelsItsPull) {
       engine.tick(inputs);
     }
   };
+  // At rest the marked line's ink dots are the scene's marked points.
+  const auto line = engine.surgery()->marked_line();
+  ASSERT_EQ(line.size(), setup().cut_target.size());
+  for (std::size_t k = 0; k < line.size(); ++k)
+    EXPECT_EQ(line[k], setup().cut_target[k]);
   const sim::Vec3 above = top + sim::Vec3(0, 0, 0.02);
   const sim::Vec3 on = top + sim::Vec3(0, 0, 0.0005);
   const sim::Vec3 lifted = top + sim::Vec3(0, 0, 0.01);
@@ -225,6 +230,9 @@ TEST(SurgeryEngine, TheGrasperHoldsTheLiverAndTheLeftHandFeelsItsPull) {
   EXPECT_EQ(model.device_index, 1);
   EXPECT_NEAR(model.force.z, pull.z(), 1e-12);
   EXPECT_EQ(model.reference_position.z, lifted.z());
+  // The tissue under the jaws rose, and the ink dots there with it.
+  const auto middle = line.size() / 2;
+  EXPECT_GT(engine.surgery()->marked_line()[middle].z(), line[middle].z() + 0.001);
 }
 
 TEST(SurgeryEngine, TasksMustNameTheToolsTheSceneGivesEachDevice) {
@@ -240,10 +248,13 @@ TEST(SurgeryEngine, TasksMustNameTheToolsTheSceneGivesEachDevice) {
   EXPECT_EQ(tools_mismatch(load_session_scene(palpation->id, palpation->text), {"scalpel"}), "");
 }
 
-TEST(SurgeryEngine, TheCameraLooksAtTheMarkedLineFromAbove) {
+TEST(SurgeryEngine, TheCameraLooksFromAboveHalfwayBetweenTheOrgansCentreAndTheMarkedLine) {
   const auto camera = camera_for(liver());
   const sim::Vec3 middle = 0.5 * (setup().cut_target.front() + setup().cut_target.back());
-  EXPECT_LT((camera.target - middle).norm(), 1e-12);
+  const auto& rest = setup().spec.tissue.rest;
+  const sim::Vec3 centre =
+      0.5 * (rest.colwise().minCoeff() + rest.colwise().maxCoeff()).transpose();
+  EXPECT_LT((camera.target - 0.5 * (centre + middle)).norm(), 1e-12);
   EXPECT_GT(camera.eye.z(), middle.z() + 0.05);
   EXPECT_GT(camera.far_m, (camera.eye - camera.target).norm());
   EXPECT_LT(camera.near_m, (camera.eye - camera.target).norm());

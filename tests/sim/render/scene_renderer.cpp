@@ -109,6 +109,38 @@ TEST_F(SceneRendererTest, InContactDrawsTheToolInTheHighlightColour) {
   EXPECT_GT(colour_error(contact, Eigen::Vector3d(free[0], free[1], free[2])), 40.0);
 }
 
+// A mark (an ink dot of a marked line) is a sphere in the marker's look, shaded like the tool's
+// sphere; invalid marks are refused before anything is drawn.
+TEST_F(SceneRendererTest, MarksAreDrawnInTheMarkerColourWhereTheyProject) {
+  SceneRenderer renderer;
+  const Framebuffer target(320, 240);
+  const Camera camera = oblique_camera();
+  const Surface tissue = flat_tissue();
+  const ToolView tool = tool_at(Eigen::Vector3d(0.012, 0.004, 0.045));
+  const MarkView mark{Eigen::Vector3d(-0.006, 0.002, 0.031), 0.002};
+  renderer.render(target, camera, tissue.view(), std::span<const ToolView>(&tool, 1),
+                  std::span<const MarkView>(&mark, 1));
+  const std::vector<std::uint8_t> rgb = target.read_rgb();
+  ToolView as_sphere;
+  as_sphere.tip = mark.centre;
+  as_sphere.radius = mark.radius;
+  const SceneStyle& style = renderer.style();
+  const Eigen::Vector3d expected =
+      tip_pixel_colour(style, style.marker, camera, 320, 240, as_sphere);
+  const PixelPosition at = project(camera, 320, 240, mark.centre);
+  EXPECT_LE(colour_error(pixel_at(rgb, 320, at.row, at.column), expected), 4.0);
+  // Without the mark the same pixel is tissue.
+  const std::vector<std::uint8_t> plain = draw(renderer, target, camera, tissue.view(), tool);
+  EXPECT_GT(colour_error(pixel_at(plain, 320, at.row, at.column), expected), 40.0);
+
+  for (const MarkView& bad :
+       {MarkView{mark.centre, 0.0}, MarkView{Eigen::Vector3d(0, std::nan(""), 0), 0.001}}) {
+    EXPECT_THROW(renderer.render(target, camera, tissue.view(), std::span<const ToolView>(&tool, 1),
+                                 std::span<const MarkView>(&bad, 1)),
+                 std::invalid_argument);
+  }
+}
+
 // Screen rectangle [row0, row1] x [column0, column1] that holds the tool's whole image: the
 // projections of the corners of a world box around sphere and shaft, widened by two pixels.
 struct ScreenBox {
@@ -341,6 +373,9 @@ TEST_F(SceneRendererTest, RejectsInvalidStyles) {
   EXPECT_THROW(SceneRenderer{style}, std::invalid_argument);
   style = SceneStyle();
   style.tool.shininess = 0;
+  EXPECT_THROW(SceneRenderer{style}, std::invalid_argument);
+  style = SceneStyle();
+  style.marker.shininess = -1;
   EXPECT_THROW(SceneRenderer{style}, std::invalid_argument);
   style = SceneStyle();
   style.up = Eigen::Vector3d(0, 0, 3);

@@ -142,7 +142,7 @@ function ReviewBody({ review, position_s, on_seek }: { review: Review; position_
 function expert_text(r: ReviewResult): string {
   if (!r.expert) return '—';
   const { mean, sd, n, z } = r.expert;
-  const spread = n > 1 ? ` ± ${format_value(sd, '')}` : '';
+  const spread = n > 1 ? ` ± ${format_value(sd, r.unit)}` : '';
   const relative = z === null ? '' : ` (${z >= 0 ? '+' : ''}${z.toFixed(1)} SD)`;
   return `${format_value(mean, r.unit)}${spread}, n = ${n}${relative}`;
 }

@@ -4,9 +4,16 @@
 const large_format = new Intl.NumberFormat(undefined, { maximumFractionDigits: 2 });
 const small_format = new Intl.NumberFormat(undefined, { maximumSignificantDigits: 3 });
 
+/** Units shown at another scale: a cut's area reads better in mm² than in m². */
+const display_units: Record<string, { unit: string; scale: number }> = {
+  'm^2': { unit: 'mm²', scale: 1e6 },
+};
+
 export function format_value(value: number, unit: string): string {
-  const shown = (Math.abs(value) >= 1 ? large_format : small_format).format(value);
-  return unit && unit !== 'count' ? `${shown} ${unit}` : shown;
+  const display = display_units[unit] ?? { unit, scale: 1 };
+  const scaled = value * display.scale;
+  const shown = (Math.abs(scaled) >= 1 ? large_format : small_format).format(scaled);
+  return display.unit && display.unit !== 'count' ? `${shown} ${display.unit}` : shown;
 }
 
 /** "12.3 s" for a time into a recording. */

@@ -1,0 +1,112 @@
+// Browser test of a surgical scene at a station (node --test): the demo's Surgical station, whose
+// real agent plays a scalpel stroke along the liver's marked line (deploy/agent/liver_cut_demo.json).
+// A trainee walks up, runs the liver task and sees the cut in the live metrics and the result; an
+// instructor opens the review and jumps to the simulation's cut marker. Needs web/dist, the server
+// and agent binaries; see support.mjs.
+import assert from 'node:assert/strict';
+import path from 'node:path';
+import {
+  api_call,
+  browser_suite,
+  canvas_state,
+  click_for_response,
+  demo,
+  log_in,
+  metric,
+  region,
+  repo,
+  sees,
+  snap,
+  wait_for_canvas,
+} from './support.mjs';
+
+const { scenario } = browser_suite({
+  time_zone: 'Europe/Berlin',
+  with_agent: true,
+  agent: {
+    token: demo.surgical_station_token,
+    args: ['--script', path.join(repo, 'deploy/agent/liver_cut_demo.json')],
+  },
+});
+
+// The agent's script draws the blade along the line from 3 s to 9 s and lifts it out by 10 s
+// (its clock started a moment before the session's).
+const stroke_end_s = 10.5;
+
+scenario(
+  'a trainee cuts the liver along the marked line at the surgical station, and an instructor jumps to the cut',
+  async (page) => {
+    assert.equal((await log_in(page, demo.trainee)).status(), 200);
+    await page.waitForURL('**/trainee');
+    const stations = (await api_call(page, 'GET', '/api/stations')).body;
+    const station = stations.find((s) => s.name === 'Surgical station');
+    assert.ok(station?.online, `the Surgical station's agent is connected: ${JSON.stringify(stations)}`);
+
+    // Walk up to the Surgical station (the only one online), then start the liver task there.
+    const train = region(page, 'Train now');
+    const walk_up = train.getByRole('form', { name: 'Walk up to a station' });
+    await sees(walk_up, 'the walk-up form');
+    assert.equal(await walk_up.getByLabel('Station').inputValue(), String(station.id), 'the online station is preselected');
+    const booked = await click_for_response(page, walk_up.getByRole('button', { name: /^Book from / }), 'POST', /^\/api\/bookings$/);
+    assert.equal(booked.status(), 201, await booked.text());
+    const start_form = train.getByRole('form', { name: 'Start a session at Surgical station' });
+    await sees(start_form, 'a form to start a session at the Surgical station');
+    await start_form.getByLabel('Task').selectOption('liver_cut');
+    await sees(start_form.filter({ hasText: 'Cut the liver along the line' }), "the liver task's instructions");
+    const started = await click_for_response(page, start_form.getByRole('button', { name: 'Start session' }), 'POST', /^\/api\/sessions$/);
+    assert.equal(started.status(), 201, await started.text());
+    const session = await started.json();
+    await page.waitForURL(`**/sessions/${session.id}`);
+
+    // Live: the picture, the two hands, and the cut growing as the blade moves along the line.
+    await wait_for_canvas(page, 'live-canvas', {}, 'a first live frame');
+    const first = await canvas_state(page, 'live-canvas');
+    assert.ok(Math.max(...first.grid) - Math.min(...first.grid) > 20, 'the first frame is a picture of the liver');
+    await sees(metric(page, 'never_event').filter({ hasText: 'No' }), 'no protected structure cut');
+    await wait_for_canvas(page, 'live-canvas', { time_min: 6 }, '6 simulated seconds', 30_000);
+    await sees(metric(page, 'cut').filter({ hasText: /^[1-9][0-9.]* mm²/ }), 'the cut growing during the stroke');
+    await snap(page, 'trainee-liver-live');
+    await wait_for_canvas(page, 'live-canvas', { time_min: stroke_end_s }, 'the end of the stroke', 30_000);
+    const cut_mm2 = Number((await metric(page, 'cut').textContent()).split(' ')[0]);
+    assert.ok(cut_mm2 > 60, `the stroke cut ${cut_mm2} mm²`);
+    const after_stroke = await canvas_state(page, 'live-canvas');
+    const changed = first.grid.filter((v, i) => Math.abs(v - after_stroke.grid[i]) > 8).length;
+    assert.ok(changed >= 5, `the picture changed in ${changed} sampled pixels`);
+
+    page.once('dialog', (dialog) => dialog.accept());
+    const stopped = await click_for_response(page, page.getByRole('button', { name: 'Stop' }), 'POST', new RegExp(`^/api/sessions/${session.id}/stop$`));
+    assert.equal(stopped.status(), 200, await stopped.text());
+    const result = region(page, 'Result');
+    await sees(result.getByTestId('attempt-verdict').filter({ hasText: /^Passed/ }), 'a passed attempt');
+    for (const key of ['cut_area_m2', 'cut_on_target_fraction', 'never_events']) {
+      await sees(result.getByRole('row').filter({ hasText: key }), `the score "${key}" in the result`);
+    }
+    await snap(page, 'trainee-liver-result');
+
+    // --- The instructor reviews it: the simulation's cut is a marker that jumps the replay. ---
+    await click_for_response(page, page.getByRole('button', { name: 'Log out' }), 'POST', /^\/api\/logout$/);
+    await page.waitForURL('**/login');
+    assert.equal((await log_in(page, demo.instructor)).status(), 200);
+    await page.waitForURL('**/instructor');
+    await page.goto(`/recordings/${session.live.recording_id}`);
+    await wait_for_canvas(page, 'replay-canvas', {}, 'a first replay frame');
+    const cut = region(page, 'Events').locator('[data-testid="event-marker"][data-kind="cut"][data-source="simulation"]');
+    await sees(cut, 'the cut marker');
+    const review = (await api_call(page, 'GET', `/api/sessions/${session.id}/review`)).body;
+    const event = review.events.find((e) => e.kind === 'cut' && e.source === 'simulation');
+    assert.ok(event, JSON.stringify(review.events));
+    assert.match(event.label, /^cut [0-9.]+ mm\^2, 0\.0 mm\^2 off the marked line$/);
+    await page.getByTestId('replay-play').click(); // pause where it is
+    const before = await canvas_state(page, 'replay-canvas');
+    await cut.first().click();
+    await wait_for_canvas(
+      page,
+      'replay-canvas',
+      { after_frame: before.frame, time_min: event.t_s - 0.05, time_max: event.t_s + 0.5 },
+      `the replay at the cut (${event.t_s} s)`,
+      20_000,
+    );
+    await snap(page, 'instructor-review-liver');
+  },
+  { timeout_ms: 150_000 },
+);
