@@ -1,5 +1,6 @@
 #include "server/live/surgery_world.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -47,18 +48,18 @@ void SurgeryWorld::reset() {
 
 void SurgeryWorld::tick(std::span<const devices::DeviceState> from,
                         std::span<const devices::DeviceState> to) {
-  const std::size_t hands = std::min(from.size(), to.size());
-  inputs_.resize(hands);
   std::array<sim::surgery::ToolInput, 2> a;
   std::array<sim::surgery::ToolInput, 2> b;
-  for (std::size_t h = 0; h < hands && h < a.size(); ++h) {
+  const std::size_t hands = std::min({from.size(), to.size(), a.size()});
+  inputs_.resize(hands);
+  for (std::size_t h = 0; h < hands; ++h) {
     a[h] = tool_input(from[h]);
     b[h] = tool_input(to[h]);
   }
   events_.clear();
   for (int s = 1; s <= substeps_; ++s) {
     const double t = static_cast<double>(s) / substeps_;
-    for (std::size_t h = 0; h < hands && h < a.size(); ++h) {
+    for (std::size_t h = 0; h < hands; ++h) {
       sim::surgery::ToolInput& in = inputs_[h];
       in.tip = (1 - t) * a[h].tip + t * b[h].tip;
       in.orientation = a[h].orientation.slerp(t, b[h].orientation);

@@ -24,7 +24,7 @@ class SurgeryWorld {
   SurgeryWorld(std::shared_ptr<const sim::surgery::SurgicalSceneSetup> setup, double tick_s);
 
   int substeps() const { return substeps_; }
-  // One tick: hand h from from[h] to to[h] (from.size() == to.size()).
+  // One tick: hand h from from[h] to to[h] (the first two hands of the shorter span).
   void tick(std::span<const devices::DeviceState> from, std::span<const devices::DeviceState> to);
   // Back to the scene's start (a replay's seek backwards: the scene keeps no checkpoints).
   void reset();
