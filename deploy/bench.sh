@@ -29,6 +29,9 @@ out=results/bench-$(date -u +%Y%m%dT%H%M%SZ).txt
   echo "## the simulation's damage tracker in a tick; review and scoring of a 2 min recording"
   "$bin/bench_scoring"
   echo
+  echo "## the liver at a surgical station: a tick idle, grasping and cutting, by cell size"
+  "$bin/bench_surgery_live"
+  echo
   echo "## agent haptic loop, ${seconds} s"
   "$bin/bench_agent_loop" --seconds "$seconds"
   echo
