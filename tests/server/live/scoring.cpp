@@ -86,9 +86,11 @@ class ScoreSession : public ::testing::Test {
     }
   }
 
-  // A new session of tess with its recording holding #records in one chunk; scores it on #task.
-  std::vector<curriculum::MetricResult> score_new_session(const std::vector<TickRecord>& records,
-                                                          const curriculum::Task& task) {
+  // A new session of tess with its recording holding #records in one chunk; scores it on #task
+  // with what the simulation measured (#simulated).
+  std::vector<curriculum::MetricResult> score_new_session(
+      const std::vector<TickRecord>& records, const curriculum::Task& task,
+      std::span<const curriculum::MetricValue> simulated = {}) {
     const auto session = db::TrainingRepo(db_).create_session(trainee_, std::nullopt, "t", kNow);
     const auto recording = recordings_.create(session, "scenes/palpation.json", "0123456789abcdef",
                                               0, 1 / kTickS, kNow);
@@ -96,7 +98,7 @@ class ScoreSession : public ::testing::Test {
     for (const auto& r : records)
       append_tick_record(r, chunk);
     recordings_.append_chunk(recording, 0, 0, chunk, static_cast<double>(records.size()) * kTickS);
-    return score_session(db_, session, recording, task, kTickS, kNow + 60);
+    return score_session(db_, session, recording, task, kTickS, kNow + 60, simulated);
   }
 
   server::test::TempDir dir_;
@@ -241,6 +243,35 @@ TEST_F(ScoreSession, ANeverEventFailsAnAttemptWhoseMetricsAllPass) {
     }
     EXPECT_EQ(review.timeline.t_s.size(), 20u);  // 1.998 s in bins of 0.1 s
   }
+}
+
+// A surgical scene's cut: scored from what the simulation measured, and a protected tissue cut
+// counts as a never event with those the recording shows, failing the attempt.
+TEST_F(ScoreSession, TheSimulationsCutIsScoredAndAProtectedCutIsANeverEvent) {
+  curriculum::Task task;
+  task.metrics = {{"cut_area_m2", {curriculum::ThresholdOp::at_least, 60e-6}, "m^2"},
+                  {"cut_on_target_fraction", {curriculum::ThresholdOp::at_least, 0.8}, ""},
+                  {"never_events", {curriculum::ThresholdOp::at_most, 0}, "count"}};
+  std::vector<TickRecord> records(100);
+  for (std::uint32_t i = 0; i < records.size(); ++i)
+    records[i].tick = i;
+  sim::tools::DamageMetrics cut;
+  cut.cut_area = 100e-6;
+  cut.cut_area_outside_target = 10e-6;
+  for (const bool protected_cut : {false, true}) {
+    SCOPED_TRACE(protected_cut ? "into the protected tissue" : "clear of it");
+    cut.never_event = protected_cut;
+    const auto results = score_new_session(records, task, simulation_metrics(cut));
+    ASSERT_EQ(results.size(), 3u);
+    EXPECT_EQ(results[0].value, 100e-6);
+    EXPECT_TRUE(results[0].passed);
+    EXPECT_DOUBLE_EQ(results[1].value, 0.9);
+    EXPECT_TRUE(results[1].passed);
+    EXPECT_EQ(results[2].value, protected_cut ? 1.0 : 0.0);
+    EXPECT_EQ(curriculum::attempt_passed(results), !protected_cut);
+  }
+  // Without a cut nothing is on target.
+  EXPECT_EQ(value_of(simulation_metrics({}), "cut_on_target_fraction"), 0.0);
 }
 
 TEST_F(ScoreSession, LoadsEveryChunkInOrder) {
