@@ -406,13 +406,14 @@ void LiveSession::run() {
       recordings.finish(params_.recording_id, duration, complete ? engine_.state_hash() : "");
       db::TrainingRepo(*db).set_signal(params_.session_id, "damage_index",
                                        {ticks_per_damage_sample * tick_s, damage_samples});
+      const auto simulated = simulation_metrics(engine_.damage());
+      score_session(*db, params_.session_id, params_.recording_id, params_.task, tick_s, now,
+                    simulated);
+      // After the score, which matters more: the review's markers of a surgical scene.
       std::vector<db::SessionEvent> events;
       for (const auto& e : engine_.scene_events().events())
         events.push_back({e.t_s, e.kind, e.hand, e.label});
       db::SessionEventsRepo(*db).set(params_.session_id, events);
-      const auto simulated = simulation_metrics(engine_.damage());
-      score_session(*db, params_.session_id, params_.recording_id, params_.task, tick_s, now,
-                    simulated);
     } catch (const std::exception& e) {
       std::cerr << "incise-server: session " << params_.session_id
                 << " could not be scored: " << e.what() << "\n";

@@ -79,7 +79,7 @@ const rows: Row[] = [
 /**
  * The latest metrics message as a list; "—" until the first one arrives. Replays leave out the
  * station agent and its link, which only matter while a session is live; one-handed sessions
- * leave out the second tool.
+ * leave out the second tool, and scenes that do not cut leave out the cut.
  */
 const live_only = new Set(['agent_online', 'link', 'haptic_loop', 'haptic_devices']);
 /** Rows only a surgical scene (one that cuts) has. */
