@@ -226,13 +226,10 @@ std::shared_ptr<Snapshot> make_snapshot(const SimEngine& engine) {
   s->surgical = engine.surgery() != nullptr;
   if (const SurgeryWorld* world = engine.surgery()) {
     s->marks = world->marked_line();
+    // The tool points along R e_z (tip forwards); its shaft runs back the other way.
     for (int h = 0; h < engine.hands(); ++h) {
-      const auto& q = engine.last_input(h).orientation;
-      const Eigen::Quaternion<sim::Real> rotation(q.w, q.x, q.y, q.z);
-      if (rotation.norm() > 0) {
-        s->shaft_direction[static_cast<std::size_t>(h)] =
-            -(rotation.normalized() * sim::Vec3::UnitZ());
-      }
+      s->shaft_direction[static_cast<std::size_t>(h)] =
+          -(tool_input(engine.last_input(h)).orientation * sim::Vec3::UnitZ());
     }
   }
   s->cut_area_m2 = damage.cut_area;
