@@ -244,7 +244,8 @@ Curriculum parse_curriculum_text(std::string_view text) {
   json value;
   try {
     value = json::parse(text);
-  } catch (const json::parse_error& error) {
+  } catch (const json::exception& error) {
+    // A syntax error, or a number beyond a double's range (out_of_range 406).
     throw CurriculumError("", std::string("invalid JSON: ") + error.what());
   }
   return parse_curriculum(value);

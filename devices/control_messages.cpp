@@ -35,32 +35,33 @@ std::string excerpt(const json& value) {
   return text;
 }
 
-// Parses a JSON object whose "type" is expected_type and whose "protocol" is ours.
-// On failure returns the error (prefixed with the message name) and leaves object untouched.
 // Parses text as a JSON object into object; returns "" or `<what>not valid JSON ...` /
-// `<what>expected a JSON object, got ...` (what ends with ": ").
+// `<what>expected a JSON object, got ...` (what ends with ": "). Catches every error the parser
+// raises: syntax errors (invalid UTF-8 and lone surrogate escapes among them) and numbers beyond
+// a double's range (out_of_range 406, e.g. 1e400). The error never echoes the peer's bytes.
 std::string parse_object(std::string_view text, const std::string& what, json& object) {
-  try {
-    object = json::parse(text);
-  } catch (const json::parse_error& e) {
-    return what + "not valid JSON (syntax error at byte " + std::to_string(e.byte) + ")";
-  }
-  if (!object.is_object()) return what + "expected a JSON object, got " + object.type_name();
-  return {};
-}
-
-std::string parse_envelope(std::string_view text, const char* expected_type, const char* speaker,
-                           json& object) {
-  const std::string what = expected_type;
   json parsed;
   try {
     parsed = json::parse(text);
   } catch (const json::parse_error& e) {
-    return what + ": not valid JSON (syntax error at byte " + std::to_string(e.byte) + ")";
+    return what + "not valid JSON (syntax error at byte " + std::to_string(e.byte) + ")";
+  } catch (const json::out_of_range&) {
+    return what + "not valid JSON (a number beyond the range of a double)";
+  } catch (const json::exception&) {
+    return what + "not valid JSON";
   }
-  if (!parsed.is_object()) {
-    return what + ": expected a JSON object, got " + parsed.type_name();
-  }
+  if (!parsed.is_object()) return what + "expected a JSON object, got " + parsed.type_name();
+  object = std::move(parsed);
+  return {};
+}
+
+// Parses a JSON object whose "type" is expected_type and whose "protocol" is ours.
+// On failure returns the error (prefixed with the message name) and leaves object untouched.
+std::string parse_envelope(std::string_view text, const char* expected_type, const char* speaker,
+                           json& object) {
+  const std::string what = expected_type;
+  json parsed;
+  if (auto error = parse_object(text, what + ": ", parsed); !error.empty()) return error;
   for (const char* key : {"type", "protocol"}) {
     if (!parsed.contains(key)) return what + ": missing key \"" + key + "\"";
   }

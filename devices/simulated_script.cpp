@@ -96,8 +96,9 @@ ParseResult<SimulatedScript> parse_simulated_script(std::string_view json_text) 
   json root;
   try {
     root = json::parse(json_text);
-  } catch (const json::parse_error& e) {
-    // Drop nlohmann's "[json.exception.parse_error.101] " prefix; keep line, column and cause.
+  } catch (const json::exception& e) {
+    // A syntax error, or a number beyond a double's range (out_of_range 406). Drop nlohmann's
+    // "[json.exception.parse_error.101] " prefix; keep line, column and cause.
     const std::string what = e.what();
     const auto cut = what.find("] ");
     return ParseResult<SimulatedScript>::failure(

@@ -9,6 +9,7 @@
 #include "db/stations_repo.h"
 #include "devices/kinematics.h"
 #include "devices/protocol.h"
+#include "server/wire_text.h"
 
 namespace incise::server {
 
@@ -220,8 +221,7 @@ void AgentSession::close(std::string reason) {
 void AgentSession::do_close(websocket::close_code code, std::string reason) {
   if (closing_ || !ws_.is_open()) return;
   closing_ = true;
-  if (reason.size() > devices::kMaxCloseReasonSize) reason.resize(devices::kMaxCloseReasonSize);
-  ws_.async_close(websocket::close_reason(code, reason),
+  ws_.async_close(websocket::close_reason(code, clip_utf8(reason, devices::kMaxCloseReasonSize)),
                   [self = shared_from_this()](beast::error_code) {});
 }
 

@@ -17,6 +17,16 @@ namespace net = boost::asio;
 namespace {
 constexpr auto kReadTimeout = std::chrono::seconds(30);
 constexpr std::size_t kHeaderLimit = 16 * 1024;
+
+// A request target is printable ASCII (RFC 9112 section 3.2, RFC 3986): any other byte is
+// percent-encoded by every real client. Beast's parser lets bytes 0x80..0xFF through.
+bool is_printable_ascii(std::string_view text) {
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x21 || byte > 0x7E) return false;
+  }
+  return true;
+}
 }  // namespace
 
 HttpSession::HttpSession(net::ip::tcp::socket&& socket, std::shared_ptr<AppState> app)
@@ -58,6 +68,13 @@ void HttpSession::on_read(beast::error_code ec, std::size_t) {
 
   const auto& request = parser_->get();
   const auto target = request.target();
+  if (!is_printable_ascii(target)) {
+    // Refused before anything routes, echoes or upgrades on it; the connection stays usable.
+    return send(
+        json_error(http::status::bad_request,
+                   "the request target must be printable ASCII (percent-encode other bytes)",
+                   request.version(), request.keep_alive()));
+  }
   if (beast::websocket::is_upgrade(request)) {
     stream_.expires_never();
     if (target == "/agent") {

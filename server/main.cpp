@@ -13,6 +13,7 @@
 #include "server/demo_data.h"
 #include "server/listener.h"
 #include "server/server_options.h"
+#include "server/wire_text.h"
 
 namespace net = boost::asio;
 using namespace incise;
@@ -106,10 +107,26 @@ int main(int argc, char** argv) {
     grace.async_wait([&](const boost::system::error_code&) { ioc.stop(); });
   });
 
+  // The last line of defence: every boundary catches its own parse errors, but an exception that
+  // still escapes a handler must cost only that connection (whose handler chain it ended), not
+  // the process and every live session in it. run() may be called again after it threw.
+  const auto run_io = [&ioc] {
+    for (;;) {
+      try {
+        ioc.run();
+        return;
+      } catch (const std::exception& e) {
+        std::cerr << "incise-server: internal error escaped a connection handler: "
+                  << server::valid_utf8(e.what()) << "\n";
+      } catch (...) {
+        std::cerr << "incise-server: unknown error escaped a connection handler\n";
+      }
+    }
+  };
   std::vector<std::thread> threads;
   for (int i = 1; i < options.threads; ++i)
-    threads.emplace_back([&ioc] { ioc.run(); });
-  ioc.run();
+    threads.emplace_back(run_io);
+  run_io();
   for (auto& t : threads)
     t.join();
   std::cerr << "incise-server: stopped\n";

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <charconv>
-#include <cmath>
 #include <nlohmann/json.hpp>
+
+#include "server/view_message.h"
+#include "server/wire_text.h"
 
 namespace incise::server {
 
@@ -157,70 +159,32 @@ void ViewSession::on_read(beast::error_code ec, std::size_t) {
   do_read();
 }
 
-std::string ViewSession::handle_message(const std::string& text) {
-  nlohmann::json message;
-  try {
-    message = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    return std::string("malformed JSON: ") + e.what();
-  }
-  if (!message.is_object() || !message.contains("type") || !message["type"].is_string()) {
-    return "a message must be an object with a string \"type\"";
-  }
-  const auto type = message["type"].get<std::string>();
-  auto number = [&](const char* key) -> std::optional<double> {
-    if (!message.contains(key)) return std::nullopt;
-    const auto& v = message[key];
-    if (!v.is_number() || !std::isfinite(v.get<double>())) {
-      throw std::invalid_argument(std::string("\"") + key + "\" must be a number");
-    }
-    return v.get<double>();
-  };
-  // Integers within [lo, hi]; anything else is a malformed message.
-  auto integer = [&](const char* key, double lo, double hi) -> std::optional<int> {
-    const auto v = number(key);
-    if (!v) return std::nullopt;
-    if (*v != std::floor(*v) || *v < lo || *v > hi) {
-      throw std::invalid_argument(std::string("\"") + key + "\" must be an integer in [" +
-                                  std::to_string(static_cast<long long>(lo)) + ", " +
-                                  std::to_string(static_cast<long long>(hi)) + "]");
-    }
-    return static_cast<int>(*v);
-  };
-  try {
-    if (type == "ack") {
-      // Only frames that were sent can be acknowledged: a larger number would switch off this
-      // viewer's flow control.
-      const auto frame =
-          integer("frame", 1, static_cast<double>(std::max<std::int64_t>(1, sink_->issued())));
-      if (!frame) return "ack needs \"frame\"";
-      sink_->acknowledge(*frame);
+std::string ViewSession::handle_message(std::string_view text) {
+  const auto parsed = parse_view_message(text, sink_->issued(), replay_ != nullptr);
+  if (!parsed.message) return parsed.error;
+  const ViewMessage& m = *parsed.message;
+  switch (m.type) {
+    case ViewMessage::Type::ack:
+      sink_->acknowledge(m.frame);
       streamer().poke();
-      return "";
-    }
-    if (type == "configure") {
-      sink_->configure(integer("fps", 1, 60), integer("width", 160, 1280),
-                       integer("height", 120, 960));
-      return "";
-    }
-    if (replay_) {
-      if (type == "play") return replay_->play(), "";
-      if (type == "pause") return replay_->pause(), "";
-      if (type == "speed") {
-        const auto value = number("value");
-        if (!value) return "speed needs \"value\"";
-        return replay_->set_speed(*value), "";
-      }
-      if (type == "seek") {
-        const auto t = number("t");
-        if (!t) return "seek needs \"t\"";
-        return replay_->seek(*t), "";
-      }
-    }
-  } catch (const std::invalid_argument& e) {
-    return type + ": " + e.what();
+      break;
+    case ViewMessage::Type::configure:
+      sink_->configure(m.fps, m.width, m.height);
+      break;
+    case ViewMessage::Type::play:
+      replay_->play();
+      break;
+    case ViewMessage::Type::pause:
+      replay_->pause();
+      break;
+    case ViewMessage::Type::speed:
+      replay_->set_speed(m.value);
+      break;
+    case ViewMessage::Type::seek:
+      replay_->seek(m.value);
+      break;
   }
-  return "unknown message type \"" + type.substr(0, 40) + "\"";
+  return "";
 }
 
 void ViewSession::on_frame(std::shared_ptr<const std::vector<std::uint8_t>> message,
@@ -266,13 +230,13 @@ void ViewSession::send_metrics() {
   m["frames_sent"] = frames_sent_;
   if (live_ && live_->state() == live::LiveState::finished) {
     ended_sent_ = true;
-    pending_text_ = m.dump();
+    pending_text_ = dump_json(m);
     do_write();
     // The final metrics go first, then the end notice (do_write sends texts in order).
-    end_notice_ = nlohmann::json{{"type", "ended"}, {"reason", live_->reason()}}.dump();
+    end_notice_ = dump_json({{"type", "ended"}, {"reason", live_->reason()}});
     return do_write();
   }
-  pending_text_ = m.dump();
+  pending_text_ = dump_json(m);
   do_write();
 }
 
@@ -327,8 +291,7 @@ void ViewSession::do_close(websocket::close_code code, std::string reason) {
   if (closing_ || !ws_.is_open()) return;
   closing_ = true;
   metrics_timer_.cancel();
-  if (reason.size() > 120) reason.resize(120);
-  ws_.async_close(websocket::close_reason(code, reason),
+  ws_.async_close(websocket::close_reason(code, close_reason_text(reason)),
                   [self = shared_from_this()](beast::error_code) {});
 }
 

@@ -50,7 +50,7 @@ class ViewSession : public std::enable_shared_from_this<ViewSession> {
   void on_accept(boost::beast::error_code ec);
   void do_read();
   void on_read(boost::beast::error_code ec, std::size_t bytes);
-  std::string handle_message(const std::string& text);  // "" or the close reason
+  std::string handle_message(std::string_view text);  // "" or the close reason
   void on_frame(std::shared_ptr<const std::vector<std::uint8_t>> message,
                 std::chrono::steady_clock::time_point published_at);
   void schedule_metrics();

@@ -4,6 +4,7 @@
 
 #include "db/auth_sessions_repo.h"
 #include "server/api/api_error.h"
+#include "server/json_input.h"
 
 namespace incise::server {
 
@@ -30,15 +31,18 @@ const db::User& ApiContext::require_role(std::initializer_list<db::Role> roles) 
 }
 
 nlohmann::json ApiContext::json_body() const {
-  try {
-    return nlohmann::json::parse(request.body());
-  } catch (const nlohmann::json::parse_error& e) {
-    // nlohmann's text reads "[json.exception.parse_error.101] parse error at line 1, ...".
-    const std::string what = e.what();
-    const auto at = what.find("parse error");
-    throw ApiError(http::status::bad_request,
-                   "malformed JSON: " + (at == std::string::npos ? what : what.substr(at)));
+  auto input = parse_json_input(request.body());
+  switch (input.error) {
+    case JsonInputError::none:
+      return std::move(input.value);
+    case JsonInputError::out_of_range:
+      // Well-formed JSON whose value cannot be represented: like any other invalid field.
+      throw ApiError(http::status::unprocessable_entity, "number out of range: " + input.message);
+    case JsonInputError::syntax:
+    case JsonInputError::too_deep:
+      break;
   }
+  throw ApiError(http::status::bad_request, "malformed JSON: " + input.message);
 }
 
 std::optional<std::string> ApiContext::cookie(std::string_view name) const {

@@ -66,7 +66,8 @@ class ApiContext {
   const db::User& user();
   // The logged-in user if their role is one of `roles`; 403 otherwise.
   const db::User& require_role(std::initializer_list<db::Role> roles);
-  // The parsed JSON body; 400 for malformed JSON.
+  // The parsed JSON body; 400 for malformed JSON (invalid UTF-8 and lone surrogates included, and
+  // nesting deeper than kMaxJsonDepth), 422 for a number beyond a double's range.
   nlohmann::json json_body() const;
   std::optional<std::string> cookie(std::string_view name) const;
 

@@ -1,6 +1,7 @@
 #include "server/api/request_fields.h"
 
 #include <algorithm>
+#include <cstdint>
 
 #include "server/api/api_error.h"
 
@@ -46,6 +47,12 @@ std::int64_t RequestFields::integer(std::string_view key) const {
   if (!value.is_number_integer()) {
     throw ApiError(status::unprocessable_entity,
                    "field '" + std::string(key) + "' must be an integer");
+  }
+  // nlohmann keeps 2^63..2^64-1 as unsigned; get<int64_t> would wrap them to negatives.
+  if (value.is_number_unsigned() &&
+      value.get<std::uint64_t>() > static_cast<std::uint64_t>(INT64_MAX)) {
+    throw ApiError(status::unprocessable_entity,
+                   "field '" + std::string(key) + "' is out of range (at most 2^63 - 1)");
   }
   return value.get<std::int64_t>();
 }

@@ -8,10 +8,14 @@
 #include "db/db_error.h"
 #include "server/api/api_error.h"
 #include "server/api/handlers.h"
+#include "server/wire_text.h"
 
 namespace incise::server {
 
 namespace {
+
+// Long enough for any message of ours; a client's echoed bytes beyond it are cut.
+constexpr std::size_t kMaxErrorMessageBytes = 512;
 
 using Handler = ApiResponse (*)(ApiContext&);
 
@@ -135,13 +139,19 @@ bool is_cross_origin(const Request& req) {
   return origin_host != host;
 }
 
-Response json_error(http::status status, const std::string& message, unsigned version,
+Response json_error(http::status status, std::string_view message, unsigned version,
                     bool keep_alive) {
   Response res{status, version};
   res.set(http::field::content_type, "application/json");
   res.set(http::field::cache_control, "no-store");
   res.keep_alive(keep_alive);
-  res.body() = nlohmann::json{{"error", message}}.dump();
+  try {
+    // The message may echo what the client sent (a path, a parser's excerpt of the body).
+    res.body() = dump_json({{"error", clip_utf8(message, kMaxErrorMessageBytes)}});
+  } catch (...) {
+    // Only an allocation can fail above; the error path must still answer.
+    res.body() = R"({"error":"internal server error"})";
+  }
   res.prepare_payload();
   return res;
 }
@@ -165,7 +175,7 @@ Response handle_api_request(const Request& request, AppState& app, const std::st
       res.body() = *out.text_body;
     } else if (out.status != http::status::no_content) {
       res.set(http::field::content_type, "application/json");
-      res.body() = out.body.dump();
+      res.body() = dump_json(out.body);
     }
     res.keep_alive(keep_alive);
     res.prepare_payload();

@@ -2,6 +2,7 @@
 // Dispatches one /api request to its handler and turns every failure into a JSON error with the
 // right status (docs/api.md). Never throws.
 #include <string>
+#include <string_view>
 
 #include "server/api/api_context.h"
 
@@ -13,8 +14,10 @@ Response handle_api_request(const Request& request, AppState& app, const std::st
 // or of another port of this host). Browsers always send Origin on WebSocket upgrades.
 bool is_cross_origin(const Request& request);
 
-// A JSON error response, `{"error": message}`.
-Response json_error(http::status status, const std::string& message, unsigned version,
+// A JSON error response, `{"error": message}`, with the message made valid UTF-8 and cut to
+// 512 bytes (it may echo a client's bytes). Never throws (a failed allocation still answers a
+// fixed error body).
+Response json_error(http::status status, std::string_view message, unsigned version,
                     bool keep_alive);
 
 }  // namespace incise::server

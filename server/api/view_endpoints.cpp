@@ -1,6 +1,7 @@
 #include "server/api/view_endpoints.h"
 
 #include <charconv>
+#include <iostream>
 #include <mutex>
 
 #include "db/recordings_repo.h"
@@ -124,7 +125,10 @@ std::variant<ViewTarget, Response> resolve_view(const Request& request, AppState
   } catch (const ApiError& e) {
     return json_error(e.status(), e.what(), request.version(), false);
   } catch (const std::exception& e) {
-    return json_error(http::status::internal_server_error, e.what(), request.version(), false);
+    // Details go to the log, not to the client (as for the REST API).
+    std::cerr << "incise-server: internal error on upgrade to " << path << ": " << e.what() << "\n";
+    return json_error(http::status::internal_server_error, "internal server error",
+                      request.version(), false);
   }
 }
 

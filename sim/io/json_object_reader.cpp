@@ -144,8 +144,9 @@ Vec3 read_vec3(const json& value, const std::string& path) {
 nlohmann::json parse_json_text(std::string_view text) {
   try {
     return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& error) {
-    // what() is "[json.exception.parse_error.101] parse error at line 1, column 2: ...".
+  } catch (const nlohmann::json::exception& error) {
+    // A syntax error or a number beyond a double's range (out_of_range 406); what() is e.g.
+    // "[json.exception.parse_error.101] parse error at line 1, column 2: ...".
     std::string reason = error.what();
     const std::size_t start = reason.find("] ");
     if (start != std::string::npos) reason.erase(0, start + 2);

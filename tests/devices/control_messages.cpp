@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "devices/protocol.h"
+#include "support/hostile_json.h"
 
 namespace incise::devices {
 namespace {
@@ -254,6 +255,52 @@ TEST(ControlMessages, SessionNoticeErrors) {
     EXPECT_FALSE(parsed) << text;
     EXPECT_EQ(parsed.error, error) << text;
   }
+}
+
+// Every message either side parses, with a hostile value in each of its fields: a failure whose
+// text is valid UTF-8 and fits a close reason, never an exception (a number beyond a double's
+// range is nlohmann's out_of_range, not its parse_error) and never the peer's bytes echoed.
+TEST(ControlMessages, HostileValuesAreRefusedWithoutThrowing) {
+  const char* const templates[] = {
+      R"({"type": "hello", "protocol": @, "station_token": "t", "agent": "a"})",
+      R"({"type": "hello", "protocol": 1, "station_token": @, "agent": "a"})",
+      R"({"type": "hello", "protocol": 1, "station_token": "t", "agent": "a", "x": @})",
+      R"({"type": @, "protocol": 1, "station_token": "t", "agent": "a"})",
+      R"({"type": "welcome", "protocol": 1, "station_id": @, "station_name": "n"})",
+      R"({"type": "welcome", "protocol": 1, "station_id": 1, "station_name": "n",
+          "calibration": {"devices": [@]}})",
+      R"({"type": "session", "session_id": @, "state": "idle"})",
+      R"({"type": "link", "loop_hz": @, "rtt_p50_ms": 1, "rtt_p99_ms": 1, "loss_down": 0,
+          "states_sent": 1, "states_held": 0, "devices": []})",
+      R"({"type": "link", "loop_hz": 1, "rtt_p50_ms": 1, "rtt_p99_ms": 1, "loss_down": 0,
+          "states_sent": @, "states_held": 0, "devices": []})",
+      R"({"type": "calibration", "calibration": {"scale": @}})",
+  };
+  const std::function<std::string(const std::string&)> parsers[] = {
+      [](const std::string& t) { return parse_hello(t).error; },
+      [](const std::string& t) { return parse_welcome(t).error; },
+      [](const std::string& t) { return parse_session_notice(t).error; },
+      [](const std::string& t) { return parse_link_report(t).error; },
+      [](const std::string& t) { return parse_calibration_notice(t).error; },
+      [](const std::string& t) { return message_type(t).empty() ? "no type" : ""; },
+  };
+  for (const auto& value : test::hostile_values()) {
+    for (const char* message : templates) {
+      const std::string text = test::with_value(message, value.token);
+      for (const auto& parse : parsers) {
+        std::string error;
+        ASSERT_NO_THROW(error = parse(text)) << value.what << " in " << text;
+        EXPECT_FALSE(error.empty()) << value.what << " in " << text;
+        EXPECT_TRUE(test::is_utf8(error)) << value.what << ": " << error;
+        EXPECT_LE(error.size(), kMaxCloseReasonSize) << value.what;
+      }
+    }
+  }
+  // The number's error says what it is, not just "syntax".
+  EXPECT_EQ(parse_hello(test::with_value(templates[0], "1e400")).error,
+            "hello: not valid JSON (a number beyond the range of a double)");
+  EXPECT_EQ(parse_session_notice(test::with_value(templates[6], "-1e400")).error,
+            "session: not valid JSON (a number beyond the range of a double)");
 }
 
 }  // namespace

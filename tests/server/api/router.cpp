@@ -12,6 +12,7 @@
 #include "api/api_test_app.h"
 #include "db/bookings_repo.h"
 #include "server/time_text.h"
+#include "support/hostile_json.h"
 
 namespace incise::server::test {
 namespace {
@@ -255,6 +256,88 @@ TEST_F(Router, MalformedJsonIs400) {
     EXPECT_EQ(json_of(response).value("error", "").rfind("malformed JSON: parse error", 0), 0u)
         << response.body();
   }
+}
+
+// Bytes a client sent never break the error path: an echoed path that is not UTF-8 comes back as
+// valid JSON with U+FFFD in its place (an HttpSession refuses such targets before routing; the
+// router must still be safe on its own).
+TEST_F(Router, InvalidUtf8InThePathIsEchoedAsValidJson) {
+  for (const std::string path :
+       {"/api/\xff", "/api/\xc0\xaf", "/api/\xed\xa0\x80", "/api/health/\xf4\x90\x80\x80"}) {
+    Response response;
+    ASSERT_NO_THROW(response = get(path, "")) << path;
+    EXPECT_TRUE(is_error(response, http::status::not_found)) << response.body();
+    const auto error = json_of(response).value("error", "");
+    EXPECT_TRUE(error.starts_with("no such endpoint: GET /api/")) << error;
+    EXPECT_NE(error.find("\xEF\xBF\xBD"), std::string::npos) << error;
+  }
+  // json_error itself, with a message of any bytes and any length.
+  const auto response = json_error(http::status::bad_request, std::string(10000, '\xff'), 11, true);
+  const auto error = json_of(response).value("error", "");
+  EXPECT_LE(error.size(), 512u);
+  EXPECT_TRUE(incise::test::is_utf8(error));
+}
+
+// Every endpoint that reads a body answers a hostile value in it with 400 (not JSON: invalid
+// UTF-8, overlong or surrogate encodings, lone surrogate escapes) or 422 (a number beyond a
+// double's range), never 500, and stores nothing.
+TEST_F(Router, HostileValuesInBodiesAre400Or422) {
+  const auto station = std::to_string(demo_station_id());
+  const auto trainee = std::to_string(user_id("trainee"));
+  struct Endpoint {
+    http::verb method;
+    std::string path;
+    Who who;
+    const char* body;
+  };
+  const Endpoint endpoints[] = {
+      {http::verb::post, "/api/login", Who::nobody, R"({"username": @, "password": "x"})"},
+      {http::verb::post, "/api/users", Who::admin, R"({"username": "u", "password": @})"},
+      {http::verb::put, "/api/users/" + trainee + "/instructors", Who::admin,
+       R"({"instructor_ids": [@]})"},
+      {http::verb::post, "/api/stations", Who::admin, R"({"name": @})"},
+      {http::verb::put, "/api/stations/" + station + "/calibration", Who::admin,
+       R"({"devices": [{"scale": @}]})"},
+      {http::verb::post, "/api/bookings", Who::trainee,
+       R"({"station_id": @, "starts_at": "x", "ends_at": "y"})"},
+      {http::verb::post, "/api/sessions", Who::trainee, R"({"station_id": 1, "task": @})"},
+      {http::verb::post, "/api/curricula", Who::admin, R"({"name": @, "modules": []})"},
+  };
+  const auto tables = {"users", "stations", "bookings", "sessions", "curricula", "audit_log"};
+  std::vector<std::int64_t> before;
+  for (const auto* table : tables)
+    before.push_back(count(table));
+  for (const auto& endpoint : endpoints) {
+    const auto token = session_of(endpoint.who);
+    for (const auto& value : incise::test::hostile_values()) {
+      const auto body = incise::test::with_value(endpoint.body, value.token);
+      Response response;
+      ASSERT_NO_THROW(response = call({endpoint.method, endpoint.path, body, token}));
+      const auto status =
+          value.number ? http::status::unprocessable_entity : http::status::bad_request;
+      EXPECT_TRUE(is_error(response, status)) << endpoint.path << ", " << value.what;
+      const auto error = json_of(response).value("error", "");
+      EXPECT_TRUE(error.starts_with(value.number ? "number out of range: " : "malformed JSON: "))
+          << error;
+    }
+  }
+  std::size_t i = 0;
+  for (const auto* table : tables)
+    EXPECT_EQ(count(table), before[i++]) << table;
+  // The integer fields refuse what does not fit a rowid instead of wrapping it to a negative.
+  const auto admin = session_of(Who::admin);
+  EXPECT_TRUE(is_error(call({http::verb::post, "/api/bookings",
+                             R"({"station_id": 18446744073709551615, "starts_at": "x",
+                                 "ends_at": "y"})",
+                             session_of(Who::trainee)}),
+                       http::status::unprocessable_entity,
+                       "field 'station_id' is out of range (at most 2^63 - 1)"));
+  // Nesting a body deeper than the parser's limit is refused before it is parsed.
+  EXPECT_TRUE(is_error(
+      call({http::verb::post, "/api/stations",
+            R"({"name": "n", "x": )" + std::string(1000, '[') + std::string(1000, ']') + "}",
+            admin}),
+      http::status::bad_request, "malformed JSON: nested deeper than 64 levels"));
 }
 
 }  // namespace
