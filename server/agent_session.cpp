@@ -221,7 +221,7 @@ void AgentSession::close(std::string reason) {
 void AgentSession::do_close(websocket::close_code code, std::string reason) {
   if (closing_ || !ws_.is_open()) return;
   closing_ = true;
-  ws_.async_close(websocket::close_reason(code, clip_utf8(reason, devices::kMaxCloseReasonSize)),
+  ws_.async_close(websocket::close_reason(code, close_reason_text(reason)),
                   [self = shared_from_this()](beast::error_code) {});
 }
 

@@ -13,28 +13,34 @@ namespace {
 // A control message is a small flat object: 8 levels is plenty.
 constexpr int kMaxDepth = 8;
 
-// Reads the optional fields of one message; the first problem wins and ends the reading.
+// Reads the fields of one message of type `type`; the first problem wins, and error() is then
+// the close reason's text (`ack needs "frame"`, `configure: "fps" must be an integer in [1, 60]`).
 class Fields {
  public:
-  explicit Fields(const nlohmann::json& object) : object_(object) {}
+  Fields(const nlohmann::json& object, const std::string& type) : object_(object), type_(type) {}
 
-  std::optional<double> number(const char* key) {
+  // A JSON number (parsed numbers are always finite: the parser refuses overflow).
+  std::optional<double> number(const char* key, bool required = false) {
     const auto it = object_.find(key);
-    if (it == object_.end() || !error_.empty()) return std::nullopt;
-    // Parsed JSON numbers are finite (overflow is refused by the parser); checked all the same.
-    if (!it->is_number() || !std::isfinite(it->get<double>())) {
-      error_ = std::string("\"") + key + "\" must be a number";
+    if (!error_.empty()) return std::nullopt;
+    if (it == object_.end()) {
+      if (required) error_ = type_ + " needs \"" + key + "\"";
+      return std::nullopt;
+    }
+    if (!it->is_number()) {
+      error_ = type_ + ": \"" + key + "\" must be a number";
       return std::nullopt;
     }
     return it->get<double>();
   }
 
   // An integer within [lo, hi]: compared as a double before any conversion.
-  std::optional<std::int64_t> integer(const char* key, std::int64_t lo, std::int64_t hi) {
-    const auto v = number(key);
+  std::optional<std::int64_t> integer(const char* key, std::int64_t lo, std::int64_t hi,
+                                      bool required = false) {
+    const auto v = number(key, required);
     if (!v) return std::nullopt;
     if (*v != std::floor(*v) || *v < static_cast<double>(lo) || *v > static_cast<double>(hi)) {
-      error_ = std::string("\"") + key + "\" must be an integer in [" + std::to_string(lo) + ", " +
+      error_ = type_ + ": \"" + key + "\" must be an integer in [" + std::to_string(lo) + ", " +
                std::to_string(hi) + "]";
       return std::nullopt;
     }
@@ -50,6 +56,7 @@ class Fields {
 
  private:
   const nlohmann::json& object_;
+  const std::string& type_;
   std::string error_;
 };
 
@@ -69,14 +76,12 @@ ViewMessageResult parse_view_message(std::string_view text, std::int64_t frames_
     return fail("a message must be an object with a string \"type\"");
   }
   const auto& type = type_it->get_ref<const std::string&>();
-  Fields fields(object);
+  Fields fields(object, type);
   ViewMessage m;
-  std::string missing;
   if (type == "ack") {
     m.type = ViewMessage::Type::ack;
-    const auto frame = fields.integer("frame", 1, std::max<std::int64_t>(1, frames_issued));
-    if (frame) m.frame = *frame;
-    if (!frame && fields.error().empty()) missing = "ack needs \"frame\"";
+    m.frame =
+        fields.integer("frame", 1, std::max<std::int64_t>(1, frames_issued), true).value_or(0);
   } else if (type == "configure") {
     m.type = ViewMessage::Type::configure;
     m.fps = fields.small_integer("fps", 1, 60);
@@ -86,18 +91,16 @@ ViewMessageResult parse_view_message(std::string_view text, std::int64_t frames_
     m.type = ViewMessage::Type::play;
   } else if (replay && type == "pause") {
     m.type = ViewMessage::Type::pause;
-  } else if (replay && (type == "speed" || type == "seek")) {
-    const bool speed = type == "speed";
-    m.type = speed ? ViewMessage::Type::speed : ViewMessage::Type::seek;
-    const auto value = fields.number(speed ? "value" : "t");
-    if (value) m.value = *value;
-    if (!value && fields.error().empty())
-      missing = type + (speed ? " needs \"value\"" : " needs \"t\"");
+  } else if (replay && type == "speed") {
+    m.type = ViewMessage::Type::speed;
+    m.value = fields.number("value", true).value_or(0);
+  } else if (replay && type == "seek") {
+    m.type = ViewMessage::Type::seek;
+    m.value = fields.number("t", true).value_or(0);
   } else {
     return fail("unknown message type \"" + clip_utf8(type, 40) + "\"");
   }
-  if (!fields.error().empty()) return fail(type + ": " + fields.error());
-  if (!missing.empty()) return fail(missing);
+  if (!fields.error().empty()) return fail(fields.error());
   return {m, ""};
 }
 
