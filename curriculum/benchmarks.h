@@ -1,5 +1,5 @@
 #pragma once
-// Expert benchmarks (issue 8 item 2): a task's metric summarised over its recorded expert runs,
+// Expert benchmarks: a task's metric summarised over its recorded expert runs,
 // and an attempt's value relative to it, so that a trainee sees not only "passed" but how far from
 // an expert they are.
 #include <span>

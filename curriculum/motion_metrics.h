@@ -1,7 +1,7 @@
 #pragma once
 // Motion and force metrics of one or two hands (haptic devices) over a recorded attempt: how far
 // and how smoothly the tool moved, how often it stopped, how hard it pressed, and how the two hands
-// worked together (issue 8). Pure functions over plain sample streams, like metrics.h.
+// worked together. Pure functions over plain sample streams, like metrics.h.
 #include <array>
 #include <cstdint>
 #include <span>

@@ -1,7 +1,7 @@
 #pragma once
 // What happened during a recorded attempt, when: events (contact, grasp, cut, collision with a
 // protected structure, never event, target reached), their metrics, and a downsampled timeline of
-// force, speed and tissue damage for the instructor's review (issue 8 items 2 and 4). Pure
+// force, speed and tissue damage for the instructor's review. Pure
 // functions over the recorded hand streams, like motion_metrics.h, so that scoring, the review
 // page and the tests see the same events.
 #include <cstdint>

@@ -1,5 +1,5 @@
 #pragma once
-// Whose training records a list holds (issue 8, security): everyone's (admins), one trainee's
+// Whose training records a list holds: everyone's (admins), one trainee's
 // (the trainee themself), or an instructor's own and those of the trainees assigned to them
 // (trainee_instructors).
 #include <cstdint>

@@ -50,21 +50,21 @@ out=results/bench-$(date -u +%Y%m%dT%H%M%SZ).txt
   echo "## per-tet kernels and implicit steps (Google Benchmark)"
   "$bin/bench_models"
   echo
-  echo "## remeshing: one insertion / one removal (issue 5)"
+  echo "## remeshing: one insertion / one removal"
   "$bin/bench_remesh"
   "$bin/bench_refinement"
   "$bin/bench_remesh_pass"
   echo
-  echo "## seed 000 probing: low / high / adaptive mesh (results/probing*.csv, results/probing_*.svg)"
+  echo "## probing as in Paloc 2006, Figure 6: low / high / adaptive mesh (results/probing*.csv, results/probing_*.svg)"
   "$bin/bench_probing" results/probing.csv
   echo
-  echo "## active region: a local poke on a 5.8k-tet box, with and without (issue 5)"
+  echo "## active region: a local poke on a 5.8k-tet box, with and without"
   "$bin/bench_active_region" 3000 20 0.02 5e-5 1e-4
   echo
   echo "## liver-like organ (~5k tets) probed by a scripted tool, full against active region"
   "$bin/bench_liver" 4000 0.0085 5e-5 1e-4
   echo
-  echo "## liver-like organ: fine / active region / coarse / adaptive, steps/s and error (issue 5)"
+  echo "## liver-like organ: fine / active region / coarse / adaptive, steps/s and error"
   "$bin/bench_liver_adaptive" corotational
   "$bin/bench_liver_adaptive" mss
 } 2>&1 | tee "$out"

@@ -75,8 +75,8 @@ struct WorkspaceMapping {
 };
 
 // ---------------------------------------------------------------------------------------------
-// The arthroscope (or laparoscope) of a two-handed station (seed 001, Fig. 3): the shaft pivots
-// about a fulcrum at the portal in the skin, so the tool has 4 DOF. Pitch, yaw and insertion
+// The arthroscope (or laparoscope) of a two-handed station (Knee Arthroscopy VR, Fig. 3): the shaft
+// pivots about a fulcrum at the portal in the skin, so the tool has 4 DOF. Pitch, yaw and insertion
 // carry force feedback; roll (the knob turning the 30-degree optics) is free.
 //
 // Convention. P = portal_orientation; its +z is the shaft direction into the body at rest.
@@ -173,7 +173,8 @@ class PortalScope {
   explicit PortalScope(const ScopeGeometry& geometry);
 
   const ScopeGeometry& geometry() const { return geometry_; }
-  // The zoom of the seed's "adjustable field of view", clamped to [kMin, kMaxFieldOfView].
+  // The zoom (Knee Arthroscopy VR, section III: "the field-of-view is also adjustable"), clamped
+  // to [kMinFieldOfView, kMaxFieldOfView].
   void set_field_of_view(double radians);
 
   ScopePose forward(const ScopeJoints& joints) const;
@@ -214,13 +215,14 @@ class PortalScope {
 double distance_from_shaft_line(const ScopePose& pose, const Vec3& point);
 
 // ---------------------------------------------------------------------------------------------
-// A pen-style 6-DOF device (Phantom-like, seed 001 Fig. 1): three actuated translational axes
-// move the gimbal centre, which is the tool point; three passive gimbal angles orient the pen.
+// A pen-style 6-DOF device (Phantom-like, Knee Arthroscopy VR, Fig. 1): three actuated
+// translational axes move the gimbal centre, which is the tool point; three passive gimbal angles
+// orient the pen.
 //   orientation = Ry(yaw) Rx(pitch) Rz(roll),  the pen points along its +z (as the scope)
 // Gimbal lock at pitch = +-90 degrees: yaw and roll then turn about the same axis, and
 // inverse() returns yaw = 0 with the whole turn in roll (the pose still round-trips).
 // The motors render the tip force unchanged; the gimbal has no motors, so torques are not
-// rendered (the seed's Fig. 1b): joint_forces() returns the dropped torque for logging.
+// rendered (Knee Arthroscopy VR, Fig. 1(b)): joint_forces() returns the dropped torque for logging.
 
 struct PenJoints {
   Vec3 position;       // gimbal centre = tool point, device frame [m]

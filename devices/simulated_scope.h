@@ -1,5 +1,6 @@
 #pragma once
-// A simulated 4-DOF arthroscope / laparoscope at a portal (seed 001's two-handed interface): the
+// A simulated 4-DOF arthroscope / laparoscope at a portal (the two-handed interface of
+// Knee Arthroscopy VR, section III): the
 // hand's script says where it wants the tip; the scope's kinematics (PortalScope) turn that into
 // pitch, yaw and insertion about the fulcrum (clamped to the joint limits; roll from the
 // script's buttons is not modelled: 0), and the reported pose follows from the joints, so the

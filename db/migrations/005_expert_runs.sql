@@ -1,4 +1,4 @@
--- Expert benchmarks (issue 8 item 2): attempts an admin marked as expert runs. A task's benchmark
+-- Expert benchmarks: attempts an admin marked as expert runs. A task's benchmark
 -- is the mean and SD of each metric over its expert runs' scores, computed when asked.
 CREATE TABLE expert_runs (
   session_id INTEGER PRIMARY KEY REFERENCES sessions (id) ON DELETE CASCADE,

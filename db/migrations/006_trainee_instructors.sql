@@ -1,4 +1,4 @@
--- Which instructors teach which trainees (issue 8 security: instructors see only their trainees'
+-- Which instructors teach which trainees (access control: instructors see only their trainees'
 -- data). A trainee may have several instructors.
 CREATE TABLE trainee_instructors (
   trainee_id    INTEGER NOT NULL REFERENCES users (id) ON DELETE CASCADE,

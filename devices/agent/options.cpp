@@ -235,7 +235,7 @@ WebSocket (held back while the hand is still), which is reconnected (0.25 s back
 5 s) when it drops. SIGUSR1 logs the loop and link statistics (they are also logged at exit).
 
   --config FILE        settings file: "key = value" lines with these flags' names (see
-                       deploy/incise-agent.conf); the command line overrides it
+                       deploy/agent/incise-agent.conf); the command line overrides it
   --server URL         the server's agent endpoint (default ws://127.0.0.1:8080/agent)
   --token TOKEN        the station token shown when the station was created; prefer the
                        INCISE_STATION_TOKEN environment variable, which other users cannot see

@@ -51,9 +51,9 @@ ParseResult<AgentOptions> parse_agent_options(std::span<const char* const> args,
                                               const char* env_token,
                                               std::span<const std::string> config_args = {});
 
-// A configuration file (deploy/incise-agent.conf): one "key = value" per line, the keys being the
-// long flags without "--" (server, token, device, rate, deadband, max-force, coupling,
-// passivity, record-states); '#' starts a comment. Returns the settings as "--key=value"
+// A configuration file (deploy/agent/incise-agent.conf): one "key = value" per line, the keys
+// being the long flags without "--" (server, token, device, script, rate, deadband, max-force,
+// coupling, passivity, record-states); '#' starts a comment. Returns the settings as "--key=value"
 // arguments, or the first bad line as `FILE:LINE: ...`.
 ParseResult<std::vector<std::string>> config_file_args(std::string_view text,
                                                        const std::string& path);

@@ -12,7 +12,7 @@
 
 namespace incise::server::api {
 
-// Whose records #user sees (issue 8, security): a trainee their own, an instructor their own and
+// Whose records #user sees: a trainee their own, an instructor their own and
 // their trainees' (trainee_instructors), an admin everyone's.
 db::TraineeScope visible_scope(const db::User& user);
 

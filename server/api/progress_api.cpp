@@ -1,4 +1,4 @@
-// A trainee's proficiency-based progression (issue 8 item 1): per task of the curriculum the
+// A trainee's proficiency-based progression: per task of the curriculum the
 // sessions run, the attempts, the current run of passes, whether it is mastered and whether it
 // is unlocked (every prerequisite mastered). An attempt is a finished session of that task; it
 // passed when every metric the task scores passed (curriculum/proficiency.h).

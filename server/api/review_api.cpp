@@ -1,4 +1,4 @@
-// The review page of an attempt (issue 8 items 2 and 4): its events and signal timelines computed
+// The review page of an attempt: its events and signal timelines computed
 // from the recording, its results against the task's thresholds and the experts, and the expert
 // runs that make the benchmarks.
 

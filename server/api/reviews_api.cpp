@@ -1,4 +1,4 @@
-// Instructor review of an attempt (issue 8 item 4): time-stamped annotations on its recording and
+// Instructor review of an attempt: time-stamped annotations on its recording and
 // score adjustments with a reason (audited). The session's trainee, instructors and admins read
 // them; instructors and admins write them.
 

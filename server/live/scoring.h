@@ -1,5 +1,5 @@
 #pragma once
-// Scoring at the end of a session (issue 3 item 7): the curriculum computes the task's metrics
+// Scoring at the end of a session: the curriculum computes the task's metrics
 // from the recorded stream, and the results are stored as the session's scores.
 #include <cstdint>
 #include <span>

@@ -1,7 +1,8 @@
 #pragma once
 
 // A bounding-volume hierarchy (axis-aligned boxes) over the triangles of a deforming surface,
-// for tool contacts with soft tissue (seed 001's AABB tree). Built once, refitted every step
+// for tool contacts with soft tissue (the AABB tree of Knee Arthroscopy VR, section VIII). Built
+// once, refitted every step
 // (the tree's shape is kept, only its boxes follow the motion), updated locally when cutting or
 // remeshing adds or removes triangles, and rebuilt fully only when it has grown loose.
 //

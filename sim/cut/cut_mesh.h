@@ -1,9 +1,9 @@
 #pragma once
 
-// Cutting a tet mesh by subdivision (seed 001, section VII): the tets that the cut surface
-// crosses completely are split along it with the minimal pieces of their case (tet_split.h), and
-// the mesh opens along the new faces: nodes on the crack get one copy per side, so that the two
-// sides no longer share a node there and the tissue can part.
+// Cutting a tet mesh by subdivision (Knee Arthroscopy VR, section VII): the tets that the cut
+// surface crosses completely are split along it with the minimal pieces of their case
+// (tet_split.h), and the mesh opens along the new faces: nodes on the crack get one copy per side,
+// so that the two sides no longer share a node there and the tissue can part.
 //
 // Steps of one cut (a blade sweep, or a whole path, applied at once):
 //   1. crossings of the surface with the mesh edges in the CURRENT configuration, snapped to the
@@ -15,7 +15,7 @@
 //   3. every tet holding a split edge is bisected along its split edges in the global order of
 //      (min node, max node): cut tets into their case's pieces, partially cut neighbours only so
 //      that they conform (no hanging node). A face is split the same way from both of its tets,
-//      so the result is conforming (crack-free in the sense of seed 001's reference [20]);
+//      so the result is conforming (crack-free as Knee Arthroscopy VR, section VII.B.1, asks);
 //   4. crack faces: the faces between the two sides' pieces of a cut tet, and mesh faces whose 3
 //      nodes are on the surface when the surface separates the two tets' opposite nodes;
 //   5. each node of a crack face gets one copy per group of its tets that stay connected through

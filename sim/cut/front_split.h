@@ -1,8 +1,8 @@
 #pragma once
 
-// The temporary subdivision of the tets the blade is inside (seed 001 section VII.B, "subdivide a
-// tetrahedron temporarily until it is completely cut", Fig. 17), so that the trainee sees the
-// crack up to the blade before the blade leaves the tet.
+// The temporary subdivision of the tets the blade is inside (Knee Arthroscopy VR, section VII.B.2,
+// "subdivide a tetrahedron temporarily until it is completely cut", Fig. 17), so that the trainee
+// sees the crack up to the blade before the blade leaves the tet.
 //
 // The blade's cutting edge (a, b) crosses a front tet along a chord. The crack inside that tet is
 // the part of the swept surface behind the chord: a polygon whose corners are the surface's
@@ -12,8 +12,9 @@
 // through its crossing points and pierce point. In that star, the crack is the fan of triangles
 // (centre, p, q) over the crack's traces p-q on the faces (a face holding exactly two crack
 // points); these faces open like a complete cut's (split_crack_nodes), while the centre and the
-// pierce points, on the blade, stay shared: the crack closes at the blade (seed 001 cases 3 to 5:
-// an edge and two faces, two edges, and so on, all come out of the same rule).
+// pierce points, on the blade, stay shared: the crack closes at the blade (the partial cuts of
+// Knee Arthroscopy VR, cases 3 to 5 of Fig. 14: an edge and two faces, two edges, and so on, all
+// come out of the same rule).
 //
 // Conformity: a face is triangulated from its own points only, the same way from both of its
 // tets, and every tet holding a split edge or a pierced face is split too (star from its

@@ -1,7 +1,7 @@
 #pragma once
 
-// Progressive cutting (seed 001 section VII.B.2), driven every haptic frame by the blade's
-// cutting edge (a, b). Each frame:
+// Progressive cutting (Knee Arthroscopy VR, section VII.B.2), driven every haptic frame by the
+// blade's cutting edge (a, b). Each frame:
 //   1. the previous frame's temporary pieces are undone (rows restored, arrays truncated);
 //   2. complete cuts are committed where the surface swept so far (this stroke's strip of blade
 //      poses) now crosses tets completely, i.e. where the blade has left them: cut_mesh_active
@@ -9,9 +9,9 @@
 //      only on frames where the set of front tets (blade_front_tets) changed, and every 8th
 //      frame for a tet thinner than a frame's travel; most frames at hand speed skip it;
 //   3. the tets the blade is inside are split temporarily (split_front_tets), so that the crack
-//      is seen up to the blade. They are redone every frame from the committed tets (seed 001's
-//      Fig. 17 variant: the tet count grows only by committed cuts), on the front tets' stars
-//      only when step 2 was skipped.
+//      is seen up to the blade. They are redone every frame from the committed tets (the Fig. 17
+//      variant of Knee Arthroscopy VR: the tet count grows only by committed cuts), on the front
+//      tets' stars only when step 2 was skipped.
 //
 // Local region: the tets whose (current) box meets the box B of the strip's last quad, grown by
 // the largest tet diameter D, are active (the surface grew only in B; the D margin lets a crack

@@ -1,22 +1,23 @@
 #pragma once
 
-// Simplification of the slivers a cut leaves (seed 001 section VII.C): half-edge collapses of
-// edges of the poor tets near the cut, each accepted only if it passes seed 001's checks:
+// Simplification of the slivers a cut leaves (Knee Arthroscopy VR, section VII.C): half-edge
+// collapses of edges of the poor tets near the cut, each accepted only if it passes the paper's
+// checks:
 //   - inversion: every tet around the removed node stays positively oriented in the rest AND the
 //     current configuration once the node moves onto the kept one;
 //   - topology: the link condition (Dey, Edelsbrunner et al., "Topology preserving edge
 //     contraction"): Lk(a) ∩ Lk(b) = Lk(ab), with the boundary closed by a virtual vertex joined
-//     to every boundary face. It refuses both of seed 001's Fig. 20 cases (a hole beside the edge
+//     to every boundary face. It refuses both of the paper's Fig. 20 cases (a hole beside the edge
 //     that would close, two parts that would be left joined by an edge or a node);
 //   - boundary error: a removed boundary node must be collapsed onto a boundary node, and the
 //     boundary must stay within boundary_tolerance of where it was: the kept node within it of
 //     the planes of the removed node's old boundary faces, and the removed node within it of the
-//     planes of the new ones (seed 001's "projected distance to the original triangle", rest
+//     planes of the new ones (the paper's "projected distance to the original triangle", rest
 //     configuration). A small tolerance keeps the rest volume (a collapse of an interior node
 //     re-cones its star from the kept node: the same polyhedron, the same volume exactly);
 //   - progress: the worst quality of the tets around the removed node must improve, so that a
 //     collapse never makes a sliver elsewhere.
-// The kept node does not move (a half-edge collapse: seed 001's "vertex replacement" on the
+// The kept node does not move (a half-edge collapse: the paper's "vertex replacement" on the
 // surface node, without the midpoint option, which would move the boundary).
 //
 // Quality of a tet: its smallest altitude over its longest edge (0 for a flat tet, sqrt(2/3) for

@@ -1,8 +1,8 @@
 #pragma once
 
-// How one tet is cut: which of its edges the cut surface crosses and which of its vertices lie
-// on it decide whether the tet is cut through (its vertices fall into two sides, A and B, and
-// the crossed edges are exactly those joining A to B) and into how many pieces. Seed 001
+// How one tet is cut: which of its edges the cut surface crosses and which of its vertices lie on
+// it decide whether the tet is cut through (its vertices fall into two sides, A and B, and the
+// crossed edges are exactly those joining A to B) and into how many pieces. Knee Arthroscopy VR
 // (section VII.B, Fig. 14) lists the completely cut cases with minimal new elements; the vertex
 // snapping of find_edge_cuts adds the cases where the surface passes through a vertex or an edge.
 //

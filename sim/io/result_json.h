@@ -11,7 +11,7 @@ namespace incise::sim {
 //    "steps": k, "ms_per_step": median [ms], "max_speed": [m/s], "finite": bool,
 //    "solver": {"converged": bool, "iterations": n, "relative_residual": x,
 //               "inverted_elements": n}}
-// ("solver" reports the iterative solvers of issue 4; a direct explicit run has converged true,
+// ("solver" reports on an iterative solve; a direct explicit run has converged true,
 // 0 iterations and residual 0.)
 // rest and displacement in metres, one row per node. A non-finite number (only when "finite" is
 // false) is written as null, since JSON has no NaN or infinity.

@@ -1,4 +1,4 @@
-# Mesh files and quality (issue 4): readers, writers, quality measures. Paths relative to sim/.
+# Mesh files and quality: readers, writers, quality measures. Paths relative to sim/.
 set(INCISE_SIM_MESH_SOURCES ${INCISE_SIM_MESH_SOURCES}
   mesh/mesh_from_file_data.cpp
   mesh/mesh_info.cpp

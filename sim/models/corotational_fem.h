@@ -9,26 +9,29 @@
 namespace incise::sim {
 
 enum class RotationExtraction {
-  qr,     // Gram-Schmidt of F's columns: cheaper, depends on the tet's node order (seed 002)
+  qr,     // Gram-Schmidt of F's columns: cheaper, depends on the tet's node order
   polar,  // the polar decomposition (SVD): the rotation nearest to F, no ordering anisotropy
 };
 
-// Corotational linear elasticity (seed 002 section 2.4): each tet's deformation gradient F is split
-// into a rotation R and a stretch U = R^T F (symmetric for polar, upper triangular for QR), and the
-// small-strain energy is taken of the stretch:
+// Corotational linear elasticity (Physically Realistic FEM, section 2.4): each tet's deformation
+// gradient F is split into a rotation R and a stretch U = R^T F (symmetric for polar, upper
+// triangular for QR; the paper's polar and QR decompositions), and the small-strain energy is
+// taken of the stretch:
 //   eps = sym(U) - I,   Psi(F) = mu eps:eps + lambda/2 tr(eps)^2.
 // Psi does not change when the tet is rotated (R absorbs the rotation), so the forces, as its exact
-// gradient, obey Newton's and Euler's laws in every state: this is seed 002's "B updated each
-// step", here by differentiating through R rather than by a current-configuration B.
+// gradient, obey Newton's and Euler's laws in every state: this is the "B updated each step" of
+// Physically Realistic FEM (section 3.1), here by differentiating through R rather than by a
+// current-configuration B.
 //   polar:  P = R C(eps). R^T F is symmetric, so the dR/dF term of the gradient vanishes.
 //   QR:     P = R (C(eps) - M). dR/dF does not vanish; M is its exact contribution: with
 //           A = C(eps) U^T and a, b, c the antisymmetric parts A10 - A01, A20 - A02, A21 - A12,
 //           M10 = a / U00, M20 = b / U00 - c U01 / (U00 U11), M21 = c / U11, else 0
 //           (from R^T dR being antisymmetric and dU staying upper triangular).
 // Stiffness: K_e = R K_rest,e R^T (dP = R C(sym(R^T dF))), recomputed with R at each
-// prepare_stiffness. Like seed 002 it omits the terms from the change of R with x (and M's change);
-// they are proportional to the stress, so K is exact at any rigidly moved rest state and its error
-// grows with the strain. This K is symmetric positive semi-definite in every state.
+// prepare_stiffness. Like Physically Realistic FEM it omits the terms from the change of R with x
+// (and M's change); they are proportional to the stress, so K is exact at any rigidly moved rest
+// state and its error grows with the strain. This K is symmetric positive semi-definite in every
+// state.
 // Damping uses the frame F (the rate of Green strain, as St Venant-Kirchhoff and Neo-Hookean), not
 // R: the viscous stress R C(sym(R^T dF/dt)) of D = beta R K_rest R^T has a net torque once the tet
 // is deformed (R C S R^T is not symmetric), F C(sym(F^T dF/dt)) has none (tet_fem_model.h).

@@ -1,15 +1,15 @@
 #pragma once
-// The hybrid condensed model (seed 001 section VI; DESIGN.md section 3): a body split into an
-// operational region, where the surgeon works, modelled by any nonlinear, topology-changing model
-// (corotational, Neo-Hookean, ...), and a non-operational region ("far field") modelled by linear
-// elasticity whose interior nodes are condensed away. The regions share the nodes on their
+// The hybrid condensed model (Knee Arthroscopy VR, section VI; DESIGN.md section 3): a body split
+// into an operational region, where the surgeon works, modelled by any nonlinear, topology-changing
+// model (corotational, Neo-Hookean, ...), and a non-operational region ("far field") modelled by
+// linear elasticity whose interior nodes are condensed away. The regions share the nodes on their
 // interface, and one global node numbering.
 //
 // Far field: with its linear FEM stiffness K and damping D (tet_fem_model.h: D = beta K per tet)
 // partitioned into retained nodes s (its nodes on the body's boundary surface or shared with the
 // operational region) and interior nodes i, the interior is assumed in static equilibrium under
-// no load of its own, u_i = T u_s with T = -Kii^-1 Kis, which gives (static condensation, seed 001
-// eq. 5; Guyan reduction for the damping)
+// no load of its own, u_i = T u_s with T = -Kii^-1 Kis, which gives (static condensation,
+// Knee Arthroscopy VR eqs. 4-5; Guyan reduction for the damping)
 //   K* = Kss - Ksi Kii^-1 Kis,   D* = [I; T]^T D [I; T] = Dss + Dsi T + T^T Dis + T^T Dii T,
 //   f_s = -K* (x_s - X_s) - D* v_s.
 // Exact for the statics of a linear far field (D* = beta K* when beta is uniform); small

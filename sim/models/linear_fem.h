@@ -10,9 +10,9 @@ namespace incise::sim {
 // Small-strain (geometrically linear) elasticity on linear tets:
 //   eps = sym(F) - I,  Psi = mu eps:eps + lambda/2 tr(eps)^2,  P = 2 mu eps + lambda tr(eps) I.
 // K is constant (the rest stiffness). Forces are linear in the displacement, so they vanish for a
-// translation but not for a finite rotation (the "ghost forces" of seed 002 section 2.4), and
-// their torque about the origin vanishes only when taken at the rest positions (sum X_i x f_i = 0;
-// at the current positions it is O(|u|^2)).
+// translation but not for a finite rotation (the "ghost forces" of Physically Realistic FEM,
+// section 2.4), and their torque about the origin vanishes only when taken at the rest positions
+// (sum X_i x f_i = 0; at the current positions it is O(|u|^2)).
 struct LinearKernel {
   struct State {};
   Real energy_density(const Mat3& deformation, const Lame& lame) const {

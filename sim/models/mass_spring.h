@@ -12,8 +12,7 @@ struct MassSpringMaterial {
 };
 
 // Volumetric mass-spring system on a tet mesh: a mass per node, a spring-damper per unique tet
-// edge. Parameters follow Paloc, Faraci, Bello 2006 ("Online remeshing for soft tissue
-// simulation in surgical training", section "Physical consistency", after Paloc et al. MICCAI
+// edge. Parameters follow Paloc 2006 (section "Physical consistency", after Paloc et al. MICCAI
 // 2002), which keeps the global behaviour nearly unchanged when the resolution changes:
 //   eq. 5  m_i  = D sum_{tets t at node i} V_t / 4
 //   eq. 6  k_ij = E sum_{tets t at edge ij} V_t / l_ij^2

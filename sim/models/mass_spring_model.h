@@ -11,7 +11,7 @@
 
 namespace incise::sim {
 
-// The volumetric mass-spring system of MassSpring (sim/models/mass_spring.h; Paloc et al. eqs. 5-7)
+// The volumetric mass-spring system of MassSpring (sim/models/mass_spring.h; Paloc 2006, eqs. 5-7)
 // as a Model, with per-tet materials from tissue labels and an optional volume-preservation term.
 // With one material it has MassSpring's masses, springs and forces exactly; with several, the sums
 // of eqs. 5 and 6 take each tet's own density and E:

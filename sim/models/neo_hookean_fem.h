@@ -9,20 +9,20 @@
 
 namespace incise::sim {
 
-// The compressible Neo-Hookean material of seed 003 (Nienhuys' form), its equation 4:
+// The compressible Neo-Hookean material of Joshi et al. (Nienhuys' form), their equation 4:
 //   S = mu (I - C^-1) + lambda J (J - 1) C^-1,   C = F^T F,  J = det F,
 // the second Piola stress of the energy density
 //   Psi(F) = mu/2 (tr C - 3) - mu ln J + lambda/2 (J - 1)^2
 // (S = 2 dPsi/dC, using dJ/dC = J C^-1 / 2). Hence under uniaxial stretch lambda_1 with free
-// lateral faces, S22 = 0 gives seed 003's equation 15 for the lateral stretch lambda_2.
+// lateral faces, S22 = 0 gives equation 15 of Joshi et al. for the lateral stretch lambda_2.
 // First Piola stress, written with cof F = J F^-T = dJ/dF so that it needs no inverse:
 //   P = mu F + (lambda (J - 1) - mu l'(J)) cof F.
 // Inversion: ln J has no value for J <= 0. Below J0 (extension_below, default 0.1) ln J is replaced
 // by its second-order Taylor expansion at J0,
 //   l(J) = ln J0 + (J - J0) / J0 - (J - J0)^2 / (2 J0^2)   for J < J0   (l(J) = ln J otherwise),
 // which is C^2 at J0, finite for every J and still increasing for J < 2 J0, so a flat or inverted
-// tet has finite energy and a force that raises its volume (restoring). The model is exactly seed
-// 003's for J >= J0. K is the exact Hessian (it can be indefinite far from rest):
+// tet has finite energy and a force that raises its volume (restoring). The model is exactly
+// that of Joshi et al. for J >= J0. K is the exact Hessian (it can be indefinite far from rest):
 //   dP = mu dF + (lambda (J - 1) - mu l'(J)) d(cof F) + (lambda - mu l''(J)) (cof F : dF) cof F,
 //   d(cof F) columns: df2 x f3 + f2 x df3,  df3 x f1 + f3 x df1,  df1 x f2 + f1 x df2.
 // Projected tangent (Tangent::projected, projected_tangent.h): with F = U diag(s) V^T, w and c the

@@ -1,13 +1,15 @@
 #pragma once
-// The rotation of a tet's deformation gradient F, for corotational FEM (seed 002 section 2.4,
-// figure 1). Both return a proper rotation (det R = +1) for any F, also flat or inverted ones.
+// The rotation of a tet's deformation gradient F, for corotational FEM (Physically Realistic FEM,
+// section 2.4 and figure 1). Both return a proper rotation (det R = +1) for any F, also flat or
+// inverted ones.
 #include "sim/core/types.h"
 
 namespace incise::sim {
 
-// F = R U by Gram-Schmidt of F's columns (seed 002, "QR decomposition"): r1 along f1, r2 in the
-// plane of f1 and f2, r3 = r1 x r2, so that the frame is right-handed even for an inverted F (then
-// U's last diagonal entry is negative). U is upper triangular with U(0,0), U(1,1) > 0.
+// F = R U by Gram-Schmidt of F's columns (Physically Realistic FEM, "QR decomposition"): r1 along
+// f1, r2 in the plane of f1 and f2, r3 = r1 x r2, so that the frame is right-handed even for an
+// inverted F (then U's last diagonal entry is negative). U is upper triangular with
+// U(0,0), U(1,1) > 0.
 struct QrRotation {
   Mat3 rotation = Mat3::Identity();  // R
   Mat3 upper = Mat3::Identity();     // U = R^T F

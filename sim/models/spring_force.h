@@ -10,8 +10,7 @@ struct SpringForce {
   bool degenerate = false;   // the nodes coincide, so the spring has no direction: no force
 };
 
-// A linear spring with a dashpot along it between nodes i and j (Paloc, Faraci, Bello 2006,
-// "Online remeshing for soft tissue simulation in surgical training", eq. 3):
+// A linear spring with a dashpot along it between nodes i and j (Paloc 2006, eq. 3):
 //   r = x_j - x_i,  u = r / |r|,  f_i = (k (|r| - l0) + c (v_j - v_i) . u) u,  f_j = -f_i.
 // A stretched spring (|r| > l0) pulls i towards j; the dashpot resists the rate of stretch only,
 // so rigid motions produce no force.

@@ -1,6 +1,6 @@
 #pragma once
 
-// Regions of adaptation (issue 5 item 5; the seed's "regions of adaptation"): where the mesh
+// Regions of adaptation (Paloc 2006, "Regions of adaptation"): where the mesh
 // should be fine, from contact with a tool, high Green strain and high surface bend, with
 // hysteresis so that a region does not flicker between refined and decimated. The result is two
 // size fields over the rest configuration: one for refine(), one (larger) for Decimator.

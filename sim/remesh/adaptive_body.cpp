@@ -87,7 +87,7 @@ RemeshListener AdaptiveBody::listener() {
     const int s = inserted.vertex;
     const std::size_t ss = static_cast<std::size_t>(s);
     view_.rest.row(s) = inserted.rest_point.transpose();
-    // Seed 000, Figure 4: the new node sits at the same barycentric point of the deformed host
+    // Paloc 2006, Figure 4: the new node sits at the same barycentric point of the deformed host
     // tet and moves with the host's interpolated velocity, so nothing else moves.
     view_.x.row(s) = interpolate_rows(view_.x, inserted.host, inserted.weights).transpose();
     view_.v.row(s) = interpolate_rows(view_.v, inserted.host, inserted.weights).transpose();

@@ -1,6 +1,6 @@
 #pragma once
 
-// A deformable body whose mesh is refined and decimated online (issue 5; seed 000, "Online
+// A deformable body whose mesh is refined and decimated online (Paloc 2006, "Online
 // remeshing of volumetric MSS"): the remesher's rest mesh, the simulation state over its vertex
 // slots, and a model kept up to date by local updates (Model::update_elements) after every
 // refinement or decimation call.

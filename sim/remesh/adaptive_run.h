@@ -1,5 +1,5 @@
 #pragma once
-// Runs a scene whose "adaptivity" is set (issue 5 item 7): the body is an AdaptiveBody whose
+// Runs a scene whose "adaptivity" is set: the body is an AdaptiveBody whose
 // mesh is refined where the scene's criteria fire and decimated where they no longer do, while
 // symplectic Euler steps it. Here and not in sim/scene/ because incise_sim_remesh builds on
 // incise_sim (the CLI dispatches: run_scene_checked without adaptivity, this with it).

@@ -1,6 +1,6 @@
 #pragma once
 
-// The decimation driver (issue 5 item 3; the seed's "Local mesh decimation"): inserted vertices
+// The decimation driver (Paloc 2006, "Local mesh decimation"): inserted vertices
 // outside the region to keep refined are removed, a little per call, and a vertex that cannot be
 // removed now (kCannotRemoveNow) goes to the back of the list and is retried later.
 

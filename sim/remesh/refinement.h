@@ -1,8 +1,8 @@
 #pragma once
 
-// Size and quality control (issue 5 item 2; the seed's "Quality and size control of the generated
-// elements"): Delaunay refinement of the tets of a region in the rest configuration, with the
-// seed's floor on the local feature size so that refinement never creates an edge shorter than
+// Size and quality control (Paloc 2006, "Quality and size control of the generated elements"):
+// Delaunay refinement of the tets of a region in the rest configuration, with the paper's floor on
+// the local feature size so that refinement never creates an edge shorter than
 // l_min, and so never lowers the stable time step below dt_min (see time_step_floor.h).
 
 #include <limits>

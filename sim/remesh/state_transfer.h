@@ -1,6 +1,6 @@
 #pragma once
 
-// State transfer to a new vertex (the seed's "Online remeshing of volumetric MSS", Figure 4): a
+// State transfer to a new vertex (Paloc 2006, "Online remeshing of volumetric MSS", Figure 4): a
 // vertex inserted at rest point p inside the rest tet T (the tet that held p before the
 // insertion) gets every nodal attribute a (deformed position, velocity, ...) as
 // a = sum_i w_i a_i, with w the barycentric coordinates of p in T's rest corners and a_i the

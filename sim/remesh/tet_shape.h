@@ -1,7 +1,7 @@
 #pragma once
 
-// Shape measures that Delaunay refinement steers by (Shewchuk 1998, "Tetrahedral mesh generation
-// by Delaunay refinement", the seed's reference 3): the circumcentre where a bad tet is split, the
+// Shape measures that Delaunay refinement steers by (Shewchuk 1998, "Tetrahedral mesh generation by
+// Delaunay refinement", reference 3 of Paloc 2006): the circumcentre where a bad tet is split, the
 // circumradius that the size field bounds, and the radius-edge ratio that bounds its quality.
 
 #include "sim/core/types.h"

@@ -1,8 +1,8 @@
 #pragma once
 
-// The seed's time-step floor ("Minimum time step"): a mesh with no element shorter than l_min
-// never needs an explicit step below dt_min = safety * l_min / c, with c the fastest wave speed
-// (p_wave_speed). A scene gives either l_min or dt_min; these convert one into the other with
+// The time-step floor of Paloc 2006 ("Minimum time step"): a mesh with no element shorter than
+// l_min never needs an explicit step below dt_min = safety * l_min / c, with c the fastest wave
+// speed (p_wave_speed). A scene gives either l_min or dt_min; these convert one into the other with
 // the same formula and safety factor as sim/solve/stable_time_step.h (time_step_floor and
 // length_floor there take the material instead of c), so the two agree exactly.
 // Which length: stable_time_step measures the smallest altitude, never longer than the smallest

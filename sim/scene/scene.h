@@ -51,7 +51,7 @@ enum class MaterialModel {
   corotational,        // "corotational": corotational linear FEM, rotations by QR
   corotational_polar,  // "corotational_polar": the same with polar decomposition
   stvk,                // "stvk": St Venant-Kirchhoff
-  neohookean,          // "neohookean": compressible Neo-Hookean (seed 003, eq. 4)
+  neohookean,          // "neohookean": compressible Neo-Hookean (Joshi et al., eq. 4)
 };
 
 // The scene files' names of the material models, as error messages list them.
@@ -146,7 +146,7 @@ struct ViewSpec {
   Real fov_y_deg = 45;         // "fov_y_deg": vertical field of view [deg], in (0, 180)
 };
 
-// Online adaptive remeshing of the body (issue 5, sim/remesh/): where a criterion fires, the mesh
+// Online adaptive remeshing of the body (sim/remesh/): where a criterion fires, the mesh
 // is refined in the rest configuration down to fine_size, and coarsened again where it no longer
 // does; "adaptivity" absent = a fixed mesh. Runs with solver.integrator "symplectic_euler" and
 // "fix": "xyz" constraints only (the remesher holds a vertex by its rest point; it has no

@@ -1,5 +1,5 @@
 #pragma once
-// Runs any scene (issue 4): the model material.model names, on a mesh the caller built (a box, a
+// Runs any scene: the model material.model names, on a mesh the caller built (a box, a
 // .msh or TetGen file, or a generated one: sim/io and the CLI do that, since reading files and
 // CGAL are not this layer's business), stepped by the integrator solver.integrator names.
 //

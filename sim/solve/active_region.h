@@ -1,5 +1,5 @@
 #pragma once
-// The active region of Paloc, Faraci, Bello 2006 (seed 000, "Selection of active tetrahedra"):
+// The active region of Paloc 2006 ("Selection of active tetrahedra"):
 // only tets with a moving node are integrated; the rest of the body sleeps, frozen where it was.
 //
 //   active node     integrated; falls asleep after sleep_frames consecutive steps with its speed
@@ -8,7 +8,7 @@
 //                   (internal + external + gravity) exceeds wake_force > sleep_force (the gap is
 //                   the hysteresis that keeps a node near the thresholds from flickering)
 //   fixed node      never integrated (a Dirichlet node): asleep for good
-//   active tet      a tet with an active node (the seed's definition)
+//   active tet      a tet with an active node (as Paloc 2006 defines it)
 //   frontier node   a sleeping node of an active tet: held, but pulled by its active neighbours,
 //                   so its force is evaluated every step (that is how a wave wakes the next ring)
 //   halo tet        a sleeping tet at a frontier node

@@ -1,5 +1,5 @@
 #pragma once
-// Adaptive explicit integration with an embedded error estimate (seed 000, "Adaptive time step"
+// Adaptive explicit integration with an embedded error estimate (Paloc 2006, "Adaptive time step"
 // and "Minimum time step"): the Bogacki-Shampine 3(2) pair (Bogacki and Shampine, Appl. Math.
 // Lett. 2(4), 1989) on the first-order system y = (x, v), y' = (v, a(x, v)),
 //   a(x, v) = M^-1 (f_internal(x, v) + f_external) + g.
@@ -8,7 +8,7 @@
 // velocity_tolerance over all coordinates; a step is accepted when it is <= 1. The next step is
 // h * clamp(0.9 err^(-1/3), 0.2, 5) (Hairer, Norsett, Wanner I, II.4), within [dt_min, dt_max].
 // A step that fails at dt_min is accepted anyway and counted as clamped: the floor guarantees the
-// frame rate (seed 000 keeps dt_min stable by keeping elements longer than l_floor, see
+// frame rate (Paloc 2006 keeps dt_min stable by keeping elements longer than l_floor, see
 // stable_time_step.h). First same as last: the last stage of an accepted step is the first of the
 // next, so an accepted step costs 3 force evaluations.
 

@@ -1,7 +1,7 @@
 #pragma once
-// Explicit central differences with lumped mass (seed 000, "Nonlinear FEM": the explicit operator
-// of nonlinear dynamic analysis), in its velocity form with velocities at full steps
-// (Verlet / leapfrog, Hairer, Lubich, Wanner 2003, eq. I.1.17):
+// Explicit central differences with lumped mass (Paloc 2006, "Volumetric nonlinear FEM": the
+// explicit operator of nonlinear dynamic analysis), in its velocity form with velocities at full
+// steps (Verlet / leapfrog, Hairer, Lubich, Wanner 2003, eq. I.1.17):
 //   v_half = v_n + h/2 a(x_n, v_n)
 //   x_n+1  = x_n + h v_half
 //   v_n+1  = v_half + h/2 a(x_n+1, v_half)

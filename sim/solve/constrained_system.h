@@ -6,7 +6,7 @@
 // coordinates are replaced by the identity, so A stays symmetric positive definite and a held
 // coordinate's unknown stays 0. Three ways to solve it (choose per scene):
 //   matrix_free_cg  CG with A applied through add_stiffness_times / add_damping_times; nothing
-//                   assembled (Phymul's choice, seed 002 section 2.3)
+//                   assembled (as Physically Realistic FEM does, sections 2.3 and 3.3)
 //   assembled_cg    A assembled once per step from the model's 3x3 blocks (Model::
 //                   add_system_blocks) into a SymmetricBlockMatrix whose pattern is kept until
 //                   the topology changes (only values are rewritten); one product per iteration

@@ -1,6 +1,6 @@
 #pragma once
 // Linearised backward Euler (Baraff and Witkin, "Large Steps in Cloth Simulation", SIGGRAPH 1998,
-// eq. 6; seed 002 section 2.3). Backward Euler on M v' = f(x, v):
+// eq. 6; Physically Realistic FEM, section 2.3). Backward Euler on M v' = f(x, v):
 //   M (v1 - v0) = h f(x1, v1),   x1 = x0 + h v1.
 // One Newton step from (x0, v0), with K = -df/dx and D = -df/dv (model.h) and dv = v1 - v0:
 //   f(x1, v1) ~ f0 - K (x1 - x0) - D dv = f0 - h K (v0 + dv) - D dv,

@@ -1,7 +1,7 @@
 #pragma once
 // The explicit stability limit from the mesh: the Courant-Friedrichs-Lewy condition
-// dt_c = l_min / c (Paloc, Faraci, Bello 2006, seed 000, "Minimum time step"), with c the fastest
-// wave speed of the material and l_min the shortest length an element offers.
+// dt_c = l_min / c (Paloc 2006, "Minimum time step"), with c the fastest wave speed of the
+// material and l_min the shortest length an element offers.
 
 #include "sim/core/types.h"
 #include "sim/mesh/tet_mesh.h"
@@ -41,9 +41,9 @@ Real p_wave_speed(Real youngs_modulus, Real poisson_ratio, Real density);
 Real stable_time_step(const TetMesh& mesh, Real youngs_modulus, Real poisson_ratio, Real density,
                       Real safety = kExplicitSafety);
 
-// The floor of seed 000: a mesh whose elements stay at least l_floor long never needs a step below
-// dt_min = safety * l_floor / c [s]. Remeshing keeps l_min >= l_floor so that an adaptive step
-// floored at dt_min stays stable. Throws as p_wave_speed, or for l_floor <= 0.
+// The floor of Paloc 2006: a mesh whose elements stay at least l_floor long never needs a step
+// below dt_min = safety * l_floor / c [s]. Remeshing keeps l_min >= l_floor so that an adaptive
+// step floored at dt_min stays stable. Throws as p_wave_speed, or for l_floor <= 0.
 Real time_step_floor(Real l_floor, Real youngs_modulus, Real poisson_ratio, Real density,
                      Real safety = kExplicitSafety);
 

@@ -1,8 +1,8 @@
 #pragma once
 
-// Local refinement of a surgical scene's tissue by edge bisection, and its undo (issue 6 items 3
-// and 4: refine around the probe's contact and the grasper's jaws, coarsen again once the tool
-// has gone; seed 000's online remeshing, on the plain TetMesh that cutting edits).
+// Local refinement of a surgical scene's tissue by edge bisection, and its undo (refine around
+// the probe's contact and the grasper's jaws, coarsen again once the tool has gone: the online
+// remeshing of Paloc 2006, on the plain TetMesh that cutting edits).
 //
 // Bisecting an edge (a, b) inserts a node m at its rest midpoint and splits every tet around the
 // edge in two, (.., a, .., b, ..) into (.., a, .., m, ..) and (.., m, .., b, ..): the mesh stays

@@ -1,7 +1,7 @@
 #pragma once
 
-// Surgical scenes as files, and scripted tool sequences to run them with (issue 6 item 8;
-// docs/surgical_scene_files.md). Units SI; members marked ? may be left out.
+// Surgical scenes as files, and scripted tool sequences to run them with
+// (docs/surgical_scene_files.md). Units SI; members marked ? may be left out.
 //
 // Scene file: the preset of scene_presets.h and its options. Every member but "anatomy" is
 // optional and defaults to the preset's value.

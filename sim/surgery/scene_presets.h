@@ -1,6 +1,6 @@
 #pragma once
 
-// The surgical scenes of issue 6 item 8, built from the generated anatomy (sim/mesh/cgal/
+// The surgical scenes, built from the generated anatomy (sim/mesh/cgal/
 // anatomy.h) into a SurgicalSceneSpec with their tools:
 //   liver  a liver-like organ held on its flat side, for laparoscopic probing, grasping and
 //          cutting along a marked line (the cut target); the gallbladder bed is protected;

@@ -1,6 +1,6 @@
 #pragma once
 
-// A surgical scene at run time (issue 6): one deformable tissue body, rigid bones, and tools
+// A surgical scene at run time: one deformable tissue body, rigid bones, and tools
 // driven by device inputs, stepped at a fixed dt. It composes the parts:
 //   probe and scope tip   tools::Probe (virtual coupling, penalty contact on the surface tree);
 //   grasper               tools::Grasper (grab on closing, hold, tear above its force, release);
@@ -81,7 +81,7 @@ struct BoneSpec {
   Triangles triangles;
 };
 
-// Local refinement around the tools (issue 6 items 3 and 4; TissueBody::refine, bisection.h):
+// Local refinement around the tools (TissueBody::refine, bisection.h):
 // the tissue is refined to edge_length within radius of a probe's contact and around a grasper's
 // jaws as they close, and coarsened again (the splits undone) once no tool has used the region for
 // coarsen_after. A split that would make an element need a shorter step than dt is refused, so
@@ -94,7 +94,7 @@ struct AdaptivitySpec {
   int max_splits = 2000;     // per refinement, >= 1
 };
 
-// A condensed far field (issue 6 item 6; seed 001 section VI; sim/models/
+// A condensed far field (Knee Arthroscopy VR, section VI; sim/models/
 // hybrid_condensed_model.h): the scene declares where the surgery happens, a ball (rest) around
 // centre; the tets with no node inside it are the far field, linear and condensed to their
 // surface and interface nodes, and `model` makes the operational region's model. materials[l] is
@@ -135,8 +135,8 @@ struct SurgicalSceneSpec {
   Real bone_stiffness = 2000;   // penalty of a tool against a bone [N/m], > 0
   int cut_every = 10;           // steps between scalpel updates, >= 1
   int damage_every = 10;        // steps between strain records, >= 1
-  // The slivers a stroke's cuts leave are collapsed once the stroke ends (seed 001 VII.C), with
-  // these settings; min_quality 0 turns it off.
+  // The slivers a stroke's cuts leave are collapsed once the stroke ends (Knee Arthroscopy VR,
+  // section VII.C), with these settings; min_quality 0 turns it off.
   cut::SimplifyOptions simplify;
   AdaptivitySpec adaptivity;
   FarFieldSpec far_field;

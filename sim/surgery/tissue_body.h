@@ -1,6 +1,6 @@
 #pragma once
 
-// The deformable tissue of a surgical scene (issue 6): a tet mesh whose state lives in mesh.x and
+// The deformable tissue of a surgical scene: a tet mesh whose state lives in mesh.x and
 // mesh.v, its model, the held (attachment) nodes, and the boundary surface with the tree that
 // tools collide with. Stepped by symplectic Euler; follows topology changes (cuts) with the
 // model's local update where the element count did not shrink.
@@ -100,8 +100,9 @@ class TissueBody {
   void topology_changed(int tets_before, std::span<const int> changed);
 
   // Removes the slivers among the region's tets (slots) by checked edge collapses
-  // (cut::simplify_cut_region: seed 001's inversion, topology and boundary checks) and compacts
-  // the mesh; held flags follow the nodes, and the model, masses, surface and tree are rebuilt.
+  // (cut::simplify_cut_region: the inversion, topology and boundary checks of
+  // Knee Arthroscopy VR, section VII.C) and compacts the mesh; held flags follow the nodes, and
+  // the model, masses, surface and tree are rebuilt.
   // The report's tet_map and node_map say where each old slot and node went (-1: removed).
   cut::SimplifyReport simplify(std::span<const int> region, const cut::SimplifyOptions& options);
 

@@ -1,4 +1,4 @@
-# Issue 6 items 2, 3, 7: penalty contact of tools against deformable tissue, the swept check
+# Penalty contact of tools against deformable tissue, the swept check
 # against tunnelling, the haptic probe and the local force model (docs/tool_contact.md).
 list(APPEND INCISE_SIM_TOOLS_SOURCES
   ${CMAKE_CURRENT_SOURCE_DIR}/force_model.cpp

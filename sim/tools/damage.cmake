@@ -1,4 +1,4 @@
-# Damage metrics (issue 6 item 9): strain over tissue thresholds, cuts against the marked target,
+# Damage metrics: strain over tissue thresholds, cuts against the marked target,
 # contacts with protected structures; per-element state and a session snapshot for scoring.
 list(APPEND INCISE_SIM_TOOLS_SOURCES
   ${CMAKE_CURRENT_SOURCE_DIR}/damage_helpers.cpp

@@ -1,6 +1,6 @@
 #pragma once
 
-// The session's damage metrics (issue 6 item 9) as one snapshot of plain numbers, and the same as
+// The session's damage metrics as one snapshot of plain numbers, and the same as
 // a stable list of {name, unit, value} rows for the live metrics stream and the scoring side. The
 // rows' names, units and order are a contract: scoring rules and recorded sessions refer to them,
 // so a metric is only ever appended, never renamed or reordered. The tracker that fills the

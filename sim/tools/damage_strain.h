@@ -1,6 +1,6 @@
 #pragma once
 
-// The strain kernel of the damage metrics (issue 6 item 9): the largest principal Green strain of
+// The strain kernel of the damage metrics: the largest principal Green strain of
 // one linear tet. Green strain is used rather than a stress because it depends only on the
 // motion, not on the model or its material: the same tissue threshold holds whichever model
 // (mass-spring, corotational FEM, Neo-Hookean, condensed) moved the nodes.

@@ -1,6 +1,6 @@
 #pragma once
 
-// The marked cut target of a task (issue 6 item 9), in rest coordinates: a polyline drawn on the
+// The marked cut target of a task, in rest coordinates: a polyline drawn on the
 // organ (the "marked line") and the surface it sweeps into the tissue along a depth direction,
 // down to a depth. A perfect cut lies on that surface; a cut's accuracy is the distance of its
 // crack faces from it, and the band of half_width on either side counts as on target.

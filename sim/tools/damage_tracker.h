@@ -1,6 +1,6 @@
 #pragma once
 
-// Per-element tissue damage over a session (issue 6 item 9): strain over each tissue's threshold,
+// Per-element tissue damage over a session: strain over each tissue's threshold,
 // cuts against the marked target, and tool contacts with structures that must not be touched.
 // The tracker takes plain arrays (positions, crack faces, contact depths) and keeps its state as
 // per-slot arrays; once sized it allocates nothing per step (record_strain, record_contacts).

@@ -1,7 +1,7 @@
 #pragma once
 
-// The local force model a haptic station renders between two simulation updates (issue 6 item
-// 7; devices/protocol.h's ForceModel frame): a force at a reference position and a stiffness,
+// The local force model a haptic station renders between two simulation updates
+// (devices/protocol.h's ForceModel frame): a force at a reference position and a stiffness,
 //   F(c) = F0 - K (c - c0),   K symmetric positive semi-definite,
 // so the agent's 1 kHz loop feels a smooth surface without waiting for the network. A force law
 // with a symmetric PSD K is the gradient of the convex potential -F0 . c + (c - c0)^T K (c - c0) /

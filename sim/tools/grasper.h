@@ -1,10 +1,10 @@
 #pragma once
 
-// A grasper (forceps) holding soft tissue (issue 6 item 4). Seed 000 (Paloc, Faraci, Bello,
-// "Grasping"): once the forceps are closed, the vertex nearest to them is constrained to the
-// instrument; when the force on it exceeds a threshold the constraint is removed, and the mesh is
-// resimplified afterwards. Seed 004 (grabbing): the masses inside a small region at the closure
-// point are marked at the closing instant and then moved with the tool.
+// A grasper (forceps) holding soft tissue. Paloc 2006 ("Grasping"): once the forceps are closed,
+// the vertex nearest to them is constrained to the instrument; when the force on it exceeds a
+// threshold the constraint is removed, and the mesh is resimplified afterwards. Fiorini et al.
+// (the grabbing gesture): the masses inside a small sphere at the closure point are marked at the
+// closing instant and then moved with the tool.
 //
 // Rules:
 //   - Phases: open -> closing (the opening angle fell to settings.close_angle) -> holding (grab()
@@ -13,9 +13,9 @@
 //   - Grab region: the candidate vertices within jaw_radius + grab_margin of the triangle
 //     (pivot, tip 0, tip 1): both jaw capsules and the space between them. If none is there,
 //     the one candidate nearest to the tips' midpoint, if it is within settings.reach of it
-//     (seed 000's nearest vertex); else nothing. Candidates are the caller's (the body's surface
-//     vertices, or all of them for seed 004's masses); vertices with inverse mass 0 (fixed or
-//     dead slots) are never grabbed.
+//     (the nearest vertex of Paloc 2006); else nothing. Candidates are the caller's (the body's
+//     surface vertices, or all of them for the masses of Fiorini et al.); vertices with inverse
+//     mass 0 (fixed or dead slots) are never grabbed.
 //   - Jaw frame: origin at the pivot, axes (d, u, d x u) with d the tool axis and u the opening
 //     normal's part orthogonal to d. A grabbed vertex keeps its offset in that frame from the
 //     grab on (no jump at the grab): it follows the tool's translation and rotation, not the
@@ -30,7 +30,7 @@
 //     (torn) or when every grabbed vertex was removed (lost); after these two the jaws are still
 //     closed on nothing (phase closed_empty) and must open before they grab again. The release
 //     event carries a ball in rest coordinates around the grabbed vertices: the region to
-//     resimplify (decimate), seed 000's relaxation speed-up.
+//     resimplify (decimate), which speeds up the relaxation to rest (Paloc 2006).
 //
 // One step, with x, v the state it starts from:
 //   set_jaws(pose at the end of the step)        -> event (opened)?

@@ -1,6 +1,6 @@
 #pragma once
 
-// A probe driven by a haptic device (issue 6 item 3): a sphere tip whose proxy follows the
+// A probe driven by a haptic device: a sphere tip whose proxy follows the
 // device through a virtual coupling and stops at the tissue surface.
 //
 // Virtual coupling (Colgate, Stanley, Brown 1995, "Issues in the haptic display of tool use")

@@ -1,6 +1,6 @@
 #pragma once
 
-// No tunnelling (issue 6 item 2): where a sphere tool may go this step. The tool is commanded
+// No tunnelling: where a sphere tool may go this step. The tool is commanded
 // from `from` (its effective centre last step) to `to`; a hand moves it by up to ~1 cm per 2 ms
 // step, more than a thin membrane is thick, so a check at the end positions alone would let it
 // pass through.

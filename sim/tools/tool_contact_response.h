@@ -1,7 +1,7 @@
 #pragma once
 
 // Penalty response of a tool (sphere tip or capsule shaft) against the surface triangles of a
-// deformable body (issue 6 item 2). The contacts come from a SurfaceBvh over the body's current
+// deformable body. The contacts come from a SurfaceBvh over the body's current
 // positions (sim/collide/surface_bvh.h); each one pushes the tool out along its normal n (from
 // the tissue to the tool) and the tissue back:
 //   f_c = max(0, k_c depth_c - c_c (u_p - v_p) . n_c) n_c   force on the tool [N] (no adhesion)

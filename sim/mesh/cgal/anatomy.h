@@ -1,11 +1,11 @@
 #pragma once
 
-// Generated anatomy for the two tool scenes of issue 6 (docs/anatomy.md): a knee-like joint for
+// Generated anatomy for the two surgical scenes (docs/anatomy.md): a knee-like joint for
 // arthroscopy (rigid femur and tibia as closed surfaces; menisci and ACL as one labelled tet mesh
-// from a segmented voxel volume, as in seed 001) and a liver-like organ for laparoscopy. Each
-// builder returns plain arrays plus the task data a scene needs: held nodes, protected tissue
-// labels, named landmarks, portals and a cut target. Everything is deterministic (see
-// mesh_generation.h): the same options give the same arrays on every run.
+// from a segmented voxel volume, as in Knee Arthroscopy VR, section V) and a liver-like organ for
+// laparoscopy. Each builder returns plain arrays plus the task data a scene needs: held nodes,
+// protected tissue labels, named landmarks, portals and a cut target. Everything is deterministic
+// (see mesh_generation.h): the same options give the same arrays on every run.
 //
 // Knee frame (SI units, metres), a right knee: origin at the top of the tibial plateau between
 // the two compartments; x lateral (medial side at x < 0), y anterior, z proximal along the tibial

@@ -11,7 +11,8 @@
 #include <utility>
 #include <vector>
 
-// The one place in the project that includes CGAL (STYLE.md).
+// CGAL behind a door (STYLE.md): in sim/mesh/cgal/ only this file includes it. The project's
+// other CGAL include is sim/remesh/predicates.cpp (exact predicates for remeshing).
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Labeled_mesh_domain_3.h>
 #include <CGAL/Mesh_complex_3_in_triangulation_3.h>
