@@ -1,0 +1,29 @@
+#pragma once
+// Internal to SurgicalScene (sim/surgery/surgical_scene*.cpp): the state it keeps per tool.
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "sim/surgery/surgical_scene.h"
+
+namespace incise::sim::surgery {
+
+struct SurgicalScene::Tool {
+  ToolSpec spec;
+  bool has_input = false;
+  ToolInput input;
+  Vec3 tip = Vec3::Zero();
+  Mat3 rotation = Mat3::Identity();
+  Vec3 direction = Vec3::UnitZ();
+  std::optional<tools::Probe> probe;  // probe and scope, made at the first input
+  std::optional<tools::Grasper> grasper;
+  std::unique_ptr<cut::ProgressiveCutter> cutter;
+  bool stroke = false;            // the scalpel's blade is in the tissue
+  std::vector<int> stroke_slots;  // committed slots the open stroke's complete cuts changed
+  tools::LocalForceModel bone;    // this step's bone contacts, on the tool at its tip
+  bool touching_bone = false;
+  Vec3 hand_force = Vec3::Zero();  // grasper: the tissue's pull on the hand
+};
+
+}  // namespace incise::sim::surgery
