@@ -6,14 +6,14 @@
 
 namespace incise::devices {
 
-// A pen-style 6-DOF device (Phantom-like; the knee-arthroscopy paper's Fig. 1,
-// docs/references.md): three actuated translational axes move the gimbal centre, which is the
-// tool point; three passive gimbal angles orient the pen.
+// A pen-style 6-DOF device (Phantom-like, Knee Arthroscopy VR Fig. 1): three actuated
+// translational axes move the gimbal centre, which is the tool point; three passive gimbal angles
+// orient the pen.
 //   orientation = Ry(yaw) Rx(pitch) Rz(roll),  the pen points along its +z (as the scope)
 // Gimbal lock at pitch = +-90 degrees: yaw and roll then turn about the same axis, and
 // inverse() returns yaw = 0 with the whole turn in roll (the pose still round-trips).
 // The motors render the tip force unchanged; the gimbal has no motors, so torques are not
-// rendered (that paper's Fig. 1b): joint_forces() returns the dropped torque for logging.
+// rendered (Knee Arthroscopy VR, Fig. 1(b)): joint_forces() returns the dropped torque for logging.
 
 struct PenJoints {
   Vec3 position;       // gimbal centre = tool point, device frame [m]

@@ -15,10 +15,10 @@ namespace incise::devices {
 
 inline constexpr double kDegree = std::numbers::pi / 180.0;  // [rad]
 
-// The arthroscope (or laparoscope) of a two-handed station (the knee-arthroscopy paper, Fig. 3;
-// docs/references.md): the shaft pivots about a fulcrum at the portal in the skin, so the tool
-// has 4 DOF. Pitch, yaw and insertion
-// carry force feedback; roll (the knob turning the 30-degree optics) is free.
+// The arthroscope (or laparoscope) of a two-handed station (Knee Arthroscopy VR, section III,
+// Fig. 3): the shaft pivots about a fulcrum at the portal in the skin, so the tool has 4 DOF.
+// Pitch, yaw and insertion carry force feedback; roll (the knob turning the 30-degree optics) is
+// free.
 //
 // Convention. P = portal_orientation; its +z is the shaft direction into the body at rest.
 //   shaft orientation  Q = P Ry(yaw) Rx(pitch) Rz(roll)        (yaw: outer axis, fixed to P)
@@ -114,7 +114,7 @@ class PortalScope {
   explicit PortalScope(const ScopeGeometry& geometry);
 
   const ScopeGeometry& geometry() const { return geometry_; }
-  // The zoom of that paper's "adjustable field of view", clamped to [kMin, kMaxFieldOfView].
+  // Knee Arthroscopy VR's "adjustable field of view" (zoom), clamped to [kMin, kMaxFieldOfView].
   void set_field_of_view(double radians);
 
   ScopePose forward(const ScopeJoints& joints) const;
