@@ -112,6 +112,17 @@ class HybridCondensedModel final : public Model {
   const Model& operational_model() const { return *operational_; }
 
  private:
+  // Splits the far field's nodes (those of far's tets) into retained_ (on the body's boundary
+  // surface or on an operational tet) and interior_ (condensed_), and returns every mesh dof's
+  // index in the far field's matrices: retained dofs first, then interior ones, -1 outside the far
+  // field (hybrid_condensed_partition.cpp).
+  std::vector<int> partition_nodes(const TetMesh& mesh, const TetMesh& far,
+                                   const std::vector<char>& operational);
+  // The far field's static condensation from its linear FEM (far: its tets, every node of the
+  // mesh): k_star_ and d_star_ or far_beta_, the factorisation of Kii with k_is_, and far_masses_
+  // (hybrid_condensed_schur_complement.cpp). s_dofs, i_dofs: 3 #retained, 3 #interior.
+  void condense_far_field(const TetMesh& far, const std::vector<ElementMaterial>& materials,
+                          const std::vector<int>& local, Eigen::Index s_dofs, Eigen::Index i_dofs);
   // masses_ = the operational model's masses + far_masses_.
   void rebuild_masses();
   // out(3k .. 3k+2) = p.row(retained_[k]), minus the rest position if minus_rest.

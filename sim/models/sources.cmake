@@ -2,6 +2,9 @@
 set(INCISE_SIM_MODELS_SOURCES ${INCISE_SIM_MODELS_SOURCES}
   models/corotational_fem.cpp
   models/hybrid_condensed_model.cpp
+  models/hybrid_condensed_partition.cpp
+  models/hybrid_condensed_schur_complement.cpp
+  models/hybrid_condensed_topology.cpp
   models/linear_fem.cpp
   models/model.cpp
   models/mass_spring_model.cpp
