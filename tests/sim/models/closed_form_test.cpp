@@ -9,7 +9,7 @@
 #include "sim/models/linear_fem.h"
 #include "sim/models/neo_hookean_fem.h"
 
-#include "closed_forms.h"
+#include "tests/sim/closed_forms.h"
 
 namespace incise::sim::testing {
 namespace {
