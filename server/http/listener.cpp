@@ -1,8 +1,8 @@
-#include "server/listener.h"
+#include "server/http/listener.h"
 
 #include <iostream>
 
-#include "server/http_session.h"
+#include "server/http/http_session.h"
 
 namespace incise::server {
 

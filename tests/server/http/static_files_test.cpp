@@ -1,5 +1,5 @@
 // The dashboard's files: server/static_files.h.
-#include "server/static_files.h"
+#include "server/http/static_files.h"
 
 #include <gtest/gtest.h>
 

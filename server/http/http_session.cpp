@@ -1,4 +1,4 @@
-#include "server/http_session.h"
+#include "server/http/http_session.h"
 
 #include <boost/beast/websocket.hpp>
 #include <chrono>
@@ -6,7 +6,7 @@
 #include "server/agent_session.h"
 #include "server/api/router.h"
 #include "server/api/view_endpoints.h"
-#include "server/static_files.h"
+#include "server/http/static_files.h"
 #include "server/view_session.h"
 
 namespace incise::server {

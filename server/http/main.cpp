@@ -11,7 +11,7 @@
 #include "db/training_repo.h"
 #include "server/app_state.h"
 #include "server/demo_data.h"
-#include "server/listener.h"
+#include "server/http/listener.h"
 #include "server/server_options.h"
 #include "server/wire_text.h"
 
