@@ -1,5 +1,5 @@
 #pragma once
-// The two scenes of the speed-against-error benchmark (issue 4), built in code, and what their
+// The two scenes of the speed-against-error benchmark, built in code, and what their
 // errors are measured against.
 //   compression  a 2 cm cube compressed along z by a given strain, lateral faces free (the truth-
 //                cube strains 5%, 12.5%, 18.25%); symmetry planes x = 0, y = 0, z = 0 hold one
@@ -40,7 +40,7 @@ sim::Scene cantilever_scene(int n);
 sim::TetMesh scene_mesh(const sim::Scene& scene);
 
 // The closed-form displacement of the compressed block at the points rest (#nodes by 3), where the
-// model has one: linear elasticity u = (nu e x, nu e y, -e z) and seed 003's compressible
+// model has one: linear elasticity u = (nu e x, nu e y, -e z) and Joshi et al.'s compressible
 // Neo-Hookean (eq. 15, lateral stretch from traction-free sides). Empty for other models.
 std::optional<Points> compression_closed_form(sim::MaterialModel model, Real strain,
                                               const Points& rest);

@@ -1,4 +1,4 @@
-// bench_accuracy: speed against error (issue 4). For the block-compression scene (5%, 12.5%,
+// bench_accuracy: speed against error. For the block-compression scene (5%, 12.5%,
 // 18.25%, the truth-cube strains) and a cantilever under a tip load, at several resolutions,
 // every model x integrator: wall time and the largest node error against the converged reference
 // of the same model (the closed form where there is one, else the static answer on the finest,

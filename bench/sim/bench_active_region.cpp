@@ -1,5 +1,5 @@
 // Steps per second with and without the active region for a local poke on a ~6k-tet box
-// (12 x 12 x 8 cells, 5760 tets, bottom clamped, seed 000's mass-spring model at the stable
+// (12 x 12 x 8 cells, 5760 tets, bottom clamped, Paloc 2006's mass-spring model at the stable
 // step), and the error of the active run against the full one in the poked region.
 //   bench_active_region [steps] [pulse_steps] [poke_force N] [wake_force N] [sleep_speed m/s]
 // (sleep_force = wake_force / 4, sleep_frames = 20)

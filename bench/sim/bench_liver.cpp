@@ -1,5 +1,5 @@
-// Issue 5's liver benchmark: a liver-like organ of about 6k tets (seed 000's liver: 1,576 nodes,
-// 5,983 tets, E 4 kPa, nu 0.475, density 1050 kg/m^3) with seed 000's mass-spring model, its
+// The liver benchmark: a liver-like organ of about 6k tets (Paloc 2006's liver: 1,576 nodes,
+// 5,983 tets, E 4 kPa, nu 0.475, density 1050 kg/m^3) with Paloc 2006's mass-spring model, its
 // flat side held, probed by a scripted tool that presses into the upper surface and strokes
 // along it; steps per second with every node integrated and with the active region, and the
 // active run's error against the full one in the probed region. One core.
@@ -75,7 +75,7 @@ int main(int argc, char** argv) {
   settings.sleep_speed = sleep_speed;
   settings.sleep_frames = 20;
   std::printf(
-      "liver-like organ %.0f cm: %d nodes, %d tets (seed 000: 1,576 / 5,983); dt = %.3g "
+      "liver-like organ %.0f cm: %d nodes, %d tets (Paloc 2006: 1,576 / 5,983); dt = %.3g "
       "ms; %d steps\n",
       100 * length, setup.mesh.num_nodes(), setup.mesh.num_tets(), 1e3 * setup.dt, steps);
   const RunRecord full = full_run(setup, steps, region, load);

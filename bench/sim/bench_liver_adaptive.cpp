@@ -1,4 +1,4 @@
-// Issue 5's liver benchmark with adaptivity: a 20 cm liver-like organ (seed 000's liver: 1,576
+// The liver benchmark with adaptivity: a 20 cm liver-like organ (Paloc 2006's liver: 1,576
 // nodes, 5,983 tets, E 4 kPa, density 1050 kg/m^3; nu 0.3 here, as in bench_liver), its flat
 // side held, stroked by a scripted tool, simulated four ways with the same model:
 //   fine       a fine mesh (about 5k tets), every node integrated: the reference;

@@ -1,4 +1,4 @@
-// bench_models (Google Benchmark, issue 4 "Speed"): the per-tet cost of each model's kernels
+// bench_models (Google Benchmark): the per-tet cost of each model's kernels
 // (internal forces, linearisation, one stiffness product) on a ~6k-tet box, and one implicit Euler
 // step of the corotational model (QR) on ~6k and ~24k tets at dt = 10 ms, gravity, one face
 // clamped, with each linear solver; counters: time per tet, CG iterations per step.

@@ -1,4 +1,4 @@
-// Seed 000's probing experiment (its Figure 6): a mass-spring tissue block, clamped at its base,
+// Paloc 2006's probing experiment (its Figure 6): a mass-spring tissue block, clamped at its base,
 // probed by a sphere tool that pushes into the top surface and slides along it, simulated on
 //   low       a coarse box mesh,
 //   high      a fine box mesh (the reference),
@@ -313,7 +313,7 @@ int main(int argc, char** argv) {
     std::printf("\n");
     out << "\n";
   }
-  // The timeline (seed 000's Figure 6 shows error, elements and step over the probing): a CSV
+  // The timeline (Paloc 2006's Figure 6 shows error, elements and step over the probing): a CSV
   // and two plots next to the table's CSV.
   const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : ".";
   std::ofstream timeline(dir / "probing_timeline.csv");

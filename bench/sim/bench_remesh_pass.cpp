@@ -1,4 +1,4 @@
-// Issue 5's cost figures on a liver-sized organ, through AdaptiveBody (remesher, state transfer
+// The remeshing cost figures on a liver-sized organ, through AdaptiveBody (remesher, state transfer
 // and the local model update together), for the corotational FEM and the mass-spring model, with
 // refinement scanning every tet ("full scan") and with RefinementSettings::region ("region
 // walk"):

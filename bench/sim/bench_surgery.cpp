@@ -1,5 +1,5 @@
-// bench_surgery: the issue 6 benchmarks on the stability suite's scenes (liver cell 10 mm, knee
-// tissue cell 4 mm; stability_suite.h). Per scene:
+// bench_surgery: the surgical scenes' benchmarks on the stability suite's scenes (liver cell 10 mm,
+// knee tissue cell 4 mm; stability_suite.h). Per scene:
 //   idle      every tool away: SurgicalScene::step per step;
 //   probing   the probe pressed 6 mm into a target and dragged slowly;
 //   cutting   after the probe is lifted and the tissue has settled, the scalpel along the marked

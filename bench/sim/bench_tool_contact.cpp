@@ -1,4 +1,4 @@
-// Cost of a tool's contact per simulation step on a ~5k-triangle surface (issue 6's "collision
+// Cost of a tool's contact per simulation step on a ~5k-triangle surface (the "collision
 // query time per step"): a 4 mm probe pressed into a 5 x 5 x 2.3 cm box (26 x 26 x 12 cells,
 // 5,200 surface triangles) and slid across it while the surface ripples (so the tree is
 // refitted to moving positions every step). Timed per step, 2,000 steps:

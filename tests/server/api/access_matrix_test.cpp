@@ -1,4 +1,4 @@
-// The access-control matrix (issue 8, security): every REST endpoint x every role x own or
+// The access-control matrix (docs/api.md): every REST endpoint x every role x own or
 // another trainee's data, through the router with a real SQLite file. "allow" means the role
 // gets past the access check (any status but 401 and 403); "deny" means 401 without a login and
 // 403 with one. The live view WebSockets have their own tests (integration).

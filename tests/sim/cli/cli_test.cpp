@@ -211,7 +211,7 @@ TEST_F(Cli, UnwritableResultIsReported) {
   EXPECT_EQ(run.err, "incise: no/such/dir/result.json: cannot write the result\n");
 }
 
-// Issue 4's scene keys through the real binary: a mesh from a gmsh file, a Neo-Hookean static
+// The scene file's keys through the real binary: a mesh from a gmsh file, a Neo-Hookean static
 // solve to a tolerance, the final state written as .vtu, and a generated (CGAL) mesh.
 TEST_F(Cli, MeshFilesModelsIntegratorsAndVtuOutput) {
   const TetMesh box = make_box_mesh(Vec3(0.02, 0.02, 0.02), Vec3i(2, 2, 2));

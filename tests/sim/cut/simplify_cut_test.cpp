@@ -39,7 +39,8 @@ TEST(SimplifyCut, QualityClosedForms) {
 }
 
 TEST(SimplifyCut, LinkConditionRefusesPinchesAndAllowsInteriorCollapses) {
-  // One tet: contracting an edge would flatten it (seed 001 Fig. 20 (a), a face's hole closing).
+  // One tet: contracting an edge would flatten it (Knee Arthroscopy VR Fig. 20 (a), a face's hole
+  // closing).
   Tets one(1, 4);
   one << 0, 1, 2, 3;
   EXPECT_FALSE(link_condition_holds(one, 0, 1));

@@ -1,5 +1,5 @@
-// A clamped beam under a tip load converging to beam theory as the mesh refines (issue 4, "Closed
-// forms"), as a scene: static linear and corotational solves at four resolutions.
+// A clamped beam under a tip load converging to beam theory as the mesh refines (a closed
+// form), as a scene: static linear and corotational solves at four resolutions.
 //
 // The beam: length L = 0.1 m, square section h = 12.5 mm (L / h = 8), the face x = 0 clamped, a
 // total load P along -z split equally over the nodes of the face x = L, meshed in cubes of edge

@@ -130,10 +130,10 @@ TEST(SceneRun, LinearCantileverEqualsCalculix) {
   EXPECT_LT((ours.displacement - ccx).rowwise().norm().maxCoeff() / scale, 1e-6);
 }
 
-// Our Neo-Hookean (seed 003, eq. 4) against CalculiX's NEO HOOKE (an isochoric-volumetric split,
-// fitted to the same mu and bulk modulus) on the compressed block: at small strain both are linear
-// elasticity and must agree; at larger strain the two energies part, by how much is printed (the
-// README quotes it).
+// Our Neo-Hookean (Joshi et al., eq. 4) against CalculiX's NEO HOOKE (an isochoric-volumetric
+// split, fitted to the same mu and bulk modulus) on the compressed block: at small strain both are
+// linear elasticity and must agree; at larger strain the two energies part, by how much is printed
+// (the README quotes it).
 TEST(SceneRun, NeoHookeanAgreesWithCalculixAtSmallStrain) {
   for (const Real strain : {0.001, 0.05, 0.10, 0.20}) {
     Scene scene = block_scene(MaterialModel::neohookean, Integrator::static_equilibrium);

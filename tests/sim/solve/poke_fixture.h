@@ -10,7 +10,7 @@
 
 namespace incise::sim::testing {
 
-// Soft tissue as in seed 000's evaluation (E 4 kPa, density 1050 kg/m^3); damping is the
+// Soft tissue as in Paloc 2006's evaluation (E 4 kPa, density 1050 kg/m^3); damping is the
 // fraction of eq. 7.
 inline constexpr Real kYoungs = 4e3;
 inline constexpr Real kDensity = 1050;

@@ -1,6 +1,6 @@
-// surgery_stability: the issue 6 stability suite at full size (stability_suite.h). Runs random
-// tool sequences on the liver and knee scenes and prints, per scene, how many ran, the failures
-// with their seeds, and the worst cases. Exits 1 on any failure, 2 on bad arguments.
+// surgery_stability: the surgical scenes' stability suite at full size (stability_suite.h). Runs
+// random tool sequences on the liver and knee scenes and prints, per scene, how many ran, the
+// failures with their seeds, and the worst cases. Exits 1 on any failure, 2 on bad arguments.
 //
 //   surgery_stability [--sequences N] [--steps M] [--seed S] [--scene liver|knee|both]
 //                     [--seconds T] [--verbose] [--no-simplify]

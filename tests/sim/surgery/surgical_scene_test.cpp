@@ -301,8 +301,8 @@ TEST(SurgicalScene, ScalpelThroughTheBlockPartsItAndKeepsTheVolume) {
 }
 
 // A stroke 0.6 mm beside a plane of nodes (6% of a 10 mm cell, past the 5% snap) leaves 0.6 mm
-// slivers; once the stroke ends they are collapsed (seed 001 VII.C): the worst tet is better
-// than without, and the volume, the two parts and the cut area are the same.
+// slivers; once the stroke ends they are collapsed (Knee Arthroscopy VR, section VII.C): the worst
+// tet is better than without, and the volume, the two parts and the cut area are the same.
 TEST(SurgicalScene, SliversAStrokeLeavesAreCollapsedWhenItEnds) {
   struct Outcome {
     int collapses = 0;

@@ -1,4 +1,4 @@
-// Grasping an adaptive body (seed 000's point): on a coarse mesh the vertex nearest to the
+// Grasping an adaptive body (Paloc 2006's point): on a coarse mesh the vertex nearest to the
 // forceps can lie far from them; refining the grasper's refine_request region first puts more
 // vertices between the jaws, closer to the tips. Then the grasp is driven through hold() on the
 // body's vertex slots, and the release's resimplify region decimates the body back.
@@ -53,7 +53,7 @@ TEST(GraspRefine, RefiningBeforeTheGrabPutsMoreVerticesBetweenTheJaws) {
   pose.opening_normal = Vec3::UnitZ();
   pose.opening_angle = 0.05;
 
-  // Coarse: nothing within the jaws, so seed 000's nearest vertex, 5 mm from the tips.
+  // Coarse: nothing within the jaws, so Paloc 2006's nearest vertex, 5 mm from the tips.
   Grasper coarse(settings);
   coarse.set_jaws(pose);
   const Vec3 tips = 0.5 * (coarse.jaws().jaws[0].b + coarse.jaws().jaws[1].b);

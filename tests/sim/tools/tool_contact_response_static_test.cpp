@@ -1,7 +1,7 @@
-// A probe pressed statically into a block (issue 6's evidence: the contact force matches the FEM
-// reaction force of the same static indentation within 5%). The sphere is held 2 mm below the
-// undeformed top of a soft corotational block clamped at its base; a damped explicit run with
-// the penalty contact brings the block to rest. Then
+// A probe pressed statically into a block (the evidence asked of tool contact: the contact force
+// matches the FEM reaction force of the same static indentation within 5%). The sphere is held 2 mm
+// below the undeformed top of a soft corotational block clamped at its base; a damped explicit run
+// with the penalty contact brings the block to rest. Then
 //  1. the tool's reaction equals the supports' reaction (the body's external forces balance);
 //  2. an independent static Newton solve (StaticSolver) of the same block, started from rest,
 //     with the nodes the contact loads prescribed at their rest-run positions, gives prescribed
