@@ -111,6 +111,7 @@ TEST(RunEvents, DepthAlongTheShaftIsMeasuredFromThePortalAlongTheToolAxis) {
 TEST(RunEvents, KindNamesAndCuttingTools) {
   EXPECT_EQ(event_kind_name(EventKind::contact), "contact");
   EXPECT_EQ(event_kind_name(EventKind::grasp), "grasp");
+  EXPECT_EQ(event_kind_name(EventKind::release), "release");
   EXPECT_EQ(event_kind_name(EventKind::cut), "cut");
   EXPECT_EQ(event_kind_name(EventKind::collision), "collision");
   EXPECT_EQ(event_kind_name(EventKind::never_event), "never_event");

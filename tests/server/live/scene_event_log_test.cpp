@@ -26,6 +26,18 @@ sim::tools::DamageMetrics cut_so_far(double area_mm2, double outside_mm2) {
   return m;
 }
 
+// One vocabulary: each scene kind lands on the platform kind of the same name, and the scene's own
+// spelling (which the incise CLI prints) is the platform's.
+TEST(SceneEventLog, SceneKindsAreThePlatformsKindsOfTheSameName) {
+  for (const EventKind kind : {EventKind::grasp, EventKind::release, EventKind::cut,
+                               EventKind::collision, EventKind::never_event}) {
+    EXPECT_EQ(curriculum::event_kind_name(scene_event_kind(kind)), sim::surgery::to_string(kind));
+    EXPECT_EQ(scene_event_name(kind), sim::surgery::to_string(kind));
+  }
+  EXPECT_EQ(scene_event_kind(EventKind::grasp), curriculum::EventKind::grasp);
+  EXPECT_EQ(scene_event_kind(EventKind::release), curriculum::EventKind::release);
+}
+
 TEST(SceneEventLog, TheCommitsOfOneStrokeAreOneCutLabelledWithTheStrokesArea) {
   SceneEventLog log;
   // A first stroke commits 10, 15 and 5 mm^2 (2 off the line) 0.2 s apart; 2 s later a second
@@ -51,12 +63,12 @@ TEST(SceneEventLog, TheCommitsOfOneStrokeAreOneCutLabelledWithTheStrokesArea) {
 TEST(SceneEventLog, GraspsReleasesAndCollisionsAreEachAnEventWithTheirToolsHand) {
   SceneEventLog log;
   const auto none = cut_so_far(0, 0);
-  log.add(std::vector<SceneEvent>{{EventKind::grab, 1, 0, "3 vertices"},
+  log.add(std::vector<SceneEvent>{{EventKind::grasp, 1, 0, "3 vertices"},
                                   {EventKind::collision, -1, 0, "femur"},
                                   {EventKind::collision, 2, 0, "tibia"}},
           0.5, kTools, none);
   log.add(std::vector<SceneEvent>{{EventKind::release, 1, 0, "opened, 3 vertices"},
-                                  {EventKind::grab, 1, 0, "2 vertices"}},
+                                  {EventKind::grasp, 1, 0, "2 vertices"}},
           0.7, kTools, none);
   const auto& events = log.events();
   ASSERT_EQ(events.size(), 5u);

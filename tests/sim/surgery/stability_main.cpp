@@ -147,7 +147,7 @@ int run_scene(const std::string& name, const Options& o, double budget) {
           r.settle_steps, r.seconds, r.initial_tets, r.final_tets, r.peak_tets, r.peak_inverted,
           r.inverted_at_end, r.speed_at_end, r.cuts_refused,
           r.events[static_cast<std::size_t>(EventKind::cut)],
-          r.events[static_cast<std::size_t>(EventKind::grab)]);
+          r.events[static_cast<std::size_t>(EventKind::grasp)]);
     }
     if (k == 0) rss_first = stab::resident_kib();
     if ((k + 1) % 100 == 0) {

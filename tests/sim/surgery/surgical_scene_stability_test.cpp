@@ -123,7 +123,7 @@ void expect_sound(const SurgicalSceneSetup& setup, const std::vector<std::uint64
   }
   EXPECT_GT(events[static_cast<std::size_t>(EventKind::cut)], 0) << g.name;
   if (g.name == "liver") {
-    EXPECT_GT(events[static_cast<std::size_t>(EventKind::grab)], 0);
+    EXPECT_GT(events[static_cast<std::size_t>(EventKind::grasp)], 0);
   } else {
     EXPECT_GT(events[static_cast<std::size_t>(EventKind::collision)], 0);
   }
