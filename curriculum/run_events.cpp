@@ -160,6 +160,8 @@ std::string_view event_kind_name(EventKind kind) {
       return "contact";
     case EventKind::grasp:
       return "grasp";
+    case EventKind::release:
+      return "release";
     case EventKind::cut:
       return "cut";
     case EventKind::collision:

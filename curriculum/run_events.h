@@ -19,13 +19,17 @@ namespace incise::curriculum {
 enum class EventKind {
   contact,      // the tool starts touching tissue
   grasp,        // the jaw closes
+  release,      // a grasper lets go (surgical scenes only: the scene reports it)
   cut,          // a cutting tool's primary button is pressed
   collision,    // the tip enters a protected zone
   never_event,  // the tip enters a never zone, or the force rises above the never force
   target,       // the tip reaches a target (landmark) for the first time
 };
 
-// "contact", "grasp", "cut", "collision", "never_event", "target": the spelling of the API.
+// "contact", "grasp", "release", "cut", "collision", "never_event", "target": the one spelling of
+// event kinds in the API, the database and the dashboard. The surgical scene's events
+// (sim::surgery::EventKind) are mapped onto these at the server (server/live/scene_event_log.h),
+// since neither sim/ nor curriculum/ may depend on the other.
 std::string_view event_kind_name(EventKind kind);
 
 struct RunEvent {

@@ -4,20 +4,25 @@
 
 namespace incise::server::live {
 
-std::string_view scene_event_name(sim::surgery::EventKind kind) {
+curriculum::EventKind scene_event_kind(sim::surgery::EventKind kind) {
+  using curriculum::EventKind;
   switch (kind) {
-    case sim::surgery::EventKind::grab:
-      return "grasp";
+    case sim::surgery::EventKind::grasp:
+      return EventKind::grasp;
     case sim::surgery::EventKind::release:
-      return "release";
+      return EventKind::release;
     case sim::surgery::EventKind::cut:
-      return "cut";
+      return EventKind::cut;
     case sim::surgery::EventKind::collision:
-      return "collision";
+      return EventKind::collision;
     case sim::surgery::EventKind::never_event:
-      return "never_event";
+      return EventKind::never_event;
   }
-  return "?";
+  return EventKind::collision;  // not reached: every scene kind is mapped above
+}
+
+std::string_view scene_event_name(sim::surgery::EventKind kind) {
+  return curriculum::event_kind_name(scene_event_kind(kind));
 }
 
 namespace {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "curriculum/run_events.h"
 #include "sim/surgery/surgical_scene.h"
 #include "sim/tools/damage_metrics.h"
 
@@ -50,7 +51,9 @@ class SceneEventLog {
   double outside_seen_ = 0;   // and its area off target [m^2]
 };
 
-// The kind's name in the API ("grab" is "grasp", as the recording's events call it).
+// A scene event's kind in the platform's one vocabulary of event kinds (curriculum/run_events.h),
+// and its name there.
+curriculum::EventKind scene_event_kind(sim::surgery::EventKind kind);
 std::string_view scene_event_name(sim::surgery::EventKind kind);
 
 }  // namespace incise::server::live

@@ -17,29 +17,11 @@
 #include "db/database.h"
 #include "db/migrations.h"
 #include "db/statement.h"
+#include "tests/support/temp_dir.h"
 
 namespace incise::db::test {
 
-// A directory of its own under the system temp directory; removed with its contents.
-class TempDir {
- public:
-  TempDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "incise-db-XXXXXX").string();
-    if (mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
-    path_ = pattern;
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
+using incise::test::TempDir;
 
 class TempDatabase {
  public:
@@ -57,7 +39,7 @@ class TempDatabase {
   std::unique_ptr<Database> open_another() const { return std::make_unique<Database>(path_); }
 
  private:
-  TempDir dir_;  // declared first, so it is removed after the connection has closed
+  TempDir dir_{"incise-db"};  // declared first, so it is removed after the connection has closed
   std::filesystem::path path_;
   std::unique_ptr<Database> db_;
 };

@@ -6,7 +6,7 @@
 
 namespace incise::sim::test {
 
-// Lame parameters from Young's modulus and Poisson's ratio (seed 003, eqs. 1-2 inverted).
+// Lame parameters from Young's modulus and Poisson's ratio (Joshi et al., eqs. 1-2 inverted).
 struct LameParameters {
   Real mu = 0;
   Real lambda = 0;
@@ -16,7 +16,7 @@ inline LameParameters lame_parameters(Real youngs_modulus, Real poisson_ratio) {
           youngs_modulus * poisson_ratio / ((1 + poisson_ratio) * (1 - 2 * poisson_ratio))};
 }
 
-// Seed 003, eq. 15: the lateral stretch l2 of the compressible Neo-Hookean (its eq. 4) under a
+// Joshi et al., eq. 15: the lateral stretch l2 of the compressible Neo-Hookean (its eq. 4) under a
 // uniaxial stretch l1 with traction-free sides. P22 = mu (l2 - 1 / l2) + lambda l1 l2 (J - 1) = 0
 // with J = l1 l2^2 is a quadratic in l2^2, whose positive root this is.
 inline Real neo_hookean_lateral_stretch(Real l1, Real mu, Real lambda) {

@@ -1,4 +1,4 @@
-#include "api/api_test_app.h"
+#include "api_test_app.h"
 
 #include "db/auth_sessions_repo.h"
 #include "db/migrations.h"

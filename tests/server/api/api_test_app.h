@@ -17,9 +17,11 @@
 #include "db/database.h"
 #include "server/api/api_context.h"
 #include "server/app_state.h"
-#include "temp_dir.h"
+#include "tests/support/temp_dir.h"
 
 namespace incise::server::test {
+
+using incise::test::TempDir;
 
 inline constexpr std::int64_t kStart = 1894003200;  // 2030-01-07T08:00:00Z: the seed time
 inline constexpr std::int64_t kDay = 86400;

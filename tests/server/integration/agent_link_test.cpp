@@ -10,8 +10,8 @@
 #include <thread>
 #include <vector>
 
-#include "integration/server_fixture.h"
-#include "ws_client.h"
+#include "server_fixture.h"
+#include "tests/support/ws_client.h"
 
 namespace incise::server::test {
 namespace {

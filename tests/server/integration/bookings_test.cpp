@@ -7,7 +7,7 @@
 #include <thread>
 #include <vector>
 
-#include "integration/server_fixture.h"
+#include "server_fixture.h"
 
 namespace incise::server::test {
 namespace {

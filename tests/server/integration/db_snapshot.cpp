@@ -1,4 +1,4 @@
-#include "integration/db_snapshot.h"
+#include "db_snapshot.h"
 
 #include <sqlite3.h>
 

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "integration/live_fixture.h"
-#include "support/hostile_json.h"
+#include "live_fixture.h"
+#include "tests/support/hostile_json.h"
 
 namespace incise::server::test {
 namespace {

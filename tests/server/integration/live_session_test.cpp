@@ -19,9 +19,9 @@
 
 #include "curriculum/curriculum_json.h"
 #include "curriculum/metrics.h"
-#include "devices/agent/impaired_link.h"
-#include "integration/live_fixture.h"
+#include "live_fixture.h"
 #include "sim/render/jpeg.h"
+#include "tests/support/impaired_link.h"
 
 namespace incise::server::test {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "integration/server_fixture.h"
+#include "server_fixture.h"
 
 namespace incise::server::test {
 namespace {

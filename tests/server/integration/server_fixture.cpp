@@ -1,4 +1,4 @@
-#include "integration/server_fixture.h"
+#include "server_fixture.h"
 
 #include <signal.h>
 
@@ -7,7 +7,7 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "integration/db_snapshot.h"
+#include "db_snapshot.h"
 
 namespace incise::server::test {
 

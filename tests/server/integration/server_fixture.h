@@ -11,11 +11,14 @@
 #include <string>
 #include <string_view>
 
-#include "http_client.h"
-#include "integration/child_process.h"
-#include "temp_dir.h"
+#include "tests/support/child_process.h"
+#include "tests/support/http_client.h"
+#include "tests/support/temp_dir.h"
 
 namespace incise::server::test {
+
+using incise::test::ChildProcess;
+using incise::test::TempDir;
 
 struct Login {
   const char* username;

@@ -8,8 +8,8 @@
 
 #include "db/database.h"
 #include "db/statement.h"
-#include "integration/server_fixture.h"
-#include "ws_client.h"
+#include "server_fixture.h"
+#include "tests/support/ws_client.h"
 
 namespace incise::server::test {
 namespace {

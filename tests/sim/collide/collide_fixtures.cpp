@@ -1,4 +1,4 @@
-#include "collide/collide_fixtures.h"
+#include "collide_fixtures.h"
 
 #include <cmath>
 #include <numbers>

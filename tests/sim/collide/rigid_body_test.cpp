@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "collide/collide_fixtures.h"
+#include "collide_fixtures.h"
 
 namespace incise::sim::collide {
 namespace {

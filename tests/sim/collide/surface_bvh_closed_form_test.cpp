@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "collide/collide_fixtures.h"
+#include "collide_fixtures.h"
 #include "sim/collide/surface_bvh.h"
 
 namespace incise::sim::collide {

@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "collide/collide_fixtures.h"
+#include "collide_fixtures.h"
 #include "sim/collide/mesh_surface_faces.h"
 #include "sim/collide/shape_triangle_contact.h"
 #include "sim/collide/triangle_geometry.h"

@@ -1,5 +1,5 @@
-// Closed forms of seed 003 (uniaxial compression with free lateral faces): the Neo-Hookean model
-// against its equations 4 and 15, the linear model against equation 9.
+// Closed forms of Joshi et al. (uniaxial compression with free lateral faces): the Neo-Hookean
+// model against its equations 4 and 15, the linear model against equation 9.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,12 +9,12 @@
 #include "sim/models/linear_fem.h"
 #include "sim/models/neo_hookean_fem.h"
 
-#include "closed_forms.h"
+#include "tests/sim/closed_forms.h"
 
 namespace incise::sim::testing {
 namespace {
 
-// Seed 003's brain parameters (lambda = 9310.3, mu = 1034.5), as E and nu by its eqs. 1 and 2.
+// Joshi et al.'s brain parameters (lambda = 9310.3, mu = 1034.5), as E and nu by its eqs. 1 and 2.
 constexpr Real kLambda = 9310.3;
 constexpr Real kMu = 1034.5;
 ElementMaterial brain() {
@@ -22,7 +22,8 @@ ElementMaterial brain() {
           0};
 }
 
-// Seed 003 eq. 4, S = mu (I - C^-1) + lambda J (J - 1) C^-1, written independently of the kernel.
+// Joshi et al. eq. 4, S = mu (I - C^-1) + lambda J (J - 1) C^-1, written independently of the
+// kernel.
 Mat3 equation_4(const Mat3& f) {
   const Mat3 c_inv = (f.transpose() * f).inverse();
   const Real j = f.determinant();

@@ -83,8 +83,8 @@ TEST(HardCases, TetPushedThroughItsOppositeFace) {
     }
     // Back to (nearly) zero energy with a positive volume. Linear FEM's zero-energy states include
     // the linearised rotations x = (I + W) X, W antisymmetric, which inflate the volume by
-    // O(|W|^2) (seed 002's ghost forces), so only the rotation-invariant models must come back
-    // to the rest volume.
+    // O(|W|^2) (Physically Realistic FEM's ghost forces), so only the rotation-invariant models
+    // must come back to the rest volume.
     EXPECT_LT(model->potential_energy(x), 1e-6 * model->potential_energy(inverted));
     EXPECT_GT(signed_volume_of(x), 0);
     if (factory.rotation_invariant) {

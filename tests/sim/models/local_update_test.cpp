@@ -1,4 +1,4 @@
-// Model::update_elements, the local topology change of remeshing (issue 5, "State transfer":
+// Model::update_elements, the local topology change of remeshing (state transfer:
 // masses and element data updated only where an operation touched, the invariants kept): a tet
 // split 1-4 at an interior point and merged back, on every model. The reference is a model built
 // from scratch on the same tets; the laws are those of model_laws_test.cpp.

@@ -84,7 +84,8 @@ TEST_P(ModelLaws, InternalForcesHaveZeroNetForceAndTorque) {
     if (factory_.rotation_invariant) {
       EXPECT_LT(torque.norm(), 1e-12 * torque_scale) << seed;
     } else {
-      // Linear FEM: Euler's law holds only at the rest geometry (seed 002 section 3.1).
+      // Linear FEM: Euler's law holds only at the rest geometry (Physically Realistic FEM
+      // section 3.1).
       EXPECT_LT(rest_torque.norm(), 1e-12 * torque_scale) << seed;
     }
   }

@@ -13,7 +13,7 @@
 
 #include <gtest/gtest.h>
 
-#include "remesh/remesh_fixtures.h"
+#include "remesh_fixtures.h"
 #include "sim/mesh/tet_adjacency.h"
 #include "sim/remesh/adaptation_regions.h"
 #include "sim/remesh/decimation.h"

@@ -1,5 +1,5 @@
 // The adaptive body (sim/remesh/adaptive_body.h): refinement and decimation of a simulated body,
-// with the models of make_model (the mass-spring system of seed 000, and corotational FEM, which
+// with the models of make_model (the mass-spring system of Paloc 2006, and corotational FEM, which
 // takes the local update path). Checked: mass conservation, a body at rest stays at rest, exact
 // state transfer of an affine motion, no popping on a deformed body (against the same run
 // without remeshing), and the round trip refine + decimate against a fresh model.

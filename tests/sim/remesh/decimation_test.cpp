@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "remesh/remesh_fixtures.h"
+#include "remesh_fixtures.h"
 #include "sim/remesh/decimation.h"
 #include "sim/remesh/flips.h"
 #include "sim/remesh/refinement.h"

@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 #include <Eigen/LU>
 
-#include "remesh/remesh_fixtures.h"
+#include "remesh_fixtures.h"
 #include "sim/mesh/box_mesher.h"
 #include "sim/remesh/decimation.h"
 #include "sim/remesh/flips.h"

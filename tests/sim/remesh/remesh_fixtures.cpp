@@ -1,4 +1,4 @@
-#include "remesh/remesh_fixtures.h"
+#include "remesh_fixtures.h"
 
 #include <vector>
 

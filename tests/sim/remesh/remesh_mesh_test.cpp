@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "remesh/remesh_fixtures.h"
+#include "remesh_fixtures.h"
 #include "sim/mesh/boundary_surface.h"
 #include "sim/mesh/tet_adjacency.h"
 #include "sim/remesh/flips.h"

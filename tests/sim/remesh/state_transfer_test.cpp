@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "remesh/remesh_fixtures.h"
+#include "remesh_fixtures.h"
 #include "sim/remesh/flips.h"
 #include "sim/remesh/refinement.h"
 #include "sim/remesh/remesh_validity.h"

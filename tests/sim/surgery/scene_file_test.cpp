@@ -114,7 +114,7 @@ void expect_same_setup(const SurgicalSceneSetup& a, const SurgicalSceneSetup& b)
 
 TEST(SceneFile, TheShippedLiverFileIsThePresetWithAProbeAGrasperAndAScalpel) {
   const SurgicalSceneFile file =
-      parse_surgical_scene_file(read_json(INCISE_SCENES_DIR "/liver_surgery.json"));
+      parse_surgical_scene_file(read_json(INCISE_SCENES_DIR "/surgery/liver_surgery.json"));
   LiverSceneOptions expected;
   ToolSpec scalpel = make_tool(ToolKind::scalpel, 2);
   scalpel.blade_length = 0.012;
@@ -131,7 +131,7 @@ TEST(SceneFile, TheShippedLiverFileIsThePresetWithAProbeAGrasperAndAScalpel) {
 
 TEST(SceneFile, TheShippedKneeFileIsThePresetWithAScopeAProbeAndAScalpel) {
   const SurgicalSceneFile file =
-      parse_surgical_scene_file(read_json(INCISE_SCENES_DIR "/knee_surgery.json"));
+      parse_surgical_scene_file(read_json(INCISE_SCENES_DIR "/surgery/knee_surgery.json"));
   KneeSceneOptions expected;
   ToolSpec scalpel = make_tool(ToolKind::scalpel, 2);
   scalpel.blade_length = 0.02;

@@ -1,4 +1,4 @@
-// The issue 6 scenes built from the anatomy: the liver probed, grasped and cut along its marked
+// The surgical scenes built from the anatomy: the liver probed, grasped and cut along its marked
 // line (on target, no never event, the held side unmoved); the knee inspected through its portals
 // with the 30-degree scope and the probe, and its ACL (protected) cut: a never event.
 

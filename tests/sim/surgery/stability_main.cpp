@@ -1,6 +1,6 @@
-// surgery_stability: the issue 6 stability suite at full size (stability_suite.h). Runs random
-// tool sequences on the liver and knee scenes and prints, per scene, how many ran, the failures
-// with their seeds, and the worst cases. Exits 1 on any failure, 2 on bad arguments.
+// surgery_stability: the surgical scenes' stability suite at full size (stability_suite.h). Runs
+// random tool sequences on the liver and knee scenes and prints, per scene, how many ran, the
+// failures with their seeds, and the worst cases. Exits 1 on any failure, 2 on bad arguments.
 //
 //   surgery_stability [--sequences N] [--steps M] [--seed S] [--scene liver|knee|both]
 //                     [--seconds T] [--verbose] [--no-simplify]
@@ -147,7 +147,7 @@ int run_scene(const std::string& name, const Options& o, double budget) {
           r.settle_steps, r.seconds, r.initial_tets, r.final_tets, r.peak_tets, r.peak_inverted,
           r.inverted_at_end, r.speed_at_end, r.cuts_refused,
           r.events[static_cast<std::size_t>(EventKind::cut)],
-          r.events[static_cast<std::size_t>(EventKind::grab)]);
+          r.events[static_cast<std::size_t>(EventKind::grasp)]);
     }
     if (k == 0) rss_first = stab::resident_kib();
     if ((k + 1) % 100 == 0) {

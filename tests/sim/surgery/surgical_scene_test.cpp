@@ -141,7 +141,7 @@ TEST(SurgicalScene, GrasperGrabsLiftsAndTearsAtItsThreshold) {
   }
   ASSERT_TRUE(scene.state_finite());
   ASSERT_GE(events.size(), 2u);
-  EXPECT_EQ(events[0].kind, EventKind::grab) << events[0].detail;
+  EXPECT_EQ(events[0].kind, EventKind::grasp) << events[0].detail;
   EXPECT_EQ(events[1].kind, EventKind::release) << events[1].detail;
   EXPECT_NE(events[1].detail.find("torn"), std::string::npos) << events[1].detail;
   // The hand felt the pull rise to the threshold before the tissue tore out of the jaws.
@@ -253,7 +253,7 @@ TEST(SurgicalScene, AClosingGrasperRefinesUnderItsJawsAndGrabsMore) {
       in.jaw = n < 500 || n >= 1000 ? 1.0 : 0.0;  // close, hold, open
       scene.step(std::span(&in, 1));
       for (const SceneEvent& e : scene.take_events()) {
-        if (e.kind == EventKind::grab) count = std::stoi(e.detail);
+        if (e.kind == EventKind::grasp) count = std::stoi(e.detail);
       }
     }
     EXPECT_TRUE(scene.state_finite());
@@ -301,8 +301,8 @@ TEST(SurgicalScene, ScalpelThroughTheBlockPartsItAndKeepsTheVolume) {
 }
 
 // A stroke 0.6 mm beside a plane of nodes (6% of a 10 mm cell, past the 5% snap) leaves 0.6 mm
-// slivers; once the stroke ends they are collapsed (seed 001 VII.C): the worst tet is better
-// than without, and the volume, the two parts and the cut area are the same.
+// slivers; once the stroke ends they are collapsed (Knee Arthroscopy VR, section VII.C): the worst
+// tet is better than without, and the volume, the two parts and the cut area are the same.
 TEST(SurgicalScene, SliversAStrokeLeavesAreCollapsedWhenItEnds) {
   struct Outcome {
     int collapses = 0;

@@ -1,4 +1,4 @@
-#include "tools/contact_fixtures.h"
+#include "contact_fixtures.h"
 
 #include <vector>
 

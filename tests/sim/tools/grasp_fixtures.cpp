@@ -1,4 +1,4 @@
-#include "tools/grasp_fixtures.h"
+#include "grasp_fixtures.h"
 
 #include "sim/mesh/boundary_surface.h"
 #include "sim/mesh/box_mesher.h"

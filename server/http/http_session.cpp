@@ -1,0 +1,123 @@
+#include "server/http/http_session.h"
+
+#include <boost/beast/websocket.hpp>
+#include <chrono>
+
+#include "server/agent_session.h"
+#include "server/api/router.h"
+#include "server/api/view_endpoints.h"
+#include "server/http/static_files.h"
+#include "server/view_session.h"
+
+namespace incise::server {
+
+namespace beast = boost::beast;
+namespace net = boost::asio;
+
+namespace {
+constexpr auto kReadTimeout = std::chrono::seconds(30);
+constexpr std::size_t kHeaderLimit = 16 * 1024;
+
+// A request target is printable ASCII (RFC 9112 section 3.2, RFC 3986): any other byte is
+// percent-encoded by every real client. Beast's parser lets bytes 0x80..0xFF through.
+bool is_printable_ascii(std::string_view text) {
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x21 || byte > 0x7E) return false;
+  }
+  return true;
+}
+}  // namespace
+
+HttpSession::HttpSession(net::ip::tcp::socket&& socket, std::shared_ptr<AppState> app)
+    : stream_(std::move(socket)), app_(std::move(app)) {
+  beast::error_code ec;
+  const auto remote = stream_.socket().remote_endpoint(ec);
+  client_ = ec ? "unknown" : remote.address().to_string();
+}
+
+void HttpSession::run() {
+  net::dispatch(stream_.get_executor(), [self = shared_from_this()] { self->do_read(); });
+}
+
+void HttpSession::do_read() {
+  parser_.emplace();
+  parser_->header_limit(kHeaderLimit);
+  parser_->body_limit(app_->config().api_body_limit);
+  stream_.expires_after(kReadTimeout);
+  http::async_read(stream_, buffer_, *parser_,
+                   beast::bind_front_handler(&HttpSession::on_read, shared_from_this()));
+}
+
+void HttpSession::on_read(beast::error_code ec, std::size_t) {
+  if (ec == http::error::end_of_stream || ec == beast::error::timeout) return do_close();
+  if (ec == http::error::body_limit) {
+    // The rest of the body is still on the wire, so the connection cannot be reused.
+    return send(json_error(
+        http::status::payload_too_large,
+        "request body exceeds " + std::to_string(app_->config().api_body_limit / 1024) + " KiB", 11,
+        false));
+  }
+  if (ec) {
+    if (ec != net::error::operation_aborted && ec != net::error::connection_reset) {
+      return send(json_error(http::status::bad_request, "malformed HTTP request: " + ec.message(),
+                             11, false));
+    }
+    return do_close();
+  }
+
+  const auto& request = parser_->get();
+  const auto target = request.target();
+  if (!is_printable_ascii(target)) {
+    // Refused before anything routes, echoes or upgrades on it; the connection stays usable.
+    return send(
+        json_error(http::status::bad_request,
+                   "the request target must be printable ASCII (percent-encode other bytes)",
+                   request.version(), request.keep_alive()));
+  }
+  if (beast::websocket::is_upgrade(request)) {
+    stream_.expires_never();
+    if (target == "/agent") {
+      return std::make_shared<AgentSession>(stream_.release_socket(), app_)
+          ->run(parser_->release());
+    }
+    if (is_view_path(target)) {
+      auto resolved = resolve_view(request, *app_, client_);
+      if (auto* error = std::get_if<Response>(&resolved)) return send(std::move(*error));
+      auto& view = std::get<ViewTarget>(resolved);
+      auto session =
+          view.replay
+              ? std::make_shared<ViewSession>(stream_.release_socket(), std::move(view.replay))
+              : std::make_shared<ViewSession>(stream_.release_socket(), std::move(view.live));
+      return session->run(parser_->release());
+    }
+    return send(json_error(http::status::not_found,
+                           "no WebSocket endpoint at " + std::string(target), 11, false));
+  }
+  if (target.starts_with("/api/") || target == "/api") {
+    return send(handle_api_request(request, *app_, client_));
+  }
+  send(serve_static(request, app_->config().web_root));
+}
+
+void HttpSession::send(Response&& response) {
+  response_ = std::make_shared<Response>(std::move(response));
+  response_->set(http::field::server, "incise-server");
+  const bool keep_alive = response_->keep_alive();
+  http::async_write(
+      stream_, *response_,
+      beast::bind_front_handler(&HttpSession::on_write, shared_from_this(), keep_alive));
+}
+
+void HttpSession::on_write(bool keep_alive, beast::error_code ec, std::size_t) {
+  response_.reset();
+  if (ec || !keep_alive) return do_close();
+  do_read();
+}
+
+void HttpSession::do_close() {
+  beast::error_code ignored;
+  stream_.socket().shutdown(net::ip::tcp::socket::shutdown_send, ignored);
+}
+
+}  // namespace incise::server

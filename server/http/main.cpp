@@ -1,0 +1,134 @@
+// incise-server: wires the database, the REST API, the dashboard and the agent link to one port.
+#include <boost/asio.hpp>
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+#include <thread>
+#include <vector>
+
+#include "db/migrations.h"
+#include "db/recordings_repo.h"
+#include "db/training_repo.h"
+#include "server/app_state.h"
+#include "server/demo_data.h"
+#include "server/http/listener.h"
+#include "server/server_options.h"
+#include "server/wire_text.h"
+
+namespace net = boost::asio;
+using namespace incise;
+
+int main(int argc, char** argv) {
+  const auto parsed = server::parse_server_options(std::vector<std::string>(argv + 1, argv + argc));
+  if (!parsed.options) {
+    std::cerr << "incise-server: " << parsed.error << "\n" << server::kServerUsage;
+    return 2;
+  }
+  const auto& options = *parsed.options;
+  if (options.help) {
+    std::cout << server::kServerUsage;
+    return 0;
+  }
+
+  std::unique_ptr<db::Database> database;
+  try {
+    std::filesystem::create_directories(options.data_dir);
+    database = std::make_unique<db::Database>(options.data_dir / "incise.db");
+    const int applied = db::apply_migrations(*database);
+    if (applied > 0) std::cerr << "incise-server: applied " << applied << " migration(s)\n";
+    // A crash leaves sessions running and recordings open. The sessions are aborted; the
+    // recordings keep every committed chunk and are closed as they are.
+    db::TrainingRepo training(*database);
+    const auto now = std::chrono::duration_cast<std::chrono::seconds>(
+                         std::chrono::system_clock::now().time_since_epoch())
+                         .count();
+    for (const auto& session : training.sessions()) {
+      if (session.state == "running" || session.state == "paused") {
+        training.set_session_state(session.id, "aborted", now);
+        std::cerr << "incise-server: session " << session.id << " was " << session.state
+                  << " when the server stopped; marked aborted\n";
+      }
+    }
+    db::RecordingsRepo recordings(*database);
+    for (const auto& open : recordings.unfinished()) {
+      recordings.finish(open.id, open.duration_s);
+      std::cerr << "incise-server: closed recording " << open.id << " left open by a crash ("
+                << open.duration_s << " s kept)\n";
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "incise-server: " << e.what() << "\n";
+    return 1;
+  }
+
+  server::ServerConfig config;
+  config.web_root = options.web_root;
+  config.db_path = options.data_dir / "incise.db";
+  auto app = std::make_shared<server::AppState>(*database, config);
+  if (options.demo) {
+    try {
+      if (server::seed_demo_data(*database, app->now())) {
+        std::cerr << "incise-server: created demo data\n";
+      }
+    } catch (const std::exception& e) {
+      std::cerr << "incise-server: demo data: " << e.what() << "\n";
+      return 1;
+    }
+  }
+  if (!std::filesystem::exists(options.web_root / "index.html")) {
+    std::cerr << "incise-server: warning: no dashboard at " << options.web_root.string()
+              << " (the API still works)\n";
+  }
+
+  net::io_context ioc(options.threads);
+  std::shared_ptr<server::Listener> listener;
+  try {
+    const net::ip::tcp::endpoint endpoint(net::ip::make_address(options.host), options.port);
+    listener = std::make_shared<server::Listener>(ioc, endpoint, app);
+  } catch (const std::exception& e) {
+    std::cerr << "incise-server: cannot listen on " << options.host << ":" << options.port << ": "
+              << e.what() << "\n";
+    return 1;
+  }
+  listener->run();
+  std::cout << "incise-server: listening on http://" << options.host << ":" << listener->port()
+            << std::endl;
+
+  // Graceful shutdown: stop accepting, close agent links, give in-flight requests a moment.
+  net::signal_set signals(ioc, SIGINT, SIGTERM);
+  net::steady_timer grace(ioc);
+  signals.async_wait([&](const boost::system::error_code& ec, int signal) {
+    if (ec) return;
+    std::cerr << "incise-server: caught signal " << signal << ", shutting down\n";
+    listener->stop();
+    app->close_all_agents();
+    // Each live session closes its recording and stores its score before the process ends.
+    app->live_sessions().stop_all("server shutting down");
+    grace.expires_after(std::chrono::milliseconds(500));
+    grace.async_wait([&](const boost::system::error_code&) { ioc.stop(); });
+  });
+
+  // The last line of defence: every boundary catches its own parse errors, but an exception that
+  // still escapes a handler must cost only that connection (whose handler chain it ended), not
+  // the process and every live session in it. run() may be called again after it threw.
+  const auto run_io = [&ioc] {
+    for (;;) {
+      try {
+        ioc.run();
+        return;
+      } catch (const std::exception& e) {
+        std::cerr << "incise-server: internal error escaped a connection handler: "
+                  << server::valid_utf8(e.what()) << "\n";
+      } catch (...) {
+        std::cerr << "incise-server: unknown error escaped a connection handler\n";
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int i = 1; i < options.threads; ++i)
+    threads.emplace_back(run_io);
+  run_io();
+  for (auto& t : threads)
+    t.join();
+  std::cerr << "incise-server: stopped\n";
+  return 0;
+}
