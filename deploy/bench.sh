@@ -67,5 +67,20 @@ out=results/bench-$(date -u +%Y%m%dT%H%M%SZ).txt
   echo "## liver-like organ: fine / active region / coarse / adaptive, steps/s and error"
   "$bin/bench_liver_adaptive" corotational
   "$bin/bench_liver_adaptive" mss
+  echo
+  echo "## collision: the surface tree's refit and queries on a ~10k-triangle surface"
+  "$bin/bench_collide"
+  echo
+  echo "## tool contact per simulation step on a ~5k-triangle surface"
+  "$bin/bench_tool_contact"
+  echo
+  echo "## progressive cutting: the cut update per haptic frame on a 5,040-tet block"
+  "$bin/bench_cut"
+  echo
+  echo "## the condensed far field against the full model"
+  "$bin/bench_condensed"
+  echo
+  echo "## the surgical scenes (liver, knee): step, collision queries, cuts"
+  "$bin/bench_surgery"
 } 2>&1 | tee "$out"
 echo "deploy/bench.sh: wrote $out"
