@@ -31,8 +31,8 @@ std::string_view to_string(ToolKind kind) {
 
 std::string_view to_string(EventKind kind) {
   switch (kind) {
-    case EventKind::grab:
-      return "grab";
+    case EventKind::grasp:
+      return "grasp";
     case EventKind::release:
       return "release";
     case EventKind::cut:

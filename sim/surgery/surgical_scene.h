@@ -142,11 +142,11 @@ struct SurgicalSceneSpec {
   FarFieldSpec far_field;
 };
 
-enum class EventKind { grab, release, cut, collision, never_event };
+enum class EventKind { grasp, release, cut, collision, never_event };
 std::string_view to_string(EventKind kind);
 
 struct SceneEvent {
-  EventKind kind = EventKind::grab;
+  EventKind kind = EventKind::grasp;
   int tool = -1;       // index into the spec's tools
   Real time = 0;       // [s], at the end of the step it happened in
   std::string detail;  // e.g. "5 vertices", "torn at 1.02 N", "femur"

@@ -35,7 +35,7 @@ void SurgicalScene::grasp(Tool& tool, int index) {
       if (v < stable) candidates.push_back(v);
     }
     const int grabbed = grasper.grab(mesh.rest, mesh.x, tissue_->inverse_masses(), candidates);
-    if (grabbed > 0) event(EventKind::grab, index, std::to_string(grabbed) + " vertices");
+    if (grabbed > 0) event(EventKind::grasp, index, std::to_string(grabbed) + " vertices");
   }
   if (const auto released = grasper.measure(tissue_->internal())) {
     char text[64];
