@@ -1,6 +1,6 @@
 #pragma once
 // Motion and force metrics of a recorded run, and scoring them against a task's thresholds.
-// Pure functions over plain sample streams (DESIGN.md section 1: curriculum takes no input from
+// Pure functions over plain sample streams (docs/architecture.md: curriculum takes no input from
 // the simulation other than what was recorded), so a live session, a replay and a test compute
 // the same numbers.
 #include <array>

@@ -22,7 +22,8 @@ Database::Database(const std::filesystem::path& path) {
     exec("PRAGMA foreign_keys = ON");
     if (path != ":memory:") exec("PRAGMA journal_mode = WAL");
     // WAL with NORMAL sync is durable across application crashes; a power loss may drop the last
-    // transactions, which the recorder tolerates (DESIGN.md section 2, step 7).
+    // transactions, which the recorder tolerates (docs/architecture.md, "A live session, end to
+    // end").
     exec("PRAGMA synchronous = NORMAL");
   } catch (const DbError& e) {
     // The destructor does not run for a throwing constructor: close here (e.g. not a database).

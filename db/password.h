@@ -1,5 +1,5 @@
 #pragma once
-// Password hashing with libsodium's argon2id (memory-hard; DESIGN.md section 5). The stored string
+// Password hashing with libsodium's argon2id (memory-hard). The stored string
 // carries its own salt and parameters.
 #include <cstdint>
 #include <string>

@@ -1,7 +1,8 @@
 #pragma once
 // Recordings of live sessions: what was simulated, and the recorded input log in numbered chunks.
 // The recorder appends one chunk per small transaction (WAL), so a crash loses at most the chunk
-// being written (DESIGN.md section 2, step 7); a replay reads the chunks back in order.
+// being written (docs/architecture.md, "A live session, end to end"); a replay reads the chunks
+// back in order.
 //
 // Lifecycle: create() opens a recording in state 'recording'; append_chunk() adds chunks 0, 1,
 // 2, ... and moves duration_s forward; finish() sets state 'complete'. A crash leaves the

@@ -1,7 +1,8 @@
 #pragma once
-// One running session (DESIGN.md section 2): on its own thread it steps the SimEngine at a fixed
-// tick rate in real time from the station agent's latest device state, sends the agent the local
-// force model, publishes snapshots for the viewers and records every tick's input to SQLite.
+// One running session (docs/architecture.md, "A live session, end to end"): on its own thread it
+// steps the SimEngine at a fixed tick rate in real time from the station agent's latest device
+// state, sends the agent the local force model, publishes snapshots for the viewers and records
+// every tick's input to SQLite.
 //
 // States and transitions:
 //   running --pause()/agent drops--> paused --resume() (agent online)--> running

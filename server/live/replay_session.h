@@ -1,9 +1,9 @@
 #pragma once
-// A replay (DESIGN.md section 2, step 8): a session whose device is the recording. The same
-// SimEngine re-runs the recorded ticks, so the replay reproduces the run bit for bit, paced at
-// `speed` times real time. Checkpoints of the engine every kCheckpointTicks make seeking fast:
-// a seek restores the nearest checkpoint at or before the target and runs forward from there
-// without pacing.
+// A replay (docs/architecture.md, "A live session, end to end"): a session whose device is the
+// recording. The same SimEngine re-runs the recorded ticks, so the replay reproduces the run bit
+// for bit, paced at `speed` times real time. Checkpoints of the engine every kCheckpointTicks make
+// seeking fast: a seek restores the nearest checkpoint at or before the target and runs forward
+// from there without pacing.
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>

@@ -1,9 +1,9 @@
 #pragma once
-// The hybrid condensed model (Knee Arthroscopy VR, section VI; DESIGN.md section 3): a body split
-// into an operational region, where the surgeon works, modelled by any nonlinear, topology-changing
-// model (corotational, Neo-Hookean, ...), and a non-operational region ("far field") modelled by
-// linear elasticity whose interior nodes are condensed away. The regions share the nodes on their
-// interface, and one global node numbering.
+// The hybrid condensed model (Knee Arthroscopy VR, section VI; docs/condensed_model.md): a body
+// split into an operational region, where the surgeon works, modelled by any nonlinear,
+// topology-changing model (corotational, Neo-Hookean, ...), and a non-operational region ("far
+// field") modelled by linear elasticity whose interior nodes are condensed away. The regions share
+// the nodes on their interface, and one global node numbering.
 //
 // Far field: with its linear FEM stiffness K and damping D (tet_fem_model.h: D = beta K per tet)
 // partitioned into retained nodes s (its nodes on the body's boundary surface or shared with the

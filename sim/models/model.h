@@ -1,8 +1,8 @@
 #pragma once
-// The one interface every deformable model implements (DESIGN.md section 3): volumetric
-// mass-spring, linear FEM, corotational FEM (QR and polar), St Venant-Kirchhoff, Neo-Hookean.
-// Solvers (sim/solve/) see only this. One virtual call per model operation, never per element:
-// implementations loop over their elements in structure-of-arrays kernels.
+// The one interface every deformable model implements (docs/architecture.md, "The parts"):
+// volumetric mass-spring, linear FEM, corotational FEM (QR and polar), St Venant-Kirchhoff,
+// Neo-Hookean. Solvers (sim/solve/) see only this. One virtual call per model operation, never per
+// element: implementations loop over their elements in structure-of-arrays kernels.
 //
 // Conventions, all SI, node arrays #nodes by 3 (Points):
 //   forces     f(x, v) = f_elastic(x) + f_damping(x, v), the internal forces on the nodes [N]
