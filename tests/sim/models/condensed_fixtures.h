@@ -3,7 +3,6 @@
 // operational block at the middle of its top face (where a tool would work).
 #include <cmath>
 #include <memory>
-#include <random>
 #include <vector>
 
 #include "sim/mesh/box_mesher.h"
@@ -11,6 +10,7 @@
 #include "sim/models/hybrid_condensed_model.h"
 #include "sim/models/linear_fem.h"
 #include "sim/models/tet_elements.h"
+#include "tests/sim/models/model_fixtures.h"
 
 namespace incise::sim::testing {
 
@@ -56,14 +56,7 @@ inline std::unique_ptr<Model> make_corotational(const TetMesh& mesh,
 
 // #rows by 3 entries uniform in [-scale, scale], reproducible from seed.
 inline Points random_displacements(Eigen::Index rows, Real scale, unsigned seed) {
-  std::mt19937 random(seed);
-  std::uniform_real_distribution<Real> uniform(-scale, scale);
-  Points points(rows, 3);
-  for (Eigen::Index i = 0; i < rows; ++i) {
-    for (int a = 0; a < 3; ++a)
-      points(i, a) = uniform(random);
-  }
-  return points;
+  return random_points(rows, scale, seed);
 }
 
 // A #nodes by 3 array as one vector of 3 #nodes (node i's x, y, z at 3i, 3i+1, 3i+2).

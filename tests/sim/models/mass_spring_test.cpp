@@ -5,9 +5,9 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
-#include <random>
 #include <stdexcept>
 
+#include "model_fixtures.h"
 #include "sim/mesh/box_mesher.h"
 #include "sim/mesh/tet_mesh.h"
 #include "sim/scene/node_selection.h"
@@ -18,16 +18,7 @@ namespace {
 
 const MassSpringMaterial kTissue{3000, 1000, 0.3};  // E [Pa], density [kg/m^3], damping
 
-Points random_points(Eigen::Index rows, Real scale, unsigned seed) {
-  std::mt19937 random(seed);
-  std::uniform_real_distribution<Real> uniform(-scale, scale);
-  Points points(rows, 3);
-  for (Eigen::Index i = 0; i < rows; ++i) {
-    for (int a = 0; a < 3; ++a)
-      points(i, a) = uniform(random);
-  }
-  return points;
-}
+using testing::random_points;
 
 Points forces_at(const MassSpring& model, const Points& x, const Points& v) {
   Points f = Points::Zero(x.rows(), 3);
