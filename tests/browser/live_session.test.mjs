@@ -140,7 +140,13 @@ scenario(
     await wait_for_canvas(page, 'replay-canvas', {}, 'a first replay frame');
     const seek = page.getByTestId('replay-seek');
     const duration = Number(await seek.getAttribute('max'));
-    assert.ok(Math.abs(duration - stop_time) < 1, `the replay lasts ${duration} s; the session stopped at ${stop_time} s`);
+    // The replay lasts exactly what the recording stored. The last live frame the trainee saw
+    // came at or before the stop; how long before depends on how busy the machine was (frames are
+    // dropped, never the simulation), so it bounds the duration from below only.
+    const recording = (await api_call(page, 'GET', '/api/recordings')).body.find((r) => r.id === recording_id);
+    assert.ok(recording, 'the instructor sees the recording in the list');
+    assert.ok(Math.abs(duration - recording.duration_s) < 1e-6, `the replay lasts ${duration} s; the recording ${recording.duration_s} s`);
+    assert.ok(stop_time <= duration + 0.01 && duration - stop_time < 5, `the replay lasts ${duration} s; the last live frame was at ${stop_time} s`);
 
     const target = Math.round((duration / 2) * 10) / 10;
     const before_seek = await canvas_state(page, 'replay-canvas');
