@@ -11,6 +11,8 @@
 
 #include "sim/cli/cli.h"
 #include "sim/surgery/scene_file.h"
+#include "sim/surgery/tool_script.h"
+#include "sim/surgery/track_sampling.h"
 
 namespace incise::sim {
 namespace {

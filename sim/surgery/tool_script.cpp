@@ -8,8 +8,8 @@
 
 #include "sim/io/json_object_reader.h"
 #include "sim/scene/scene_validation.h"
-#include "sim/surgery/scene_file.h"
 #include "sim/surgery/scene_file_checks.h"
+#include "sim/surgery/tool_script.h"
 
 namespace incise::sim::surgery {
 namespace {

@@ -2,7 +2,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "sim/surgery/scene_file.h"
+#include "sim/surgery/track_sampling.h"
 
 namespace incise::sim::surgery {
 

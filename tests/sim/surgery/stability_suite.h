@@ -3,7 +3,7 @@
 // The stability suite of the surgical scenes: seeded random tool scripts played on the liver and
 // knee scenes (sim/surgery/scene_presets.h), each run checked for what a long session must never
 // show: an exception, a non-finite state, an inverted element left once the tools are gone, a mesh
-// that keeps growing. Shared by the CI test (stability_test.cpp) and the long runner
+// that keeps growing. Shared by the CI test (surgical_scene_stability_test.cpp) and the long runner
 // (stability_main.cpp, `surgery_stability`); docs/surgery_stability.md has the figures.
 //
 // A sequence is one script per device (each scene has one tool per device). A script is a list of
