@@ -11,7 +11,7 @@
 #include <string>
 
 #include "devices/device.h"
-#include "devices/kinematics.h"
+#include "devices/portal_scope.h"
 #include "devices/simulated_device.h"
 
 namespace incise::devices {

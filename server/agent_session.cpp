@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "db/stations_repo.h"
-#include "devices/kinematics.h"
 #include "devices/protocol.h"
+#include "devices/station_calibration_json.h"
 #include "server/wire_text.h"
 
 namespace incise::server {

@@ -6,15 +6,11 @@
 
 #include <Eigen/Dense>
 
+#include "devices/eigen_conversions.h"
+
 namespace incise::devices::agent {
 namespace {
 
-Eigen::Vector3d to_eigen(const Vec3& v) {
-  return {v.x, v.y, v.z};
-}
-Vec3 from_eigen(const Eigen::Vector3d& v) {
-  return {v.x(), v.y(), v.z()};
-}
 double dot(const Vec3& a, const Vec3& b) {
   return a.x * b.x + a.y * b.y + a.z * b.z;
 }
@@ -113,7 +109,7 @@ Vec3 ForceGuard::couple(const Vec3& model_force, const std::array<double, 9>& st
   const Eigen::Vector3d coupled = k * (A_inv * to_eigen(model_force));
   const Eigen::Matrix3d share = K * A_inv;
   const Eigen::Vector3d damping = settings_.coupling_damping * (share * to_eigen(velocity_));
-  return from_eigen(coupled - damping);
+  return to_vec3(coupled - damping);
 }
 
 Vec3 ForceGuard::finish(const Vec3& desired, double dt, bool silent) {

@@ -11,8 +11,8 @@
 #include "devices/agent/seqlock.h"
 #include "devices/agent/spsc_ring.h"
 #include "devices/device_state.h"
-#include "devices/kinematics.h"
 #include "devices/protocol.h"
+#include "devices/workspace_mapping.h"
 
 namespace incise::devices::agent {
 

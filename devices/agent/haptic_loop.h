@@ -24,6 +24,7 @@
 #include "devices/agent/haptic_channel.h"
 #include "devices/agent/loop_stats.h"
 #include "devices/device.h"
+#include "devices/workspace_mapping.h"
 
 namespace incise::devices::agent {
 

@@ -10,6 +10,8 @@
 
 #include "devices/agent/force_guard.h"
 #include "devices/agent/log.h"
+#include "devices/station_calibration.h"
+#include "devices/station_calibration_json.h"
 
 namespace incise::devices::agent {
 namespace {

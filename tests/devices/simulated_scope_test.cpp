@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include "devices/eigen_conversions.h"
 
 namespace incise::devices {
 namespace {
