@@ -22,7 +22,7 @@ using sim::Real;
 using sim::Vec3;
 using sim::Vec3i;
 
-// Soft tissue, as in tests/sim/scene_run_test.cpp.
+// Soft tissue, as in tests/sim/scene/scene_run_test.cpp.
 inline constexpr Real kYoungsModulus = 3000;  // [Pa]
 inline constexpr Real kPoissonRatio = 0.3;
 inline constexpr Real kDensity = 1000;    // [kg/m^3]

@@ -1,8 +1,8 @@
 // Render benchmark (measures, asserts nothing; not a ctest test): the live view of a scene at
 // 640x480, 300 frames while the tool circles over the tissue and presses a dent into it, through
 // the streaming path (SceneRenderer + FrameEncoder). Prints one line for the scene as given and
-// one for the same box meshed finer, to at least 8000 surface triangles (the size the issue's
-// 5-8 ms figure refers to).
+// one for the same box meshed finer, to at least 8000 surface triangles (the size at which a frame
+// should take 5-8 ms; docs/benchmarks.md).
 //   bench_render [SCENE.json]     default: sim/scenes/palpation.json
 // The tissue's positions change every frame (a smooth synthetic dent follows the tool), so the
 // per-frame upload is measured too; the dent is computed outside the timed part.

@@ -11,7 +11,7 @@
 
 #include "devices/little_endian.h"
 #include "devices/protocol.h"
-#include "tests/support/allocation_counter.h"
+#include "allocation_counter.h"
 #include "tests/support/protocol_checks.h"
 
 namespace incise::devices {

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "devices/little_endian.h"
-#include "tests/support/allocation_counter.h"
+#include "allocation_counter.h"
 #include "tests/support/protocol_checks.h"
 
 namespace incise::devices {

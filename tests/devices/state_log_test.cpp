@@ -5,33 +5,21 @@
 
 #include <gtest/gtest.h>
 
-#include <stdlib.h>
-
 #include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <random>
 #include <stdexcept>
-#include <system_error>
+
+#include "tests/support/temp_dir.h"
 
 namespace incise::devices {
 namespace {
 
 class StateLogTest : public ::testing::Test {
  protected:
-  StateLogTest() {
-    std::string pattern =
-        (std::filesystem::temp_directory_path() / "incise-state-log-XXXXXX").string();
-    if (mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp " + pattern);
-    dir_ = pattern;
-  }
-  ~StateLogTest() override {
-    std::error_code ignored;
-    std::filesystem::remove_all(dir_, ignored);
-  }
-
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string path(const std::string& name) const { return (dir_.path() / name).string(); }
 
   // Writes samples with StateLogWriter and returns the file's path.
   std::string write_log(const std::string& name, const std::vector<TimedSample>& samples) {
@@ -50,7 +38,7 @@ class StateLogTest : public ::testing::Test {
               static_cast<std::streamsize>(bytes.size()));
   }
 
-  std::filesystem::path dir_;
+  incise::test::TempDir dir_{"incise-state-log"};
 };
 
 // ReplayDevice's tests, in the same temporary directory set-up.

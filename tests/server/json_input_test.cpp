@@ -1,5 +1,6 @@
-// The server's one parser of client JSON: server/json_input.h. Every error nlohmann's parser can
-// raise comes back as a kind and a short valid message, never as an exception.
+// The parser of REST bodies and view and replay messages: server/json_input.h. Every error
+// nlohmann's parser can raise comes back as a kind and a short valid message, never as an
+// exception.
 #include "server/json_input.h"
 
 #include <gtest/gtest.h>

@@ -1,16 +1,17 @@
 #pragma once
 // Runs the real incise binary (INCISE_CLI_PATH, from CMake) as a user would: in a private
 // temporary folder, arguments as on a shell line, stdout, stderr and the exit code captured.
-// Shared by the CLI tests of sim_tests and sim_mesh_io_tests.
+// Shared by the CLI tests of sim_cli_tests and sim_mesh_tests.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+
+#include "tests/support/temp_dir.h"
 
 namespace incise::sim::test {
 
@@ -29,15 +30,6 @@ inline std::string read_file(const std::filesystem::path& path) {
 
 class CliFixture : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("incise_cli_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_suite()->name()) + "_" +
-            std::to_string(::getpid()));
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
   std::filesystem::path write(const std::string& name, const std::string& text) {
     const std::filesystem::path path = dir_ / name;
     std::ofstream(path) << text;
@@ -56,7 +48,8 @@ class CliFixture : public ::testing::Test {
     return run;
   }
 
-  std::filesystem::path dir_;
+  incise::test::TempDir tmp_{"incise-cli"};
+  std::filesystem::path dir_ = tmp_.path();
 };
 
 }  // namespace incise::sim::test

@@ -9,7 +9,7 @@
 #include <memory>
 
 #include "recording_device.h"
-#include "tests/support/allocation_counter.h"
+#include "tests/devices/allocation_counter.h"
 
 namespace incise::devices::agent {
 namespace {

@@ -18,7 +18,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "tests/support/allocation_counter.h"
+#include "tests/devices/allocation_counter.h"
 
 namespace incise::devices {
 namespace {

@@ -1,4 +1,4 @@
-// The dashboard's files: server/static_files.h.
+// The dashboard's files: server/http/static_files.h.
 #include "server/http/static_files.h"
 
 #include <gtest/gtest.h>

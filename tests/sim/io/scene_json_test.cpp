@@ -6,6 +6,8 @@
 #include <fstream>
 #include <string>
 
+#include "tests/support/temp_dir.h"
+
 namespace incise::sim {
 namespace {
 
@@ -363,7 +365,8 @@ TEST(ParseSceneText, MalformedJsonSaysWhere) {
 }
 
 TEST(ReadSceneFile, ReadsAFileAndReportsAMissingOne) {
-  const auto path = std::filesystem::temp_directory_path() / "incise_scene_json_test.json";
+  const incise::test::TempDir dir{"incise-scene-json"};
+  const auto path = dir.path() / "scene.json";
   std::ofstream(path) << good_scene().dump();
   EXPECT_EQ(read_scene_file(path).mesh.box.cells, Vec3i(10, 2, 3));
   std::filesystem::remove(path);

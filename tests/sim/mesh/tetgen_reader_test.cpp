@@ -1,7 +1,6 @@
 #include "sim/mesh/tetgen_reader.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -9,6 +8,7 @@
 #include "sample_files.h"
 #include "sim/mesh/mesh_file_error.h"
 #include "test_text.h"
+#include "tests/support/temp_dir.h"
 
 namespace incise::sim {
 namespace {
@@ -101,13 +101,11 @@ TEST(TetgenReader, Errors) {
 class TetgenFiles : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("incise_tetgen_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
     std::ofstream(dir_ / "organ.1.node") << kNode;
     std::ofstream(dir_ / "organ.1.ele") << kEle;
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  incise::test::TempDir tmp_{"incise-tetgen"};
+  fs::path dir_ = tmp_.path();
 };
 
 TEST_F(TetgenFiles, ReadsByNodeEleOrBaseName) {

@@ -1,7 +1,6 @@
 #include "sim/mesh/vtu_writer.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -16,6 +15,7 @@
 
 #include "sim/mesh/box_mesher.h"
 #include "sim/mesh/mesh_file_error.h"
+#include "tests/support/temp_dir.h"
 
 namespace incise::sim {
 namespace {
@@ -180,8 +180,8 @@ TEST(VtuWriter, RejectsBadFields) {
 
 TEST(VtuWriter, WritesTheFileOrReportsIt) {
   const TetMesh mesh = make_box_mesh(Vec3(1, 1, 1), Vec3i(1, 1, 1));
-  const std::filesystem::path path = std::filesystem::temp_directory_path() /
-                                     ("incise_vtu_test_" + std::to_string(::getpid()) + ".vtu");
+  const incise::test::TempDir dir{"incise-vtu"};
+  const std::filesystem::path path = dir.path() / "box.vtu";
   write_vtu(path, mesh);
   std::ifstream stream(path);
   std::ostringstream text;

@@ -73,7 +73,7 @@ TEST(TetElements, ShapeGradientsReproduceAnAffineDeformation) {
   }
 }
 
-TEST(TetElements, LameParametersInvertSeed003Equations1And2) {
+TEST(TetElements, LameParametersInvertJoshiEquations1And2) {
   const Lame lame = lame_from_youngs(3000, 0.45);
   EXPECT_NEAR(lame.mu * (3 * lame.lambda + 2 * lame.mu) / (lame.lambda + lame.mu), 3000, 1e-9);
   EXPECT_NEAR(lame.lambda / (2 * lame.lambda + 2 * lame.mu), 0.45, 1e-15);

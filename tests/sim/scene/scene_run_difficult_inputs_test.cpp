@@ -43,7 +43,7 @@ Constraint clamp_below(Real z) {
 
 // --- nu = 0.499 ----------------------------------------------------------------------------------
 
-TEST(HardCaseScene, NearlyIncompressibleNeoHookeanCompressionMatchesSeed003) {
+TEST(HardCaseScene, NearlyIncompressibleNeoHookeanCompressionMatchesJoshiEq15) {
   constexpr Real kNu = 0.499;
   const TetMesh mesh = make_box_mesh(Vec3(kSize, kSize, kSize), Vec3i(3, 3, 3));
   for (const Real strain : {0.05, 0.10, 0.20}) {

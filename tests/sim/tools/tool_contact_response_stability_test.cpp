@@ -6,7 +6,7 @@
 // probe, whose massless proxy keeps re-seating in the dimple the jerks left and sloshes the
 // stiff block's elastic energy by up to 20% over 4,000 steps without a trend; an unstable contact
 // grows by orders of magnitude).
-// (The bound behind the rule is checked directly in contact_response_test.cpp.)
+// (The bound behind the rule is checked directly in tool_contact_response_test.cpp.)
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,6 @@
 // and labels, bit for bit.
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -16,6 +15,7 @@
 #include "sim/mesh/read_mesh_file.h"
 #include "sim/mesh/tetgen_reader.h"
 #include "sim/mesh/tetgen_writer.h"
+#include "tests/support/temp_dir.h"
 
 namespace incise::sim {
 namespace {
@@ -42,12 +42,8 @@ void expect_identical(const TetMesh& read, const TetMesh& written) {
 
 class RoundTrip : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("incise_round_trip_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  incise::test::TempDir tmp_{"incise-round-trip"};
+  fs::path dir_ = tmp_.path();
 };
 
 TEST_F(RoundTrip, Msh22) {
