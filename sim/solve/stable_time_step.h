@@ -17,7 +17,7 @@ struct ElementLengths {
 // Safety factor on l_min / c. For a linear tet with lumped mass the highest element frequency is
 // not exactly 2 c / l for any single length l. With l the smallest altitude (never longer than
 // the smallest edge) we measured l_min / c against the exact limit 2 / omega_max (omega_max^2 the
-// largest eigenvalue of M^-1 K, by power iteration) on box meshes (tests/sim/solvers/
+// largest eigenvalue of M^-1 K, by power iteration) on box meshes (tests/sim/solve/
 // stable_time_step_test.cpp): l_min / c = 1.03, 1.04, 1.07, 1.08 times the exact limit for
 // nu = 0, 0.3, 0.45, 0.49, i.e. slightly unstable on its own. 0.5 puts the estimate at about half
 // the limit: margin for distorted meshes (slivers), nonlinear stiffening under compression and

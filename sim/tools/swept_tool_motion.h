@@ -23,7 +23,7 @@
 // contact at that centre pushes the tissue out of the way: the tool advances as fast as the
 // tissue yields. Tolerance: after the tissue's own step the penetration is at most
 // allowed_penetration plus how far a surface point moved towards the tool in that step
-// (tests/sim/tools/contact_tunnelling_test.cpp measures it).
+// (tests/sim/tools/swept_tool_motion_test.cpp measures it).
 // Sub-stepping was not chosen: it costs a contact solve per sub-step and still needs a sweep for
 // membranes thinner than one sub-step's travel.
 
