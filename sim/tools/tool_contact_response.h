@@ -28,8 +28,8 @@
 // The price: such a penalty is only about as stiff as an element, so a tool pressed into soft,
 // coarse tissue sinks into its surface (1.08 mm of a 2 mm press on a 3 kPa block with 3.3 mm
 // cells); the force is still the tissue's reaction to the deformation it makes
-// (tests/sim/tools/tool_contact_response_static_test.cpp). The haptic probe (probe.h) pushes with its coupling
-// force instead and does not sink.
+// (tests/sim/tools/tool_contact_response_static_test.cpp). The haptic probe (probe.h) pushes with
+// its coupling force instead and does not sink.
 
 #include <vector>
 

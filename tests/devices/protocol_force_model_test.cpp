@@ -9,9 +9,9 @@
 #include <random>
 #include <vector>
 
+#include "allocation_counter.h"
 #include "devices/little_endian.h"
 #include "devices/protocol.h"
-#include "allocation_counter.h"
 #include "tests/support/protocol_checks.h"
 
 namespace incise::devices {

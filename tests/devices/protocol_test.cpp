@@ -12,8 +12,8 @@
 #include <random>
 #include <vector>
 
-#include "devices/little_endian.h"
 #include "allocation_counter.h"
+#include "devices/little_endian.h"
 #include "tests/support/protocol_checks.h"
 
 namespace incise::devices {
