@@ -35,12 +35,13 @@ ChildProcess::ChildProcess(const std::vector<std::string>& args,
   for (auto& a : strings)
     argv.push_back(a.data());
   argv.push_back(nullptr);
-  std::vector<char*> envp;
+  std::vector<char*> own_env;
   if (environment) {
     for (auto& entry : *environment)
-      envp.push_back(entry.data());
-    envp.push_back(nullptr);
+      own_env.push_back(entry.data());
+    own_env.push_back(nullptr);
   }
+  char* const* envp = environment ? own_env.data() : environ;
 
   // Close-on-exec here, so that later children do not inherit the pipe; dup2 clears the flag on
   // the child's fd 1.
@@ -58,11 +59,7 @@ ChildProcess::ChildProcess(const std::vector<std::string>& args,
     signal(SIGPIPE, SIG_DFL);             // the tests ignore it; the programs must not inherit that
     dup2(fds[1], 1);
     if (err >= 0) dup2(err, 2);
-    if (environment) {
-      execve(argv[0], argv.data(), envp.data());
-    } else {
-      execv(argv[0], argv.data());
-    }
+    execve(argv[0], argv.data(), envp);
     _exit(127);
   }
   const int fork_errno = errno;
