@@ -157,7 +157,6 @@ scenario(
       'replay-canvas',
       { after_frame: before_seek.frame, time_min: target - 0.3, time_max: target + 1.5 },
       `the replay near ${target} s after the seek`,
-      8_000,
     );
 
     // Pause: the button follows the server's "playing", and the picture's time stands still.
@@ -187,7 +186,6 @@ scenario(
       'replay-canvas',
       { after_frame: before_jump.frame, time_min: event.t_s - 0.05, time_max: event.t_s + 0.5 },
       `the replay at the ${event.kind} marker (${event.t_s} s)`,
-      8_000,
     );
     await snap(page, 'instructor-review');
 
