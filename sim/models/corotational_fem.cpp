@@ -54,7 +54,36 @@ CorotationalKernel::State CorotationalKernel::linearize(const Mat3& deformation,
 
 CorotationalFem::CorotationalFem(const TetMesh& mesh, std::vector<ElementMaterial> materials,
                                  RotationExtraction extraction)
-    : TetFemModel(mesh, std::move(materials), CorotationalKernel{extraction}) {}
+    : TetFemModel(mesh, std::move(materials), CorotationalKernel{extraction}) {
+  batch_.assign(elements());
+}
+
+void CorotationalFem::add_forces(const Points& x, const Points& v, Points& f) {
+  health_ = batch_.add_forces(kernel().extraction, x, v, f);
+}
+
+void CorotationalFem::add_forces_scalar(const Points& x, const Points& v, Points& f) {
+  TetFemModel::add_forces(x, v, f);
+  health_ = TetFemModel::health();
+}
+
+void CorotationalFem::update_topology(const TetMesh& mesh) {
+  TetFemModel::update_topology(mesh);
+  batch_.assign(elements());
+  health_ = {};
+}
+
+void CorotationalFem::update_elements(const TetMesh& mesh, const std::vector<char>& alive,
+                                      std::span<const int> changed) {
+  TetFemModel::update_elements(mesh, alive, changed);
+  batch_.update(elements(), changed);
+}
+
+bool CorotationalFem::soften_element(int t, Real factor) {
+  if (!TetFemModel::soften_element(t, factor)) return false;
+  batch_.update_material(elements(), t);
+  return true;
+}
 
 std::string_view CorotationalFem::name() const {
   return kernel().extraction == RotationExtraction::qr ? "corotational" : "corotational_polar";

@@ -3,15 +3,11 @@
 #include <string_view>
 #include <vector>
 
+#include "sim/models/corotational_batch.h"
 #include "sim/models/rotation_extraction.h"
 #include "sim/models/tet_fem_model.h"
 
 namespace incise::sim {
-
-enum class RotationExtraction {
-  qr,     // Gram-Schmidt of F's columns: cheaper, depends on the tet's node order
-  polar,  // the polar decomposition (SVD): the rotation nearest to F, no ordering anisotropy
-};
 
 // Corotational linear elasticity (Physically Realistic FEM, section 2.4): each tet's deformation
 // gradient F is split into a rotation R and a stretch U = R^T F (symmetric for polar, upper
@@ -65,6 +61,24 @@ class CorotationalFem final : public TetFemModel<CorotationalKernel> {
                   RotationExtraction extraction);
   // "corotational" (QR) or "corotational_polar", the scene names.
   std::string_view name() const override;
+
+  // Through the vectorised kernel (corotational_batch.h), its rotations warm-started from the
+  // last call.
+  void add_forces(const Points& x, const Points& v, Points& f) override;
+  // Through CorotationalKernel::stress one tet at a time: the reference add_forces equals to
+  // round-off.
+  void add_forces_scalar(const Points& x, const Points& v, Points& f);
+  ModelHealth health() const override { return health_; }
+  void update_topology(const TetMesh& mesh) override;
+  void update_elements(const TetMesh& mesh, const std::vector<char>& alive,
+                       std::span<const int> changed) override;
+  bool soften_element(int t, Real factor) override;
+
+  const CorotationalBatch& batch() const { return batch_; }
+
+ private:
+  CorotationalBatch batch_;
+  ModelHealth health_;
 };
 
 extern template class TetFemModel<CorotationalKernel>;

@@ -6,6 +6,12 @@
 
 namespace incise::sim {
 
+// How a corotational model takes R from F.
+enum class RotationExtraction {
+  qr,     // Gram-Schmidt of F's columns: cheaper, depends on the tet's node order
+  polar,  // the polar decomposition (SVD): the rotation nearest to F, no ordering anisotropy
+};
+
 // F = R U by Gram-Schmidt of F's columns (Physically Realistic FEM, "QR decomposition"): r1 along
 // f1, r2 in the plane of f1 and f2, r3 = r1 x r2, so that the frame is right-handed even for an
 // inverted F (then U's last diagonal entry is negative). U is upper triangular with

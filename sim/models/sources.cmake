@@ -1,5 +1,6 @@
 # Model sources (paths relative to sim/), added to incise_sim by sim/CMakeLists.txt.
 set(INCISE_SIM_MODELS_SOURCES ${INCISE_SIM_MODELS_SOURCES}
+  models/corotational_batch.cpp
   models/corotational_fem.cpp
   models/hybrid_condensed_model.cpp
   models/hybrid_condensed_partition.cpp
