@@ -118,12 +118,15 @@ struct Quaternions {
 
 // Newton on the rotation maximising tr(R^T F) from q (the header). Returns the lanes that
 // converged: those whose last step was below kStepTolerance with a positive definite Hessian.
-// Lanes outside `active` (slots without an element) count as converged from the start.
-INCISE_LANES LaneMask polar_newton(const M3& f, LaneMask active, Quaternions& q) {
-  // |theta| below 1e-7 rad: the next step would be ~1e-14, round-off.
-  constexpr Real kStepTolerance2 = 1e-14;
+// Lanes outside `active` (slots without an element) count as converged from the start. Adds the
+// iterations it ran to `iterations`.
+INCISE_LANES LaneMask polar_newton(const M3& f, LaneMask active, Quaternions& q, int& iterations) {
+  // A step below 1e-6 rad leaves an error of its square (quadratic convergence), 1e-12: done. A
+  // tet whose rotation changed by less than that since the last call takes one iteration.
+  constexpr Real kStepTolerance2 = 1e-12;
   LaneMask converged = ~active;
   for (int iteration = 0; iteration < CorotationalBatch::kMaxNewton; ++iteration) {
+    ++iterations;
     const M3 a = transpose_times(rotation_of(q.w, q.x, q.y, q.z), f);
     const Lanes w0 = a.m[2][1] - a.m[1][2];
     const Lanes w1 = a.m[0][2] - a.m[2][0];
@@ -230,6 +233,7 @@ struct BatchView {
 struct ForceTotals {
   ModelHealth health;
   int fallbacks = 0;
+  int newton_iterations = 0;  // summed over blocks of four tets
 };
 
 // The forces of four tets from `base` (CorotationalKernel::stress plus the damping of
@@ -262,7 +266,7 @@ INCISE_LANES void forces_of_four(const BatchView& b, int base, const Real* x, co
   if constexpr (kPolar) {
     Quaternions q{load(b.rotation[0] + base), load(b.rotation[1] + base),
                   load(b.rotation[2] + base), load(b.rotation[3] + base)};
-    const LaneMask converged = polar_newton(deformation, alive, q);
+    const LaneMask converged = polar_newton(deformation, alive, q, totals.newton_iterations);
     rotation = rotation_of(q.w, q.x, q.y, q.z);
     if (!all(converged)) {
       for (int l = 0; l < 4; ++l) {
@@ -477,6 +481,8 @@ ModelHealth CorotationalBatch::add_forces(RotationExtraction extraction, const P
                                  ? polar_forces(view, x.data(), v.data(), f.data())
                                  : qr_forces(view, x.data(), v.data(), f.data());
   fallbacks_ = totals.fallbacks;
+  newton_iterations_ =
+      padded_ > 0 ? static_cast<Real>(totals.newton_iterations) * kLanes / padded_ : 0;
   return totals.health;
 }
 

@@ -51,6 +51,9 @@ class CorotationalBatch {
 
   // How many tets the last add_forces sent to the scalar rotation (for tests and benchmarks).
   int last_fallbacks() const { return fallbacks_; }
+  // Newton iterations per tet in the last add_forces with polar rotations (each block of four
+  // iterates until its last tet converged).
+  Real last_newton_iterations() const { return newton_iterations_; }
 
  private:
   void resize(int slots);
@@ -66,6 +69,7 @@ class CorotationalBatch {
   std::vector<Real> beta_;             // #padded damping [s]
   std::vector<Real> rotation_[4];      // #padded warm starts: unit quaternions (w, x, y, z)
   int fallbacks_ = 0;
+  Real newton_iterations_ = 0;
 };
 
 }  // namespace incise::sim
