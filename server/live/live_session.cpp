@@ -25,6 +25,11 @@ std::int64_t unix_now() {
       .count();
 }
 
+// The steady clock in seconds, for PaceMonitor.
+double seconds_now() {
+  return std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+}
+
 Clock::duration period_of(double hz) {
   return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / hz));
 }
@@ -102,7 +107,8 @@ constexpr double kMaxUnrecordedS = 10.0;
 LiveSession::LiveSession(LiveSessionParams params, AgentLink agent)
     : params_(std::move(params)),
       agent_(std::move(agent)),
-      engine_(params_.scene, 1.0 / params_.tick_hz, hands_for(params_.task)) {
+      engine_(params_.scene, 1.0 / params_.tick_hz, hands_for(params_.task)),
+      pace_(engine_.tick_s()) {
   publish_snapshot();
 }
 
@@ -196,8 +202,10 @@ void LiveSession::set_agent_online(bool online) {
 
 nlohmann::json LiveSession::status() const {
   nlohmann::json out;
+  bool ticking = false;  // running with a device state to tick from: the clock applies
   {
     std::lock_guard lock(mutex_);
+    ticking = state_ == LiveState::running && inputs_[0].received;
     out["state"] = to_string(state_);
     out["reason"] = state_ == LiveState::running && !inputs_[0].received
                         ? "waiting for the first device state from the station"
@@ -206,6 +214,20 @@ nlohmann::json LiveSession::status() const {
   out["agent_online"] = agent_online_.load();
   out["sim_rate_hz"] = sim_rate_hz_.load();
   out["late_ticks"] = late_ticks_.load();
+  // Behind real time: the simulation advances slower than the clock or a tick hangs; the page
+  // says so beside "Running" (never a frozen picture that claims to run).
+  {
+    PaceState pace;
+    {
+      std::lock_guard lock(pace_mutex_);
+      pace = pace_.state_at(seconds_now());
+    }
+    if (!ticking) pace.behind = false, pace.lag_s = 0;
+    out["behind_real_time"] = pace.behind;
+    out["lag_ms"] = pace.lag_s * 1e3;
+    out["real_time_factor"] = pace.real_time_factor;
+    out["shed"] = shed_text(pace.shed_level);
+  }
   out["force_models_sent"] = force_models_sent_.load();
   out["hands"] = engine_.hands();
   out["ignored_device_states"] = ignored_states_.load();
@@ -219,6 +241,11 @@ nlohmann::json LiveSession::status() const {
     if (!error.empty()) out["render_error"] = error;
   }
   return out;
+}
+
+void LiveSession::restart_pace() {
+  std::lock_guard lock(pace_mutex_);
+  pace_.restart(seconds_now());
 }
 
 void LiveSession::publish_snapshot() {
@@ -275,6 +302,7 @@ void LiveSession::run() {
   auto rate_window_start = next;
   std::int64_t rate_window_ticks = 0;
   TickRecord record;
+  restart_pace();
   while (true) {
     std::array<Input, SimEngine::kMaxHands> inputs;
     {
@@ -290,6 +318,7 @@ void LiveSession::run() {
         }
         wake_.wait(lock, [this] { return stop_requested_ || state_ != LiveState::paused; });
         next = Clock::now();
+        restart_pace();
         rate_window_start = next;
         rate_window_ticks = 0;
         continue;
@@ -303,6 +332,7 @@ void LiveSession::run() {
 
     next += tick_period;
     const auto now = Clock::now();
+    const double schedule_lag_s = std::chrono::duration<double>(now - next).count();
     if (now - next > kMaxLag) {
       late_ticks_ += (now - next) / tick_period;
       next = now;
@@ -313,6 +343,7 @@ void LiveSession::run() {
       // Time starts with the first device state: the recording then begins where the tool is,
       // with no jump from a parked position into the scene (and none in the path length).
       next = Clock::now();
+      restart_pace();
       continue;
     }
     // A second hand that has not reported yet waits parked, out of the scene.
@@ -359,7 +390,17 @@ void LiveSession::run() {
         ++force_models_sent_;
       }
     }
-    if (engine_.ticks() % ticks_per_snapshot == 0) publish_snapshot();
+    if (params_.after_tick) params_.after_tick();
+    int shed_level = 0;
+    {
+      std::lock_guard lock(pace_mutex_);
+      pace_.on_tick(seconds_now(), schedule_lag_s);
+      shed_level = pace_.state_at(seconds_now()).shed_level;
+    }
+    // Shedding (pace_monitor.h): fewer snapshots, so fewer frames rendered beside the physics.
+    if (engine_.ticks() % (ticks_per_snapshot * render_divisor(shed_level)) == 0) {
+      publish_snapshot();
+    }
     if (engine_.ticks() % ticks_per_damage_sample == 0) {
       damage_samples.push_back(engine_.damage_index());
     }

@@ -29,6 +29,7 @@
 #include "devices/device_state.h"
 #include "devices/protocol.h"
 #include "server/live/frame_streamer.h"
+#include "server/live/pace_monitor.h"
 #include "server/live/session_scene.h"
 #include "server/live/sim_engine.h"
 #include "server/live/snapshot.h"
@@ -47,6 +48,9 @@ struct LiveSessionParams {
   double force_model_hz = 500;  // local force models sent to the agent (every tick at 500 Hz)
   double snapshot_hz = 125;     // snapshots for rendering and metrics (fresh for each frame)
   double chunk_s = 0.5;         // recording transaction length: at most this is lost in a crash
+  // Called on the session thread after each tick; null in the product. Tests throttle a session
+  // with it to see it fall behind real time and recover.
+  std::function<void()> after_tick;
 };
 
 enum class LiveState { running, paused, finished };
@@ -96,6 +100,7 @@ class LiveSession : public StreamSource {
  private:
   void run();
   void publish_snapshot();
+  void restart_pace();
 
   LiveSessionParams params_;
   AgentLink agent_;
@@ -121,6 +126,9 @@ class LiveSession : public StreamSource {
   std::atomic<double> sim_rate_hz_{0};
   std::atomic<std::int64_t> late_ticks_{0};
   std::atomic<std::int64_t> force_models_sent_{0};
+  // Keeping up with real time (pace_monitor.h): the session thread reports, status() reads.
+  mutable std::mutex pace_mutex_;
+  PaceMonitor pace_;
 
   std::unique_ptr<FrameStreamer> streamer_;
   std::mutex join_mutex_;  // stop() may race with itself (REST stop, shutdown)

@@ -69,6 +69,12 @@ export interface StreamMetrics {
   contact: boolean;
   steps: number;
   sim_rate_hz: number;
+  /** Live sessions: whether the simulation keeps up with the clock (the server decides), how far
+   * behind schedule it is [ms], simulated over wall time, and what it sheds ("" for nothing). */
+  behind_real_time?: boolean;
+  lag_ms?: number;
+  real_time_factor?: number;
+  shed?: string;
   frames_sent: number;
   /** Tools in the scene: 2 for a two-handed task. */
   hands?: number;

@@ -22,7 +22,25 @@ interface Row {
 }
 
 const rows: Row[] = [
-  { key: 'state', label: 'State', value: (m) => state_labels[m.state] ?? m.state },
+  {
+    key: 'state',
+    label: 'State',
+    value: (m) => {
+      const label = state_labels[m.state] ?? m.state;
+      return m.state === 'running' && m.behind_real_time ? `${label}, behind real time` : label;
+    },
+  },
+  {
+    key: 'pace',
+    label: 'Pace',
+    value: (m) => {
+      if (m.real_time_factor === undefined) return '—';
+      const parts = [`${m.real_time_factor.toFixed(2)}x real time`];
+      if (m.behind_real_time && m.lag_ms !== undefined) parts.push(`${m.lag_ms.toFixed(0)} ms behind`);
+      if (m.shed) parts.push(m.shed);
+      return parts.join(', ');
+    },
+  },
   {
     key: 'sim_time_s',
     label: 'Simulated time',
@@ -81,7 +99,7 @@ const rows: Row[] = [
  * station agent and its link, which only matter while a session is live; one-handed sessions
  * leave out the second tool, and scenes that do not cut leave out the cut.
  */
-const live_only = new Set(['agent_online', 'link', 'haptic_loop', 'haptic_devices']);
+const live_only = new Set(['agent_online', 'pace', 'link', 'haptic_loop', 'haptic_devices']);
 /** Rows only a surgical scene (one that cuts) has. */
 const surgical_only = new Set(['cut', 'never_event']);
 

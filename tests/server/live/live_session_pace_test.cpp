@@ -1,0 +1,106 @@
+// A live session that falls behind real time says so and sheds work, and recovers when the load
+// goes: server/live/live_session.h with its real thread, SQLite file and renderer, throttled
+// through LiveSessionParams::after_tick (pace_monitor_test.cpp has the rules on scripted clocks).
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <thread>
+
+#include "db/database.h"
+#include "db/migrations.h"
+#include "db/recordings_repo.h"
+#include "db/training_repo.h"
+#include "db/users_repo.h"
+#include "server/live/live_session.h"
+#include "tests/server/live/test_scene.h"
+#include "tests/support/temp_dir.h"
+
+namespace incise::server::live {
+namespace {
+
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+constexpr std::int64_t kNow = 1'800'000'000;
+
+// Polls status() until `done` holds for it or `timeout` passes; returns the last status.
+template <class Done>
+nlohmann::json status_when(const LiveSession& session, Done done, std::chrono::seconds timeout) {
+  const auto deadline = Clock::now() + timeout;
+  nlohmann::json status = session.status();
+  while (!done(status) && Clock::now() < deadline) {
+    std::this_thread::sleep_for(20ms);
+    status = session.status();
+  }
+  return status;
+}
+
+TEST(LiveSessionPace, AThrottledSessionReportsBehindRealTimeShedsAndRecovers) {
+  incise::test::TempDir dir;
+  const auto db_path = dir.path() / "incise.db";
+  LiveSessionParams params;
+  {
+    db::Database db(db_path);
+    db::apply_migrations(db);
+    const auto trainee =
+        db::UsersRepo(db).create({"tess", "Tess", db::Role::trainee, "a long password"}, kNow).id;
+    params.session_id = db::TrainingRepo(db).create_session(trainee, std::nullopt, "p", kNow);
+    params.recording_id = db::RecordingsRepo(db).create(params.session_id, "scenes/palpation.json",
+                                                        "0123456789abcdef", 0, 500, kNow);
+  }
+  params.db_path = db_path;
+  params.scene = test::palpation_scene();
+  // Throttled: each 2 ms tick takes 6 ms more, a third of real time.
+  std::atomic<bool> throttled{false};
+  params.after_tick = [&throttled] {
+    if (throttled.load()) std::this_thread::sleep_for(6ms);
+  };
+  LiveSession session(std::move(params), {});
+  session.start();
+  devices::DeviceState idle;
+  idle.position = {0, 0, 0.05f};
+  session.on_device_state(idle, 0);
+
+  auto keeping_up = [](const nlohmann::json& s) {
+    return s["behind_real_time"] == false && s["real_time_factor"].get<double>() > 0.9;
+  };
+  nlohmann::json status = status_when(session, keeping_up, 10s);
+  ASSERT_TRUE(keeping_up(status)) << status.dump();
+  EXPECT_EQ(status["shed"], "");
+
+  throttled = true;
+  status = status_when(
+      session, [](const nlohmann::json& s) { return s["shed"] == "render rate quartered"; }, 10s);
+  EXPECT_EQ(status["state"], "running");
+  EXPECT_EQ(status["behind_real_time"], true) << status.dump();
+  EXPECT_LT(status["real_time_factor"].get<double>(), 0.5) << status.dump();
+  EXPECT_EQ(status["shed"], "render rate quartered") << status.dump();
+  const double simulated = session.sim_time_s();
+
+  throttled = false;
+  status = status_when(
+      session, [&](const nlohmann::json& s) { return keeping_up(s) && s["shed"] == ""; }, 15s);
+  EXPECT_EQ(status["behind_real_time"], false) << status.dump();
+  EXPECT_GT(status["real_time_factor"].get<double>(), 0.9) << status.dump();
+  EXPECT_EQ(status["shed"], "") << status.dump();
+  EXPECT_GT(session.sim_time_s(), simulated);  // it went on simulating throughout
+
+  session.stop("test over");
+  EXPECT_EQ(session.state(), LiveState::finished);
+}
+
+TEST(LiveSessionPace, APausedSessionIsNotBehind) {
+  LiveSessionParams params;
+  params.scene = test::palpation_scene();
+  params.db_path = "/nonexistent/never-opened.db";
+  LiveSession session(std::move(params), {});  // never started
+  ASSERT_EQ(session.pause("coffee"), "");
+  const auto status = session.status();
+  EXPECT_EQ(status["behind_real_time"], false);
+  EXPECT_EQ(status["lag_ms"], 0);
+}
+
+}  // namespace
+}  // namespace incise::server::live
