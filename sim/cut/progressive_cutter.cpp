@@ -33,7 +33,7 @@ Box3 grown(const Box3& box, Real by) {
 
 ProgressiveCutter::ProgressiveCutter(TetMesh& mesh, const CutOptions& options, Real pose_spacing,
                                      BladeSpace space)
-    : mesh_(mesh), options_(options), space_(space) {
+    : mesh_(&mesh), options_(options), space_(space) {
   if (!(options.snap > 0 && options.snap < 0.5)) {
     throw std::invalid_argument("cut snap fraction " + std::to_string(options.snap) +
                                 " is outside (0, 0.5)");
@@ -53,32 +53,37 @@ ProgressiveCutter::ProgressiveCutter(TetMesh& mesh, const CutOptions& options, R
   }
 }
 
+ProgressiveCutter::ProgressiveCutter(const ProgressiveCutter& other, TetMesh& mesh)
+    : ProgressiveCutter(other) {
+  mesh_ = &mesh;
+}
+
 void ProgressiveCutter::undo_temporary() {
   for (auto it = saved_rows_.rbegin(); it != saved_rows_.rend(); ++it) {
     for (int k = 0; k < 4; ++k)
-      mesh_.tets(it->first, k) = it->second[static_cast<std::size_t>(k)];
+      mesh_->tets(it->first, k) = it->second[static_cast<std::size_t>(k)];
     frame_.changed_tets.push_back(it->first);
   }
   saved_rows_.clear();
-  for (int t = committed_tets_; t < mesh_.num_tets(); ++t)
+  for (int t = committed_tets_; t < mesh_->num_tets(); ++t)
     frame_.changed_tets.push_back(t);
-  mesh_.tets.conservativeResize(committed_tets_, 4);
-  mesh_.labels.conservativeResize(committed_tets_);
-  mesh_.rest.conservativeResize(committed_nodes_, 3);
-  mesh_.x.conservativeResize(committed_nodes_, 3);
-  mesh_.v.conservativeResize(committed_nodes_, 3);
+  mesh_->tets.conservativeResize(committed_tets_, 4);
+  mesh_->labels.conservativeResize(committed_tets_);
+  mesh_->rest.conservativeResize(committed_nodes_, 3);
+  mesh_->x.conservativeResize(committed_nodes_, 3);
+  mesh_->v.conservativeResize(committed_nodes_, 3);
 }
 
 void ProgressiveCutter::collect_region(const Box3& quad_box) {
   // Active: the tets within D (the largest tet diameter) of the newest quad's box. Region: every
   // tet sharing a node with an active one (the stars of their nodes).
   Real diameter = 0;
-  for (int t = 0; t < mesh_.num_tets(); ++t)
-    diameter = std::max(diameter, tet_box(cut_positions(), mesh_.tets, t).sizes().norm());
+  for (int t = 0; t < mesh_->num_tets(); ++t)
+    diameter = std::max(diameter, tet_box(cut_positions(), mesh_->tets, t).sizes().norm());
   const Box3 near = grown(quad_box, diameter);
   active_slots_.clear();
-  for (int t = 0; t < mesh_.num_tets(); ++t) {
-    if (tet_box(cut_positions(), mesh_.tets, t).intersects(near)) active_slots_.push_back(t);
+  for (int t = 0; t < mesh_->num_tets(); ++t) {
+    if (tet_box(cut_positions(), mesh_->tets, t).intersects(near)) active_slots_.push_back(t);
   }
   collect_star(active_slots_);
   std::size_t next_active = 0;  // both lists ascending
@@ -92,25 +97,25 @@ void ProgressiveCutter::collect_region(const Box3& quad_box) {
 
 void ProgressiveCutter::collect_star(const std::vector<int>& seeds) {
   // The region: every tet sharing a node with a seed (the seeds' stars), no tet active.
-  if (marked_.size() < static_cast<std::size_t>(mesh_.num_nodes()))
-    marked_.resize(static_cast<std::size_t>(mesh_.num_nodes()), 0);
+  if (marked_.size() < static_cast<std::size_t>(mesh_->num_nodes()))
+    marked_.resize(static_cast<std::size_t>(mesh_->num_nodes()), 0);
   for (int t : seeds) {
     for (int k = 0; k < 4; ++k)
-      marked_[static_cast<std::size_t>(mesh_.tets(t, k))] = 1;
+      marked_[static_cast<std::size_t>(mesh_->tets(t, k))] = 1;
   }
   region_slots_.clear();
   region_active_.clear();
-  for (int t = 0; t < mesh_.num_tets(); ++t) {
+  for (int t = 0; t < mesh_->num_tets(); ++t) {
     bool in = false;
     for (int k = 0; k < 4; ++k)
-      in = in || marked_[static_cast<std::size_t>(mesh_.tets(t, k))] != 0;
+      in = in || marked_[static_cast<std::size_t>(mesh_->tets(t, k))] != 0;
     if (!in) continue;
     region_slots_.push_back(t);
     region_active_.push_back(0);
   }
   for (int t : seeds) {
     for (int k = 0; k < 4; ++k)
-      marked_[static_cast<std::size_t>(mesh_.tets(t, k))] = 0;
+      marked_[static_cast<std::size_t>(mesh_->tets(t, k))] = 0;
   }
 }
 
@@ -182,8 +187,8 @@ void ProgressiveCutter::report_committed_faces(const Triangles& local_faces) {
   }
   frame_.committed_crack_face_labels.insert(frame_.committed_crack_face_labels.end(),
                                             labels.begin(), labels.end());
-  committed_nodes_ = mesh_.num_nodes();
-  committed_tets_ = mesh_.num_tets();
+  committed_nodes_ = mesh_->num_nodes();
+  committed_tets_ = mesh_->num_tets();
 }
 
 void ProgressiveCutter::commit_partial_crack() {
@@ -194,15 +199,15 @@ void ProgressiveCutter::commit_partial_crack() {
   for (const Vec3& p : stroke_a_)
     path_box.extend(p);
   std::vector<FrontChord> chords;
-  for (int t = 0; t < mesh_.num_tets(); ++t) {
-    if (!tet_box(x, mesh_.tets, t).intersects(path_box)) continue;
+  for (int t = 0; t < mesh_->num_tets(); ++t) {
+    if (!tet_box(x, mesh_->tets, t).intersects(path_box)) continue;
     bool found = false, enters = false, leaves = false;
     Vec3 first = Vec3::Zero(), last = Vec3::Zero();
     for (std::size_t k = 0; k + 1 < stroke_a_.size(); ++k) {
       const Vec3& p = stroke_a_[k];
       const Vec3& q = stroke_a_[k + 1];
       Real s0 = 0, s1 = 1;
-      if (!chord_in_tet(x, mesh_.tets, t, p, q, s0, s1)) continue;
+      if (!chord_in_tet(x, mesh_->tets, t, p, q, s0, s1)) continue;
       if (!found) {
         first = p + s0 * (q - p);
         enters = s0 > 0;  // through a face (else the path starts inside)
@@ -216,10 +221,10 @@ void ProgressiveCutter::commit_partial_crack() {
     // A chord hugging a face or an edge would leave slivers (the star's centre, on the chord, is
     // then near the tet's boundary): that tet stays whole, its sliver of crack closed.
     const Vec3 mid = 0.5 * (first + last);
-    const Vec3 o = row3(x, mesh_.tets(t, 0));
+    const Vec3 o = row3(x, mesh_->tets(t, 0));
     Mat3 m;
     for (int k = 1; k < 4; ++k)
-      m.col(k - 1) = row3(x, mesh_.tets(t, k)) - o;
+      m.col(k - 1) = row3(x, mesh_->tets(t, k)) - o;
     const Vec3 l = m.partialPivLu().solve(mid - o);
     if (std::min({1 - l.sum(), l(0), l(1), l(2)}) < kPartialChordMargin) continue;
     // Where the path crosses a face, the chord reaches a little past it, so that the split finds
@@ -247,8 +252,8 @@ void ProgressiveCutter::commit_partial_crack() {
 }
 
 void ProgressiveCutter::extract_region() {
-  if (local_of_.size() < static_cast<std::size_t>(mesh_.num_nodes()))
-    local_of_.resize(static_cast<std::size_t>(mesh_.num_nodes()), -1);
+  if (local_of_.size() < static_cast<std::size_t>(mesh_->num_nodes()))
+    local_of_.resize(static_cast<std::size_t>(mesh_->num_nodes()), -1);
   region_nodes_.clear();
   const auto num_tets = static_cast<Eigen::Index>(region_slots_.size());
   region_.tets.resize(num_tets, 4);
@@ -256,14 +261,14 @@ void ProgressiveCutter::extract_region() {
   for (Eigen::Index k = 0; k < num_tets; ++k) {
     const int slot = region_slots_[static_cast<std::size_t>(k)];
     for (int c = 0; c < 4; ++c) {
-      int& local = local_of_[static_cast<std::size_t>(mesh_.tets(slot, c))];
+      int& local = local_of_[static_cast<std::size_t>(mesh_->tets(slot, c))];
       if (local < 0) {
         local = static_cast<int>(region_nodes_.size());
-        region_nodes_.push_back(mesh_.tets(slot, c));
+        region_nodes_.push_back(mesh_->tets(slot, c));
       }
       region_.tets(k, c) = local;
     }
-    region_.labels(k) = mesh_.labels(slot);
+    region_.labels(k) = mesh_->labels(slot);
   }
   const auto num_nodes = static_cast<Eigen::Index>(region_nodes_.size());
   region_.rest.resize(num_nodes, 3);
@@ -277,9 +282,9 @@ void ProgressiveCutter::extract_region() {
   Points& region_x = swap ? region_.rest : region_.x;
   for (Eigen::Index i = 0; i < num_nodes; ++i) {
     const int node = region_nodes_[static_cast<std::size_t>(i)];
-    region_rest.row(i) = mesh_.rest.row(node);
-    region_x.row(i) = mesh_.x.row(node);
-    region_.v.row(i) = mesh_.v.row(node);
+    region_rest.row(i) = mesh_->rest.row(node);
+    region_x.row(i) = mesh_->x.row(node);
+    region_.v.row(i) = mesh_->v.row(node);
     local_of_[static_cast<std::size_t>(node)] = -1;  // reset for the next frame
   }
   region_num_nodes_ = static_cast<int>(num_nodes);
@@ -287,7 +292,7 @@ void ProgressiveCutter::extract_region() {
 }
 
 int ProgressiveCutter::write_back(bool save) {
-  const int node_base = mesh_.num_nodes();
+  const int node_base = mesh_->num_nodes();
   const auto global = [&](int local) {
     return local < region_num_nodes_ ? region_nodes_[static_cast<std::size_t>(local)]
                                      : node_base + (local - region_num_nodes_);
@@ -298,41 +303,41 @@ int ProgressiveCutter::write_back(bool save) {
     bool differs = false;
     for (int c = 0; c < 4; ++c) {
       row[static_cast<std::size_t>(c)] = global(region_.tets(k, c));
-      differs = differs || row[static_cast<std::size_t>(c)] != mesh_.tets(slot, c);
+      differs = differs || row[static_cast<std::size_t>(c)] != mesh_->tets(slot, c);
     }
     if (!differs) continue;
     if (save) {
-      saved_rows_.push_back(
-          {slot,
-           {mesh_.tets(slot, 0), mesh_.tets(slot, 1), mesh_.tets(slot, 2), mesh_.tets(slot, 3)}});
+      saved_rows_.push_back({slot,
+                             {mesh_->tets(slot, 0), mesh_->tets(slot, 1), mesh_->tets(slot, 2),
+                              mesh_->tets(slot, 3)}});
     }
     for (int c = 0; c < 4; ++c)
-      mesh_.tets(slot, c) = row[static_cast<std::size_t>(c)];
+      mesh_->tets(slot, c) = row[static_cast<std::size_t>(c)];
     frame_.changed_tets.push_back(slot);
   }
   const int new_nodes = region_.num_nodes() - region_num_nodes_;
-  for (Points* points : {&mesh_.rest, &mesh_.x, &mesh_.v})
+  for (Points* points : {&mesh_->rest, &mesh_->x, &mesh_->v})
     points->conservativeResize(node_base + new_nodes, 3);
   const bool swap = space_ == BladeSpace::material;  // as extract_region
   const Points& region_rest = swap ? region_.x : region_.rest;
   const Points& region_x = swap ? region_.rest : region_.x;
   for (int i = 0; i < new_nodes; ++i) {
-    mesh_.rest.row(node_base + i) = region_rest.row(region_num_nodes_ + i);
-    mesh_.x.row(node_base + i) = region_x.row(region_num_nodes_ + i);
-    mesh_.v.row(node_base + i) = region_.v.row(region_num_nodes_ + i);
+    mesh_->rest.row(node_base + i) = region_rest.row(region_num_nodes_ + i);
+    mesh_->x.row(node_base + i) = region_x.row(region_num_nodes_ + i);
+    mesh_->v.row(node_base + i) = region_.v.row(region_num_nodes_ + i);
     region_nodes_.push_back(node_base + i);
   }
-  const int tet_base = mesh_.num_tets();
+  const int tet_base = mesh_->num_tets();
   const int new_tets = region_.num_tets() - region_num_tets_;
-  mesh_.tets.conservativeResize(tet_base + new_tets, 4);
-  mesh_.labels.conservativeResize(tet_base + new_tets);
+  mesh_->tets.conservativeResize(tet_base + new_tets, 4);
+  mesh_->labels.conservativeResize(tet_base + new_tets);
   for (int k = 0; k < new_tets; ++k) {
     for (int c = 0; c < 4; ++c) {
       const int local = region_.tets(region_num_tets_ + k, c);
       // Nodes were appended above, so every local node now has its global index.
-      mesh_.tets(tet_base + k, c) = region_nodes_[static_cast<std::size_t>(local)];
+      mesh_->tets(tet_base + k, c) = region_nodes_[static_cast<std::size_t>(local)];
     }
-    mesh_.labels(tet_base + k) = region_.labels(region_num_tets_ + k);
+    mesh_->labels(tet_base + k) = region_.labels(region_num_tets_ + k);
     region_slots_.push_back(tet_base + k);
     frame_.changed_tets.push_back(tet_base + k);
   }
@@ -340,10 +345,10 @@ int ProgressiveCutter::write_back(bool save) {
     // The blade's pieces are oriented by split_front_chords on the region's "rest", which here is
     // the current configuration: orient them on the true rest positions.
     for (int t : frame_.changed_tets) {
-      if (t >= mesh_.num_tets()) continue;
-      const auto corner = [&](int k) { return row3(mesh_.rest, mesh_.tets(t, k)); };
+      if (t >= mesh_->num_tets()) continue;
+      const auto corner = [&](int k) { return row3(mesh_->rest, mesh_->tets(t, k)); };
       if (signed_volume(corner(0), corner(1), corner(2), corner(3)) < 0)
-        std::swap(mesh_.tets(t, 0), mesh_.tets(t, 1));
+        std::swap(mesh_->tets(t, 0), mesh_->tets(t, 1));
     }
   }
   region_num_nodes_ = region_.num_nodes();
@@ -354,11 +359,11 @@ int ProgressiveCutter::write_back(bool save) {
 const FrameReport& ProgressiveCutter::update(const Vec3& a, const Vec3& b) {
   if (!((a - b).norm() > 0)) throw std::invalid_argument("blade edge has zero length");
   frame_ = FrameReport{};
-  frame_.tets_before = mesh_.num_tets();
+  frame_.tets_before = mesh_->num_tets();
   undo_temporary();
   if (space_ == BladeSpace::material) {
     const std::optional<MaterialMap> map =
-        material_map_at(mesh_, a, (a - b).norm() + 4 * pose_spacing_);
+        material_map_at(*mesh_, a, (a - b).norm() + 4 * pose_spacing_);
     if (!map) {
       frame_.blade_unmapped = true;
       finish_changed();
@@ -367,7 +372,7 @@ const FrameReport& ProgressiveCutter::update(const Vec3& a, const Vec3& b) {
     // The far end through the tissue near it (its own tet, or the nearest): extrapolating the
     // tip's tet over the whole blade would swing the far end about as that tet deforms, and the
     // strip would sweep material the blade never passed.
-    const std::optional<MaterialMap> far = material_map_at(mesh_, b, 4 * pose_spacing_);
+    const std::optional<MaterialMap> far = material_map_at(*mesh_, b, 4 * pose_spacing_);
     update_in_space(map->rest_of(a), far ? far->rest_of(b) : map->rest_of(b));
   } else {
     update_in_space(a, b);
@@ -394,7 +399,7 @@ void ProgressiveCutter::update_in_space(const Vec3& a, const Vec3& b) {
   // the blade's temporary pieces on the front's star. The check runs anyway every
   // kCommitEvery frames, for a tet thinner than the blade's travel in a frame, which the blade
   // can pass without being inside it at any frame.
-  blade_front_tets(cut_positions(), mesh_.tets, a, b, front_);
+  blade_front_tets(cut_positions(), mesh_->tets, a, b, front_);
   const bool commit = front_ != front_before_ || ++frames_since_commit_ >= kCommitEvery;
   frame_.looked_for_cuts = commit;
   if (commit) {
@@ -414,7 +419,7 @@ void ProgressiveCutter::update_in_space(const Vec3& a, const Vec3& b) {
     // The committed pieces took the front tets' slots and more: the front, as the next frame
     // will compare it.
     if (frame_.committed_new_tets > 0 || !frame_.changed_tets.empty()) {
-      blade_front_tets(cut_positions(), mesh_.tets, a, b, front_);
+      blade_front_tets(cut_positions(), mesh_->tets, a, b, front_);
     }
   }
   front_before_ = front_;
@@ -423,8 +428,9 @@ void ProgressiveCutter::update_in_space(const Vec3& a, const Vec3& b) {
   const FrontSplitReport front = split_front_tets(region_, surface, a, b, options_);
   frame_.front_tets = front.front_tets;
   write_back(true);
-  frame_.temporary_tets = mesh_.num_tets() - committed_tets_ + static_cast<int>(saved_rows_.size());
-  frame_.temporary_nodes = mesh_.num_nodes() - committed_nodes_;
+  frame_.temporary_tets =
+      mesh_->num_tets() - committed_tets_ + static_cast<int>(saved_rows_.size());
+  frame_.temporary_nodes = mesh_->num_nodes() - committed_nodes_;
   frame_.temporary_crack_faces = front.crack_faces;
   for (Eigen::Index f = 0; f < front.crack_faces.rows(); ++f) {
     for (int c = 0; c < 3; ++c) {
@@ -436,7 +442,7 @@ void ProgressiveCutter::update_in_space(const Vec3& a, const Vec3& b) {
 
 const FrameReport& ProgressiveCutter::end_stroke(bool keep_partial) {
   frame_ = FrameReport{};
-  frame_.tets_before = mesh_.num_tets();
+  frame_.tets_before = mesh_->num_tets();
   undo_temporary();
   if (keep_partial && stroke_a_.size() >= 2) commit_partial_crack();
   stroke_a_.clear();
@@ -451,7 +457,7 @@ void ProgressiveCutter::finish_changed() {
   std::vector<int>& changed = frame_.changed_tets;
   std::sort(changed.begin(), changed.end());
   changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
-  changed.erase(std::lower_bound(changed.begin(), changed.end(), mesh_.num_tets()), changed.end());
+  changed.erase(std::lower_bound(changed.begin(), changed.end(), mesh_->num_tets()), changed.end());
 }
 
 }  // namespace incise::sim::cut

@@ -88,6 +88,10 @@ class ProgressiveCutter {
   explicit ProgressiveCutter(TetMesh& mesh, const CutOptions& options = {}, Real pose_spacing = 0,
                              BladeSpace space = BladeSpace::current);
 
+  // A copy cuts mesh instead (a copy of the original's mesh, for a checkpoint of a scene);
+  // everything else, an open stroke included, is the original's.
+  ProgressiveCutter(const ProgressiveCutter& other, TetMesh& mesh);
+
   // One haptic frame: the blade's cutting edge is (a, b) [m, in the blade space]. The first
   // pose of a stroke only starts it. Throws std::invalid_argument if a == b.
   const FrameReport& update(const Vec3& a, const Vec3& b);
@@ -105,6 +109,8 @@ class ProgressiveCutter {
   const FrameReport& last_frame() const { return frame_; }
 
  private:
+  // Only through the constructor above: a plain copy would cut the original's mesh.
+  ProgressiveCutter(const ProgressiveCutter&) = default;
   void undo_temporary();
   // update's work after the undo, with the blade in the blade space.
   void update_in_space(const Vec3& a, const Vec3& b);
@@ -128,10 +134,10 @@ class ProgressiveCutter {
 
   // The positions the crossings are found on: mesh_.x or, in material space, mesh_.rest.
   const Points& cut_positions() const {
-    return space_ == BladeSpace::material ? mesh_.rest : mesh_.x;
+    return space_ == BladeSpace::material ? mesh_->rest : mesh_->x;
   }
 
-  TetMesh& mesh_;
+  TetMesh* mesh_;  // never null
   CutOptions options_;
   BladeSpace space_ = BladeSpace::current;
   int committed_nodes_ = 0;

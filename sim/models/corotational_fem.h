@@ -1,4 +1,5 @@
 #pragma once
+#include <memory>
 
 #include <string_view>
 #include <vector>
@@ -61,6 +62,7 @@ class CorotationalFem final : public TetFemModel<CorotationalKernel> {
                   RotationExtraction extraction);
   // "corotational" (QR) or "corotational_polar", the scene names.
   std::string_view name() const override;
+  std::unique_ptr<Model> clone() const override { return std::make_unique<CorotationalFem>(*this); }
 
   // Through the vectorised kernel (corotational_batch.h), its rotations warm-started from the
   // last call.

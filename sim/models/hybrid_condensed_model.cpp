@@ -187,11 +187,38 @@ void HybridCondensedModel::recover_interior(Points& x) const {
   if (interior_.empty()) return;
   VecX u_s(3 * static_cast<Eigen::Index>(retained_.size()));
   gather(x, true, u_s);
-  const VecX u_i = -interior_solver_.solve(VecX(k_is_ * u_s));
+  const VecX u_i = -interior_solver_->solve(VecX(k_is_ * u_s));
   for (std::size_t k = 0; k < interior_.size(); ++k) {
     const int i = interior_[k];
     x.row(i) = rest_.row(i) + u_i.segment<3>(3 * static_cast<Eigen::Index>(k)).transpose();
   }
+}
+
+HybridCondensedModel::HybridCondensedModel(const HybridCondensedModel& other)
+    : Model(other),
+      rest_(other.rest_),
+      far_tets_(other.far_tets_),
+      condensed_(other.condensed_),
+      retained_(other.retained_),
+      interior_(other.interior_),
+      k_star_(other.k_star_),
+      far_beta_(other.far_beta_),
+      d_star_(other.d_star_),
+      far_masses_(other.far_masses_),
+      masses_(other.masses_),
+      interior_solver_(other.interior_solver_),
+      k_is_(other.k_is_),
+      slot_operational_(other.slot_operational_),
+      operational_slot_(other.operational_slot_),
+      global_slot_(other.global_slot_),
+      operational_view_(other.operational_view_),
+      u_s_(other.u_s_),
+      y_s_(other.y_s_) {}
+
+std::unique_ptr<Model> HybridCondensedModel::clone() const {
+  auto copy = std::unique_ptr<HybridCondensedModel>(new HybridCondensedModel(*this));
+  copy->operational_ = operational_->clone();
+  return copy;
 }
 
 }  // namespace incise::sim

@@ -60,6 +60,7 @@ class HybridCondensedModel final : public Model {
                        const RegionModelFactory& make_operational);
 
   std::string_view name() const override { return "hybrid_condensed"; }
+  std::unique_ptr<Model> clone() const override;
   // Operational lumped masses plus the far field's lumped onto its retained nodes; 0 on condensed
   // interior nodes.
   const VecX& masses() const override { return masses_; }
@@ -112,6 +113,9 @@ class HybridCondensedModel final : public Model {
   const Model& operational_model() const { return *operational_; }
 
  private:
+  // Member-wise, operational_ left empty: clone() fills it with a deep copy.
+  HybridCondensedModel(const HybridCondensedModel& other);
+
   // Splits the far field's nodes (those of far's tets) into retained_ (on the body's boundary
   // surface or on an operational tet) and interior_ (condensed_), and returns every mesh dof's
   // index in the far field's matrices: retained dofs first, then interior ones, -1 outside the far
@@ -145,7 +149,7 @@ class HybridCondensedModel final : public Model {
   VecX masses_;
 
   // The factorisation of Kii and Kis, kept for recover_interior.
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<Real>> interior_solver_;
+  std::shared_ptr<const Eigen::SimplicialLDLT<Eigen::SparseMatrix<Real>>> interior_solver_;
   Eigen::SparseMatrix<Real> k_is_;
 
   // Slot bookkeeping for update_elements: region of each global slot (1 = operational), the

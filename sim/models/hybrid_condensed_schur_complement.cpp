@@ -5,6 +5,8 @@
 #include <stdexcept>
 
 #include "sim/models/hybrid_condensed_model.h"
+
+#include <memory>
 #include "sim/models/hybrid_condensed_partition.h"
 #include "sim/models/linear_fem.h"
 
@@ -41,9 +43,10 @@ void HybridCondensedModel::condense_far_field(const TetMesh& far,
     k_star_ = k.ss;
     if (damped) d_star_ = d.ss;
     if (i_dofs > 0) {
-      interior_solver_.compute(k.ii);
-      if (interior_solver_.info() != Eigen::Success ||
-          !(interior_solver_.vectorD().minCoeff() > 0)) {
+      // Fixed once made (the far field never changes): clones share it.
+      auto solver = std::make_shared<Eigen::SimplicialLDLT<Eigen::SparseMatrix<Real>>>(k.ii);
+      interior_solver_ = solver;
+      if (solver->info() != Eigen::Success || !(solver->vectorD().minCoeff() > 0)) {
         throw std::invalid_argument(
             where("the far field's interior stiffness Kii is not positive definite (degenerate "
                   "far-field tets?)"));
@@ -53,12 +56,12 @@ void HybridCondensedModel::condense_far_field(const TetMesh& far,
       // T^T y = -Ksi Kii^-1 y, D*_b = Dss_b - Dsi X_b - Ksi Kii^-1 (Dis_b - Dii X_b).
       for (Eigen::Index b = 0; b < s_dofs; b += kBatch) {
         const Eigen::Index w = std::min(kBatch, s_dofs - b);
-        const Eigen::MatrixXd x_b = interior_solver_.solve(Eigen::MatrixXd(k.is.middleCols(b, w)));
+        const Eigen::MatrixXd x_b = solver->solve(Eigen::MatrixXd(k.is.middleCols(b, w)));
         k_star_.middleCols(b, w).noalias() -= k.si * x_b;
         if (damped) {
           const Eigen::MatrixXd y_b = Eigen::MatrixXd(d.is.middleCols(b, w)) - d.ii * x_b;
           d_star_.middleCols(b, w).noalias() -= d.si * x_b;
-          d_star_.middleCols(b, w).noalias() -= k.si * interior_solver_.solve(y_b);
+          d_star_.middleCols(b, w).noalias() -= k.si * solver->solve(y_b);
         }
       }
     }

@@ -1,4 +1,5 @@
 #pragma once
+#include <memory>
 
 #include <string_view>
 #include <vector>
@@ -37,6 +38,7 @@ class LinearFem final : public TetFemModel<LinearKernel> {
   // Throws std::invalid_argument as make_tet_elements.
   LinearFem(const TetMesh& mesh, std::vector<ElementMaterial> materials);
   std::string_view name() const override { return "linear"; }
+  std::unique_ptr<Model> clone() const override { return std::make_unique<LinearFem>(*this); }
 };
 
 extern template class TetFemModel<LinearKernel>;

@@ -1,4 +1,5 @@
 #pragma once
+#include <memory>
 
 #include <cstdint>
 #include <span>
@@ -39,6 +40,7 @@ class MassSpringModel final : public Model {
                   Real volume_stiffness = 0);
 
   std::string_view name() const override { return "mss"; }
+  std::unique_ptr<Model> clone() const override { return std::make_unique<MassSpringModel>(*this); }
   const VecX& masses() const override { return elements_.masses; }
   void add_forces(const Points& x, const Points& v, Points& f) override;
   void prepare_stiffness(const Points& x) override;

@@ -12,6 +12,7 @@
 // A model is built on a mesh's rest configuration and per-tet materials (from tissue labels).
 #include <Eigen/Sparse>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string_view>
 #include <utility>
@@ -65,6 +66,10 @@ class Model {
   virtual ~Model() = default;
 
   virtual std::string_view name() const = 0;
+
+  // A deep copy, state included (warm starts, linearisation, topology revision): stepped with
+  // the same inputs, the copy and the original stay equal bit for bit. For checkpoints.
+  virtual std::unique_ptr<Model> clone() const = 0;
 
   // Lumped node masses [kg], #nodes; positive for every node that belongs to a tet.
   virtual const VecX& masses() const = 0;

@@ -1,4 +1,5 @@
 #pragma once
+#include <memory>
 
 #include <string_view>
 #include <vector>
@@ -62,6 +63,7 @@ class NeoHookeanFem final : public TetFemModel<NeoHookeanKernel> {
   NeoHookeanFem(const TetMesh& mesh, std::vector<ElementMaterial> materials,
                 Real extension_below = 0.1, Tangent tangent = Tangent::exact);
   std::string_view name() const override { return "neohookean"; }
+  std::unique_ptr<Model> clone() const override { return std::make_unique<NeoHookeanFem>(*this); }
 };
 
 extern template class TetFemModel<NeoHookeanKernel>;

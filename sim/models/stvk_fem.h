@@ -1,4 +1,5 @@
 #pragma once
+#include <memory>
 
 #include <string_view>
 #include <vector>
@@ -59,6 +60,9 @@ class StVenantKirchhoffFem final : public TetFemModel<StVenantKirchhoffKernel> {
   StVenantKirchhoffFem(const TetMesh& mesh, std::vector<ElementMaterial> materials,
                        Tangent tangent = Tangent::exact);
   std::string_view name() const override { return "stvk"; }
+  std::unique_ptr<Model> clone() const override {
+    return std::make_unique<StVenantKirchhoffFem>(*this);
+  }
 };
 
 extern template class TetFemModel<StVenantKirchhoffKernel>;

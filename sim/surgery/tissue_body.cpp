@@ -69,6 +69,13 @@ TissueBody::TissueBody(TetMesh mesh, const ModelFactory& make_model, std::vector
   internal_ = forces_ = Points::Zero(mesh_.num_nodes(), 3);
 }
 
+std::unique_ptr<TissueBody> TissueBody::clone() const {
+  auto copy = std::unique_ptr<TissueBody>(new TissueBody(*this));
+  copy->condensed_ =
+      condensed_ != nullptr ? dynamic_cast<HybridCondensedModel*>(copy->model_.get()) : nullptr;
+  return copy;
+}
+
 void TissueBody::rebuild_surface() {
   surface_ = boundary_surface(mesh_);
   faces_ = collide::mesh_surface_faces(surface_);

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "sim/collide/surface_bvh.h"
+#include "sim/core/clone_ptr.h"
 #include "sim/core/types.h"
 #include "sim/cut/simplify_cut.h"
 #include "sim/mesh/boundary_surface.h"
@@ -58,8 +59,10 @@ class TissueBody {
   TissueBody(TetMesh mesh, const ModelFactory& make_model, std::vector<char> fixed, Real dt,
              Real wave_speed, Real damping_time, std::vector<char> far_field = {});
 
-  TissueBody(const TissueBody&) = delete;  // tools keep references to the mesh
   TissueBody& operator=(const TissueBody&) = delete;
+  // A deep copy (model and all), for a checkpoint of a scene: the scene's cutters, which keep
+  // the mesh's address, are the scene's to rebind (ProgressiveCutter's copy constructor).
+  std::unique_ptr<TissueBody> clone() const;
 
   // The mesh with the current state (x, v). Tools that change its topology (the scalpel) edit
   // it and then call topology_changed.
@@ -141,6 +144,8 @@ class TissueBody {
   Real max_mass_scale() const { return max_mass_scale_; }
 
  private:
+  TissueBody(const TissueBody&) = default;  // through clone(), which fixes condensed_
+
   void rebuild_surface();
   void update_inverse_masses();
   // After a compaction (node_map: old node -> new or -1): held flags and kept splits follow,
@@ -150,7 +155,7 @@ class TissueBody {
   void grow_far_field();
 
   TetMesh mesh_;
-  std::unique_ptr<Model> model_;
+  ClonePtr<Model> model_;
   std::vector<char> fixed_;
   std::vector<std::array<Real, 3>> fixed_rest_;  // sorted rest points of held nodes
   VecX inv_mass_;

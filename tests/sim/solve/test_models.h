@@ -1,4 +1,5 @@
 #pragma once
+#include <memory>
 // Small models with exactly known K, for testing the solvers without the FEM models of
 // sim/models/ (which are tested on their own).
 
@@ -19,6 +20,7 @@ class LinearModel : public Model {
   LinearModel(Points rest, VecX masses, SparseMatrix stiffness, Real alpha = 0, Real beta = 0);
 
   std::string_view name() const override { return "test_linear"; }
+  std::unique_ptr<Model> clone() const override { return std::make_unique<LinearModel>(*this); }
   const VecX& masses() const override { return masses_; }
   void add_forces(const Points& x, const Points& v, Points& f) override;
   void prepare_stiffness(const Points&) override {}
@@ -64,6 +66,9 @@ class NonlinearSprings : public Model {
   NonlinearSprings(Points rest, Edges edges, VecX masses, Real k1, Real k3);
 
   std::string_view name() const override { return "test_nonlinear_springs"; }
+  std::unique_ptr<Model> clone() const override {
+    return std::make_unique<NonlinearSprings>(*this);
+  }
   const VecX& masses() const override { return masses_; }
   void add_forces(const Points& x, const Points& v, Points& f) override;
   void prepare_stiffness(const Points& x) override;
