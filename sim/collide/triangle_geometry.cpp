@@ -120,8 +120,12 @@ SegmentTriangleClosest segment_triangle_closest(const Vec3& p0, const Vec3& p1, 
     const Real s = h0 / (h0 - h1);
     const Vec3 x = p0 + s * (p1 - p0);
     const Vec3 w = closest_point_barycentric(x, a, b, c);
-    // The crossing point of the plane is inside when it is its own closest point.
-    if ((w[0] * a + w[1] * b + w[2] * c - x).squaredNorm() <= 1e-28 * (b - a).squaredNorm()) {
+    // The crossing point of the plane is inside when it is its own closest point, to rounding,
+    // which grows with the coordinates as well as with the triangle: a triangle under a millimetre
+    // across, 5 cm from the origin, pierced well inside, was taken for a miss at its edge's
+    // distance.
+    const Real scale2 = std::max((b - a).squaredNorm(), x.squaredNorm());
+    if ((w[0] * a + w[1] * b + w[2] * c - x).squaredNorm() <= 1e-28 * scale2) {
       best.s = s;
       best.barycentric = w;
       best.distance = 0;

@@ -5,7 +5,8 @@
 namespace incise::sim {
 
 BoundarySurface boundary_surface(const TetMesh& mesh) {
-  const Triangles global = boundary_faces(mesh.tets);
+  BoundarySurface surface;
+  const Triangles global = boundary_faces(mesh.tets, &surface.tets);
   // Global -> local vertex numbers; -1 for nodes off the surface. Ascending local numbering keeps
   // `nodes` sorted, so the surface of the same mesh is always numbered the same way.
   std::vector<int> local(static_cast<std::size_t>(mesh.num_nodes()), -1);
@@ -13,7 +14,6 @@ BoundarySurface boundary_surface(const TetMesh& mesh) {
     for (int c = 0; c < 3; ++c)
       local[static_cast<std::size_t>(global(f, c))] = 0;
   }
-  BoundarySurface surface;
   for (int i = 0; i < mesh.num_nodes(); ++i) {
     if (local[static_cast<std::size_t>(i)] < 0) continue;
     local[static_cast<std::size_t>(i)] = static_cast<int>(surface.nodes.size());

@@ -14,6 +14,7 @@ namespace incise::sim {
 struct BoundarySurface {
   std::vector<int> nodes;  // mesh node index of each surface vertex, ascending
   Triangles faces;         // #F by 3, indices into `nodes` (local vertex numbers)
+  std::vector<int> tets;   // #F: the tet each face belongs to (its tissue label, for a tool)
 };
 
 // The boundary of mesh (topology only: mesh.tets, positively oriented at rest).

@@ -136,7 +136,7 @@ Tets face_neighbours(const Tets& tets) {
   return neighbours;
 }
 
-Triangles boundary_faces(const Tets& tets) {
+Triangles boundary_faces(const Tets& tets, std::vector<int>* face_tets) {
   const std::vector<FaceRecord> faces = sorted_faces(tets);
   std::vector<std::pair<int, int>> boundary;  // (tet, local face)
   for_each_face(faces, [&](std::size_t first, std::size_t count) {
@@ -144,8 +144,10 @@ Triangles boundary_faces(const Tets& tets) {
   });
   std::sort(boundary.begin(), boundary.end());
   Triangles triangles(static_cast<Eigen::Index>(boundary.size()), 3);
+  if (face_tets != nullptr) face_tets->resize(boundary.size());
   for (std::size_t f = 0; f < boundary.size(); ++f) {
     const auto [tet, local] = boundary[f];
+    if (face_tets != nullptr) (*face_tets)[f] = tet;
     for (int c = 0; c < 3; ++c) {
       triangles(static_cast<Eigen::Index>(f), c) = tets(tet, kTetFaces[local][c]);
     }

@@ -39,8 +39,9 @@ NodeTets node_tets(const Tets& tets, int num_nodes);
 Tets face_neighbours(const Tets& tets);
 
 // The faces that belong to exactly one tet, #faces by 3 node indices, oriented outwards for
-// positively oriented tets (kTetFaces); ordered by tet, then local face.
+// positively oriented tets (kTetFaces); ordered by tet, then local face. With face_tets, also the
+// tet each face belongs to (#faces entries).
 // Throws std::invalid_argument like face_neighbours.
-Triangles boundary_faces(const Tets& tets);
+Triangles boundary_faces(const Tets& tets, std::vector<int>* face_tets = nullptr);
 
 }  // namespace incise::sim

@@ -71,8 +71,10 @@ KneeOptions read_knee_options(const json& value, KneeOptions options) {
   return options;
 }
 
-void read_material(const json& value, const std::string& path, Material& material) {
-  const JsonObjectReader o(value, path, {"model", "E", "nu", "density", "damping"});
+// A tissue's material and its toughness [J/m^2] (the scalpel's cutting resistance).
+void read_material(const json& value, const std::string& path, Material& material,
+                   Real& toughness) {
+  const JsonObjectReader o(value, path, {"model", "E", "nu", "density", "damping", "toughness"});
   if (o.has("model")) {
     const std::string name = o.string("model");
     const std::optional<MaterialModel> model = material_model_named(name);
@@ -86,10 +88,12 @@ void read_material(const json& value, const std::string& path, Material& materia
   if (o.has("nu")) material.poisson_ratio = o.number("nu");
   if (o.has("density")) material.density = o.number("density");
   if (o.has("damping")) material.damping = o.number("damping");
+  if (o.has("toughness")) toughness = o.number("toughness");
   check_range(o.path("E"), material.youngs_modulus, 0, false, kInfinity, false);
   check_range(o.path("nu"), material.poisson_ratio, -1, false, 0.5, false);
   check_range(o.path("density"), material.density, 0, false, kInfinity, false);
   check_range(o.path("damping"), material.damping, 0, true, 1, true);
+  check_range(o.path("toughness"), toughness, 0, true, kInfinity, false);
 }
 
 constexpr std::pair<const char*, ToolKind> kToolKinds[] = {
@@ -260,7 +264,9 @@ SurgicalSceneFile parse_surgical_scene_file(const json& value) {
     }
     if (root.has("materials")) {
       const JsonObjectReader m(root.required("materials"), "materials", {"liver"});
-      if (m.has("liver")) read_material(m.required("liver"), m.path("liver"), o.liver);
+      if (m.has("liver")) {
+        read_material(m.required("liver"), m.path("liver"), o.liver, o.liver_toughness);
+      }
     }
     read_common(root, o);
     if (root.has("operational_radius")) {
@@ -274,8 +280,12 @@ SurgicalSceneFile parse_surgical_scene_file(const json& value) {
     }
     if (root.has("materials")) {
       const JsonObjectReader m(root.required("materials"), "materials", {"meniscus", "ligament"});
-      if (m.has("meniscus")) read_material(m.required("meniscus"), m.path("meniscus"), o.meniscus);
-      if (m.has("ligament")) read_material(m.required("ligament"), m.path("ligament"), o.ligament);
+      if (m.has("meniscus")) {
+        read_material(m.required("meniscus"), m.path("meniscus"), o.meniscus, o.meniscus_toughness);
+      }
+      if (m.has("ligament")) {
+        read_material(m.required("ligament"), m.path("ligament"), o.ligament, o.ligament_toughness);
+      }
     }
     if (root.has("operational_radius")) {
       throw SceneError("operational_radius", "is a setting of the liver, not of the knee");

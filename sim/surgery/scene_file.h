@@ -10,9 +10,11 @@
 //     "anatomy_options"?: liver: {"centre", "length", "cell_size", "cut_length", "cut_points"}
 //                         knee:  {"voxel_size", "tissue_cell_size", "bone_facet_size",
 //                                 "flexion_deg"}                      (LiverOptions, KneeOptions)
-//     "materials"?: {"<tissue>": {"model"?, "E"?, "nu"?, "density"?, "damping"?}}
+//     "materials"?: {"<tissue>": {"model"?, "E"?, "nu"?, "density"?, "damping"?, "toughness"?}}
 //                   tissues: liver: "liver"; knee: "meniscus", "ligament"; model one of mss,
-//                   linear, corotational, corotational_polar, stvk, neohookean
+//                   linear, corotational, corotational_polar, stvk, neohookean; toughness [J/m^2]
+//                   >= 0, the work to cut a unit area (the scalpel's resistance; the preset's:
+//                   liver 200, meniscus 500, ligament 1000)
 //     "tools"?: [ {"kind": "probe" | "grasper" | "scalpel" | "scope", "device": integer >= 0,
 //                  per-kind settings, each optional} ]     (absent: the preset's default tools)
 //     "damage"?: {"strain_threshold"?, "target_half_width"?},

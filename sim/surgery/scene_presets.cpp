@@ -87,6 +87,8 @@ SurgicalSceneSetup make_liver_surgery(const LiverSceneOptions& options) {
   spec.ambient_damping = options.ambient_damping;
   spec.adaptivity = options.adaptivity;
   spec.tools = options.tools;
+  spec.toughness = {{kLiverLabel, options.liver_toughness},
+                    {kGallbladderBedLabel, options.liver_toughness}};
   spec.damage.strain_thresholds = {{kLiverLabel, options.strain_threshold},
                                    {kGallbladderBedLabel, options.strain_threshold}};
   spec.damage.protected_labels = liver.protected_labels;
@@ -117,6 +119,9 @@ SurgicalSceneSetup make_knee_surgery(const KneeSceneOptions& options) {
   spec.ambient_damping = options.ambient_damping;
   spec.adaptivity = options.adaptivity;
   spec.tools = options.tools;
+  spec.toughness = {{kMedialMeniscusLabel, options.meniscus_toughness},
+                    {kLateralMeniscusLabel, options.meniscus_toughness},
+                    {kLigamentLabel, options.ligament_toughness}};
   spec.bones = {{"femur", knee.femur.vertices, knee.femur.triangles},
                 {"tibia", knee.tibia.vertices, knee.tibia.triangles}};
   for (const auto& [label, m] : materials) {

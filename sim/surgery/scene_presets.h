@@ -36,6 +36,9 @@ struct LiverSceneOptions {
   // affordable) and the gallbladder bed, both corotational with polar rotations (robust to
   // inversion under a hard push).
   Material liver{MaterialModel::corotational_polar, 4000, 0.45, 1050, 0.3, 0};
+  // Its toughness, the work to cut a unit area [J/m^2] (the scalpel's resistance; the order of
+  // magnitude measured on animal liver, tools/cutting_resistance.h).
+  Real liver_toughness = tools::kDefaultToughness;
   Real strain_threshold = 0.4;     // max principal Green strain that damages the liver [-]
   Real target_half_width = 0.003;  // a cut within this of the marked line is on target [m]
   // What surrounds the tissue, as mass-proportional damping [1/s] (SurgicalSceneSpec): a time
@@ -60,6 +63,10 @@ struct KneeSceneOptions {
   // the scene trades stiffness for rate, and the bones carry the joint).
   Material meniscus{MaterialModel::corotational_polar, 30000, 0.3, 1100, 0.3, 0};
   Material ligament{MaterialModel::corotational_polar, 60000, 0.3, 1100, 0.3, 0};
+  // Toughness [J/m^2]: fibrocartilage and ligament are tougher than liver (cartilage measures in
+  // the hundreds to a thousand); rough orders of magnitude, docs/cutting.md.
+  Real meniscus_toughness = 500;
+  Real ligament_toughness = 1000;
   Real strain_threshold = 0.25;
   Real target_half_width = 0.0015;
   // What surrounds the tissue (the joint capsule and fluid, the bones the menisci sit between), as

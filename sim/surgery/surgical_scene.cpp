@@ -1,6 +1,6 @@
 // A surgical scene's construction and its step, which calls on the parts in their own files:
-// surgical_scene_validation, _far_field, _grasping, _cutting, _bone_contact, _topology and
-// _adaptivity (.cpp).
+// surgical_scene_validation, _far_field, _grasping, _cutting, _cutting_resistance, _bone_contact,
+// _topology and _adaptivity (.cpp).
 #include "sim/surgery/surgical_scene.h"
 
 #include <algorithm>
@@ -109,13 +109,15 @@ void SurgicalScene::step(std::span<const ToolInput> inputs) {
     }
   }
   for (Tool& tool : tools_) {
+    tool.previous_tip = tool.tip;
     const auto d = static_cast<std::size_t>(tool.spec.device);
     if (d >= inputs.size()) continue;
-    tool.has_input = true;
     tool.input = inputs[d];
     tool.rotation = tool.input.orientation.normalized().toRotationMatrix();
     tool.direction = tool.rotation.col(2);
     tool.tip = tool.input.tip;
+    if (!tool.has_input) tool.previous_tip = tool.tip;  // placed now: no motion yet
+    tool.has_input = true;
   }
   for (std::size_t k = 0; k < tools_.size(); ++k) {
     if (tools_[k].grasper && tools_[k].has_input) set_jaws(tools_[k], static_cast<int>(k));
@@ -149,6 +151,7 @@ void SurgicalScene::step(std::span<const ToolInput> inputs) {
         grasp(tool, static_cast<int>(k));
         break;
       case ToolKind::scalpel:
+        resist_cut(tool);
         break;
     }
     bones(tool, static_cast<int>(k));
@@ -188,6 +191,8 @@ tools::LocalForceModel SurgicalScene::force_model(int device) const {
       m = tool.probe->hand_force_model();
     } else if (tool.grasper) {
       m.force = tool.hand_force;
+    } else {
+      m.force = tool.cutting_force;  // a scalpel's (zero for any other tool)
     }
     // Bones push on the tool at its tip: the same model about the device position.
     m.force += tool.bone.force_at(m.reference_position);
@@ -216,6 +221,7 @@ ToolView SurgicalScene::tool_view(int index) const {
                   (tool.grasper && tool.grasper->phase() == tools::GraspPhase::holding);
   if (tool.grasper) view.jaws = tool.grasper->jaws();
   if (tool.probe) view.force_on_tissue = tool.probe->transmitted_force();
+  view.blade_depth = tool.blade.depth;
   return view;
 }
 

@@ -5,7 +5,9 @@
 //   probe and scope tip   tools::Probe (virtual coupling, penalty contact on the surface tree);
 //   grasper               tools::Grasper (grab on closing, hold, tear above its force, release);
 //   scalpel               cut::ProgressiveCutter (complete cuts as the blade leaves tets, the
-//                         tets it is inside split temporarily), every cut_every steps;
+//                         tets it is inside split temporarily), every cut_every steps; while its
+//                         stroke is open, the tissue's resistance to the cut on the tool
+//                         (tools::blade_in_tissue, tools::cutting_resistance);
 //   bones                 collide::RigidBody (FCL): penalty on each tool's tip and shaft, counted
 //                         as collisions with protected structures;
 //   damage                tools::DamageTracker (strain over thresholds, cuts against the marked
@@ -35,6 +37,8 @@
 #include "sim/core/types.h"
 #include "sim/cut/progressive_cutter.h"
 #include "sim/surgery/tissue_body.h"
+#include "sim/tools/blade_in_tissue.h"
+#include "sim/tools/cutting_resistance.h"
 #include "sim/tools/damage_tracker.h"
 #include "sim/tools/force_model.h"
 #include "sim/tools/grasper.h"
@@ -110,6 +114,12 @@ struct FarFieldSpec {
   std::vector<ElementMaterial> materials;
 };
 
+// A tissue label's toughness: the work to cut a unit area of it (tools/cutting_resistance.h).
+struct LabelToughness {
+  int label = 0;
+  Real toughness = tools::kDefaultToughness;  // [J/m^2], >= 0
+};
+
 struct SurgicalSceneSpec {
   TetMesh tissue;           // rest, tets, labels (x, v: the start state, or empty for rest)
   std::vector<char> fixed;  // per tissue node: held (attachments)
@@ -135,6 +145,14 @@ struct SurgicalSceneSpec {
   Real bone_stiffness = 2000;   // penalty of a tool against a bone [N/m], > 0
   int cut_every = 10;           // steps between scalpel updates, >= 1
   int damage_every = 10;        // steps between strain records, >= 1
+  // The scalpel's cutting resistance, felt on the hand while its stroke is open
+  // (tools/cutting_resistance.h): each stretch of blade in the tissue resists with the toughness
+  // of the label of the tet behind the surface face that bounds it (separate structures, the
+  // menisci and the ligament, are separate stretches). Labels listed at most once, toughness
+  // >= 0; a label not listed has default_toughness (>= 0).
+  std::vector<LabelToughness> toughness;
+  Real default_toughness = tools::kDefaultToughness;
+  tools::CuttingResistanceSettings cutting;
   // The slivers a stroke's cuts leave are collapsed once the stroke ends (Knee Arthroscopy VR,
   // section VII.C), with these settings; min_quality 0 turns it off.
   cut::SimplifyOptions simplify;
@@ -169,6 +187,8 @@ struct ToolView {
   bool touching = false;                 // tissue or bone
   Vec3 force_on_tissue = Vec3::Zero();   // a probe's or scope's push on the tissue [N]
   std::optional<collide::JawPair> jaws;  // grasper
+  // A scalpel's blade length in the tissue while its stroke is open [m].
+  Real blade_depth = 0;
 };
 
 class SurgicalScene {
@@ -222,6 +242,10 @@ class SurgicalScene {
   struct Tool;
 
   void cut(Tool& tool, int index);
+  // The scalpel's cutting resistance this step (tool.cutting_force), from the blade's depth in
+  // the tissue and the tip's motion over the step; zero unless its stroke is open.
+  void resist_cut(Tool& tool);
+  Real toughness(int label) const;
   // Whether the blade (a, b) reaches within far_guard_ of the far field (rest configuration).
   bool blade_outside_region(const Vec3& a, const Vec3& b) const;
   // After a stroke: the slivers among the tets its complete cuts changed are collapsed

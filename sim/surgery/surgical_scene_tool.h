@@ -14,6 +14,7 @@ struct SurgicalScene::Tool {
   bool has_input = false;
   ToolInput input;
   Vec3 tip = Vec3::Zero();
+  Vec3 previous_tip = Vec3::Zero();  // at the step before (the tip's motion over the step)
   Mat3 rotation = Mat3::Identity();
   Vec3 direction = Vec3::UnitZ();
   std::optional<tools::Probe> probe;  // probe and scope, made at the first input
@@ -21,9 +22,12 @@ struct SurgicalScene::Tool {
   std::unique_ptr<cut::ProgressiveCutter> cutter;
   bool stroke = false;            // the scalpel's blade is in the tissue
   std::vector<int> stroke_slots;  // committed slots the open stroke's complete cuts changed
+  tools::BladeInTissue blade;     // the scalpel's blade in the tissue this step
   tools::LocalForceModel bone;    // this step's bone contacts, on the tool at its tip
   bool touching_bone = false;
   Vec3 hand_force = Vec3::Zero();  // grasper: the tissue's pull on the hand
+  // Scalpel: the tissue's resistance to the cut this step, on the tool [N].
+  Vec3 cutting_force = Vec3::Zero();
 };
 
 }  // namespace incise::sim::surgery

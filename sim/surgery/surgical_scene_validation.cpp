@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 
 namespace incise::sim::surgery {
 
@@ -31,6 +32,21 @@ void validate(const SurgicalSceneSpec& spec) {
           "ambient_damping must be >= 0");
   require(spec.cut_every >= 1, "cut_every must be >= 1");
   require(spec.damage_every >= 1, "damage_every must be >= 1");
+  for (std::size_t k = 0; k < spec.toughness.size(); ++k) {
+    const LabelToughness& t = spec.toughness[k];
+    const std::string name = "toughness[" + std::to_string(k) + "]";
+    require(t.toughness >= 0 && std::isfinite(t.toughness), name + ".toughness must be >= 0");
+    for (std::size_t j = 0; j < k; ++j) {
+      require(spec.toughness[j].label != t.label,
+              name + ".label " + std::to_string(t.label) + " is listed twice");
+    }
+  }
+  require(spec.default_toughness >= 0 && std::isfinite(spec.default_toughness),
+          "default_toughness must be >= 0");
+  require(spec.cutting.ramp_speed > 0 && std::isfinite(spec.cutting.ramp_speed),
+          "cutting.ramp_speed must be > 0");
+  require(spec.cutting.max_force > 0 && std::isfinite(spec.cutting.max_force),
+          "cutting.max_force must be > 0");
   const AdaptivitySpec& a = spec.adaptivity;
   require(a.edge_length > 0 && std::isfinite(a.edge_length), "adaptivity.edge_length must be > 0");
   require(a.radius > 0 && std::isfinite(a.radius), "adaptivity.radius must be > 0");

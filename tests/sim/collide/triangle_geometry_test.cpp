@@ -100,6 +100,38 @@ TEST(TriangleGeometry, SegmentThroughTheFacePierces) {
   EXPECT_TRUE(closest.barycentric.isApprox(Vec3(0.5, 0.25, 0.25)));
 }
 
+// Rounding grows with the coordinates: a triangle far smaller than its distance from the origin,
+// pierced inside, is pierced (a 0.5 mm crack piece of a cut at 5 cm was once taken for a miss at
+// 0.05 mm, its edge's distance).
+TEST(TriangleGeometry, ASmallTriangleFarFromTheOriginIsPiercedToo) {
+  const SegmentTriangleClosest crack_piece =
+      segment_triangle_closest(Vec3(0.0437, 0.0298, 0.02), Vec3(0.0437, 0.0298, 0.04),
+                               Vec3(0.043830000000000008, 0.029483000000000006, 0.03),
+                               Vec3(0.0437, 0.03, 0.03), Vec3(0.04, 0.03, 0.03));
+  EXPECT_TRUE(crack_piece.pierces);
+  EXPECT_EQ(crack_piece.distance, 0);
+  EXPECT_NEAR(crack_piece.s, 0.5, 1e-12);
+  std::mt19937 random(5);
+  for (const Real offset : {0.05, 1.0, 30.0}) {
+    for (const Real size : {1e-4, 1e-3, 1e-2}) {
+      for (int trial = 0; trial < 50; ++trial) {
+        const Vec3 centre = offset * random_point(random, 1).normalized();
+        const Vec3 a = centre + size * random_point(random, 1);
+        const Vec3 b = centre + size * random_point(random, 1);
+        const Vec3 c = centre + size * random_point(random, 1);
+        const Vec3 n = (b - a).cross(c - a).normalized();
+        const Vec3 inside = 0.3 * a + 0.3 * b + 0.4 * c;
+        const Vec3 along = (n + 0.5 * random_point(random, 1)).normalized();
+        const SegmentTriangleClosest closest =
+            segment_triangle_closest(inside - size * along, inside + 2 * size * along, a, b, c);
+        EXPECT_TRUE(closest.pierces) << "offset " << offset << ", size " << size;
+        EXPECT_EQ(closest.distance, 0);
+        EXPECT_NEAR(closest.s, 1.0 / 3, 1e-6);
+      }
+    }
+  }
+}
+
 TEST(TriangleGeometry, SweepHitsThePlaneAtTheClosedFormTime) {
   const Vec3 a(-1, -1, 0), b(1, -1, 0), c(0, 1, 0);
   const Real r = 0.01, d0 = 0.3, d1 = -0.2;

@@ -70,6 +70,31 @@ TEST(BoundarySurface, EnclosesTheBoxVolumeWithOutwardFaces) {
   EXPECT_NEAR(volume, kSize.prod(), 1e-15);
 }
 
+// Each face records its tet: the face's nodes are three of the tet's, and the fourth lies behind
+// the face's outward normal.
+TEST(BoundarySurface, EachFaceKnowsTheTetItBounds) {
+  const TetMesh mesh = make_box_mesh(kSize, kCells);
+  const BoundarySurface surface = boundary_surface(mesh);
+  ASSERT_EQ(surface.tets.size(), static_cast<std::size_t>(surface.faces.rows()));
+  for (Eigen::Index f = 0; f < surface.faces.rows(); ++f) {
+    const int t = surface.tets[static_cast<std::size_t>(f)];
+    ASSERT_GE(t, 0);
+    ASSERT_LT(t, mesh.num_tets());
+    std::set<int> tet_nodes;
+    for (int k = 0; k < 4; ++k)
+      tet_nodes.insert(mesh.tets(t, k));
+    Vec3 corners[3];
+    for (int c = 0; c < 3; ++c) {
+      const int node = surface.nodes[static_cast<std::size_t>(surface.faces(f, c))];
+      EXPECT_EQ(tet_nodes.erase(node), 1u) << "face " << f << " is not a face of tet " << t;
+      corners[c] = row3(mesh.rest, node);
+    }
+    ASSERT_EQ(tet_nodes.size(), 1u);
+    const Vec3 normal = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
+    EXPECT_LT(normal.dot(row3(mesh.rest, *tet_nodes.begin()) - corners[0]), 0) << "face " << f;
+  }
+}
+
 TEST(SurfaceVertices, CopiesPositionsAndGivesFaceNormalsOnFlatFaces) {
   const TetMesh mesh = make_box_mesh(kSize, kCells);
   const BoundarySurface surface = boundary_surface(mesh);

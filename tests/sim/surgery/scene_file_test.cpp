@@ -1,9 +1,10 @@
 // Surgical scene files (sim/surgery/scene_file.h): the shipped scene files are the presets with
-// their tools (the same spec, node for node), left-out members take the preset's values, and
-// every bad input names its JSON path.
+// their tools (the same spec, node for node, toughness per label), left-out members take the
+// preset's values, and every bad input names its JSON path.
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <typeinfo>
@@ -100,6 +101,14 @@ void expect_same_setup(const SurgicalSceneSetup& a, const SurgicalSceneSetup& b)
               t.damage.strain_thresholds[k].max_principal_strain);
   }
   EXPECT_EQ(s.damage.protected_labels, t.damage.protected_labels);
+  ASSERT_EQ(s.toughness.size(), t.toughness.size());
+  for (std::size_t k = 0; k < s.toughness.size(); ++k) {
+    EXPECT_EQ(s.toughness[k].label, t.toughness[k].label);
+    EXPECT_EQ(s.toughness[k].toughness, t.toughness[k].toughness);
+  }
+  EXPECT_EQ(s.default_toughness, t.default_toughness);
+  EXPECT_EQ(s.cutting.ramp_speed, t.cutting.ramp_speed);
+  EXPECT_EQ(s.cutting.max_force, t.cutting.max_force);
   EXPECT_EQ(s.damage.target.line, t.damage.target.line);
   EXPECT_EQ(s.damage.target.half_width, t.damage.target.half_width);
   const auto model_a = s.model(s.tissue);
@@ -121,6 +130,7 @@ TEST(SceneFile, TheShippedLiverFileIsThePresetWithAProbeAGrasperAndAScalpel) {
   ASSERT_EQ(file.anatomy, Anatomy::liver);
   expect_same_tools(file.liver.tools, expected.tools);
   expect_same_material(file.liver.liver, expected.liver);
+  EXPECT_EQ(file.liver.liver_toughness, expected.liver_toughness);
   EXPECT_EQ(file.liver.anatomy.cell_size, expected.anatomy.cell_size);
   EXPECT_EQ(file.liver.anatomy.length, expected.anatomy.length);
   EXPECT_EQ(file.liver.strain_threshold, expected.strain_threshold);
@@ -140,6 +150,8 @@ TEST(SceneFile, TheShippedKneeFileIsThePresetWithAScopeAProbeAndAScalpel) {
   expect_same_tools(file.knee.tools, expected.tools);
   expect_same_material(file.knee.meniscus, expected.meniscus);
   expect_same_material(file.knee.ligament, expected.ligament);
+  EXPECT_EQ(file.knee.meniscus_toughness, expected.meniscus_toughness);
+  EXPECT_EQ(file.knee.ligament_toughness, expected.ligament_toughness);
   EXPECT_EQ(file.knee.anatomy.tissue_cell_size, expected.anatomy.tissue_cell_size);
   EXPECT_EQ(file.knee.strain_threshold, expected.strain_threshold);
   expect_same_setup(build_surgical_scene(file), make_knee_surgery(expected));
@@ -151,6 +163,8 @@ TEST(SceneFile, DefaultsAreThePresets) {
   const LiverSceneOptions preset;
   expect_same_tools(liver.liver.tools, preset.tools);
   expect_same_material(liver.liver.liver, preset.liver);
+  EXPECT_EQ(liver.liver.liver_toughness, preset.liver_toughness);
+  EXPECT_EQ(preset.liver_toughness, 200);  // docs/surgical_scene_files.md
   EXPECT_EQ(liver.liver.anatomy.cell_size, preset.anatomy.cell_size);
   EXPECT_EQ(liver.liver.anatomy.cut_points, preset.anatomy.cut_points);
   EXPECT_EQ(liver.cut_every, SurgicalSceneSpec{}.cut_every);
@@ -158,7 +172,7 @@ TEST(SceneFile, DefaultsAreThePresets) {
 
   const SurgicalSceneFile knee = parse_surgical_scene_file(json::parse(R"({
     "anatomy": "knee", "anatomy_options": {"flexion_deg": 30},
-    "materials": {"ligament": {"E": 80000}},
+    "materials": {"ligament": {"E": 80000}, "meniscus": {"toughness": 750}},
     "tools": [{"kind": "probe", "device": 1},
               {"kind": "grasper", "device": 0, "tear_force": 2, "reach": 0.007}],
     "ambient_damping": 0, "solver": {"cut_every": 5},
@@ -169,6 +183,20 @@ TEST(SceneFile, DefaultsAreThePresets) {
   EXPECT_EQ(knee.knee.ligament.youngs_modulus, 80000);
   EXPECT_EQ(knee.knee.ligament.density, knee_preset.ligament.density);
   expect_same_material(knee.knee.meniscus, knee_preset.meniscus);
+  // Toughness on its own over the preset's, per tissue, and into the spec per label.
+  EXPECT_EQ(knee.knee.meniscus_toughness, 750);
+  EXPECT_EQ(knee.knee.ligament_toughness, knee_preset.ligament_toughness);
+  const SurgicalSceneSpec knee_spec = build_surgical_scene(knee).spec;
+  ASSERT_EQ(knee_spec.toughness.size(), 3u);  // the two menisci and the ligament
+  int at_750 = 0;
+  for (const LabelToughness& t : knee_spec.toughness) {
+    if (t.toughness == 750) {
+      ++at_750;
+    } else {
+      EXPECT_EQ(t.toughness, knee_preset.ligament_toughness) << "label " << t.label;
+    }
+  }
+  EXPECT_EQ(at_750, 2);
   ASSERT_EQ(knee.knee.tools.size(), 2u);
   expect_same_tool(knee.knee.tools[0], knee_preset.tools[1], 0);  // the hook probe
   ToolSpec grasper = make_tool(ToolKind::grasper, 0);
@@ -256,6 +284,13 @@ TEST(SceneFile, EveryBadInputNamesItsPath) {
        "materials.liver.nu: must be in (-1, 0.5) (got 0.5)"},
       {R"({"anatomy": "liver", "materials": {"liver": {"E": "4"}}})",
        R"(materials.liver.E: must be a number (got "4"))"},
+      {R"({"anatomy": "liver", "materials": {"liver": {"toughness": -1}}})",
+       "materials.liver.toughness: must be >= 0 (got -1)"},
+      {R"({"anatomy": "knee", "materials": {"ligament": {"toughness": "hard"}}})",
+       R"(materials.ligament.toughness: must be a number (got "hard"))"},
+      {R"({"anatomy": "knee", "materials": {"meniscus": {"tough": 500}}})",
+       "materials.meniscus.tough: unknown key (expected one of: model, E, nu, density, damping, "
+       "toughness)"},
       {R"({"anatomy": "liver", "materials": {"meniscus": {}}})",
        "materials.meniscus: unknown key (expected one of: liver)"},
       {R"({"anatomy": "knee", "materials": {"ligament": {"model": "foam"}}})",
@@ -282,6 +317,18 @@ TEST(SceneFile, EveryBadInputNamesItsPath) {
       ADD_FAILURE() << "accepted";
     } catch (const SceneError& error) {
       EXPECT_EQ(std::string(error.what()), c.error);
+    }
+  }
+  // A toughness that is not finite (JSON has no literal for it; a reader's value may still be).
+  for (const Real bad :
+       {std::numeric_limits<Real>::infinity(), -std::numeric_limits<Real>::infinity(),
+        std::numeric_limits<Real>::quiet_NaN()}) {
+    json scene = {{"anatomy", "liver"}, {"materials", {{"liver", {{"toughness", bad}}}}}};
+    try {
+      parse_surgical_scene_file(scene);
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const SceneError& error) {
+      EXPECT_EQ(error.path(), "materials.liver.toughness") << error.what();
     }
   }
   // Malformed text fails before anything is meshed.
