@@ -13,7 +13,7 @@ constexpr SphereTool kTool{0.005, 300, 0};
 
 // One free node, a surface of that node alone.
 struct SingleNode {
-  BoundarySurface surface{{0}, Triangles(0, 3)};
+  BoundarySurface surface{{0}, Triangles(0, 3), {}};
   Points x = Points::Zero(1, 3);
   Points f = Points::Zero(1, 3);
 };
