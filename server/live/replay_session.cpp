@@ -36,7 +36,13 @@ ReplaySession::ReplaySession(const SessionScene& scene, double tick_s,
     : engine_(scene, tick_s, hands_of(ticks)),
       camera_(camera_for(scene)),
       tick_s_(tick_s),
-      ticks_(std::move(ticks)) {
+      ticks_(std::move(ticks)),
+      ahead_(scene, tick_s, hands_of(ticks_)) {
+  // At most kMaxCheckpoints, in whole multiples of kCheckpointTicks.
+  const auto total = static_cast<std::int64_t>(ticks_.size());
+  checkpoint_ticks_ = kCheckpointTicks *
+                      std::max<std::int64_t>(
+                          1, (total / kMaxCheckpoints + kCheckpointTicks - 1) / kCheckpointTicks);
   // The first recorded input places the tool before anything is drawn.
   checkpoints_.emplace(0, engine_.checkpoint());
   publish_snapshot();
@@ -50,12 +56,31 @@ ReplaySession::~ReplaySession() {
   abort_.store(true);
   wake_.notify_all();
   if (thread_.joinable()) thread_.join();
+  if (checkpointer_.joinable()) checkpointer_.join();
   streamer_.reset();
 }
 
 void ReplaySession::start() {
   streamer_ = std::make_unique<FrameStreamer>(*this, camera_);
   thread_ = std::thread([this] { run(); });
+  checkpointer_ = std::thread([this] { run_ahead(); });
+}
+
+void ReplaySession::run_ahead() {
+  const auto total = static_cast<std::int64_t>(ticks_.size());
+  while (ahead_.ticks() < total) {
+    {
+      std::lock_guard lock(mutex_);
+      if (stop_) return;
+    }
+    replay_tick(ahead_, ticks_[static_cast<std::size_t>(ahead_.ticks())]);
+    if (ahead_.ticks() % checkpoint_ticks_ == 0) {
+      SimEngine::Checkpoint c = ahead_.checkpoint();
+      std::lock_guard lock(checkpoints_mutex_);
+      checkpoints_.try_emplace(ahead_.ticks(), std::move(c));
+    }
+    checkpointed_to_.store(ahead_.ticks());
+  }
 }
 
 void ReplaySession::play() {
@@ -113,20 +138,20 @@ void ReplaySession::publish_snapshot() {
 
 bool ReplaySession::advance_to(std::int64_t target) {
   target = std::clamp<std::int64_t>(target, 0, static_cast<std::int64_t>(ticks_.size()));
-  if (target < engine_.ticks()) {
-    auto it = checkpoints_.upper_bound(target);
-    --it;  // the checkpoint at tick 0 always exists
-    engine_.restore(it->second);
-  } else {
-    // Jump forward over whole checkpoint intervals already computed.
+  {
+    // Back to the nearest checkpoint at or before the target, or forward over whole intervals
+    // already computed (the checkpoint at tick 0 always exists).
+    std::lock_guard lock(checkpoints_mutex_);
     auto it = checkpoints_.upper_bound(target);
     --it;
-    if (it->first > engine_.ticks()) engine_.restore(it->second);
+    if (target < engine_.ticks() || it->first > engine_.ticks()) engine_.restore(it->second);
   }
   while (engine_.ticks() < target) {
     replay_tick(engine_, ticks_[static_cast<std::size_t>(engine_.ticks())]);
-    if (engine_.ticks() % kCheckpointTicks == 0 && engine_.checkpoints_anywhere()) {
-      checkpoints_.try_emplace(engine_.ticks(), engine_.checkpoint());
+    if (engine_.ticks() % checkpoint_ticks_ == 0 && engine_.ticks() > checkpointed_to_.load()) {
+      SimEngine::Checkpoint c = engine_.checkpoint();
+      std::lock_guard lock(checkpoints_mutex_);
+      checkpoints_.try_emplace(engine_.ticks(), std::move(c));
     }
     if (engine_.ticks() % kAbortCheckTicks == 0 && abort_.load()) return false;
   }

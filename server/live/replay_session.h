@@ -1,9 +1,12 @@
 #pragma once
 // A replay (docs/architecture.md, "A live session, end to end"): a session whose device is the
 // recording. The same SimEngine re-runs the recorded ticks, so the replay reproduces the run bit
-// for bit, paced at `speed` times real time. Checkpoints of the engine every kCheckpointTicks make
-// seeking fast: a seek restores the nearest checkpoint at or before the target and runs forward
-// from there without pacing.
+// for bit, paced at `speed` times real time. Checkpoints of the engine (whole scenes, surgical ones
+// included) make seeking fast both ways: a seek restores the nearest checkpoint at or before the
+// target and runs forward from there without pacing. A second engine on its own thread runs the
+// recording ahead from the start, unpaced, leaving a checkpoint every checkpoint_ticks(), so a
+// seek forward past where the replay has played lands as fast as one backwards once it has passed.
+// The interval is kCheckpointTicks, longer for recordings over kMaxCheckpoints of them (memory).
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -26,7 +29,8 @@ void replay_tick(SimEngine& engine, const TickRecord& record);
 
 class ReplaySession : public StreamSource {
  public:
-  static constexpr std::int64_t kCheckpointTicks = 1000;  // 2 s at 500 Hz
+  static constexpr std::int64_t kCheckpointTicks = 250;  // 0.5 s at 500 Hz
+  static constexpr std::int64_t kMaxCheckpoints = 400;
   static constexpr double kMinSpeed = 0.25;
   static constexpr double kMaxSpeed = 4.0;
 
@@ -42,6 +46,9 @@ class ReplaySession : public StreamSource {
   void seek(double t_s);         // clamped to [0, duration]
 
   double duration_s() const { return static_cast<double>(ticks_.size()) * tick_s_; }
+  std::int64_t checkpoint_ticks() const { return checkpoint_ticks_; }
+  // The tick up to which the engine running ahead has left its checkpoints.
+  std::int64_t checkpointed_to() const { return checkpointed_to_.load(); }
   FrameStreamer& streamer() { return *streamer_; }
 
   std::shared_ptr<const Snapshot> snapshot() const override { return snapshot_.latest(); }
@@ -56,13 +63,19 @@ class ReplaySession : public StreamSource {
   // Runs the engine to target_tick (engine thread only). Returns false if it gave up early because
   // abort_ was raised (a newer seek, or the replay closing): a long seek stays interruptible.
   bool advance_to(std::int64_t target_tick);
+  // The checkpointer thread: ahead_ through the whole recording.
+  void run_ahead();
   void publish_snapshot();
 
   SimEngine engine_;
   render::Camera camera_;
   double tick_s_;
   std::vector<TickRecord> ticks_;
-  std::map<std::int64_t, SimEngine::Checkpoint> checkpoints_;  // engine thread only
+  std::int64_t checkpoint_ticks_ = kCheckpointTicks;
+  std::map<std::int64_t, SimEngine::Checkpoint> checkpoints_;  // guarded by checkpoints_mutex_
+  mutable std::mutex checkpoints_mutex_;
+  SimEngine ahead_;  // the checkpointer thread's
+  std::atomic<std::int64_t> checkpointed_to_{0};
   SnapshotSlot snapshot_;
 
   mutable std::mutex mutex_;
@@ -78,6 +91,7 @@ class ReplaySession : public StreamSource {
 
   std::unique_ptr<FrameStreamer> streamer_;
   std::thread thread_;
+  std::thread checkpointer_;
 };
 
 }  // namespace incise::server::live

@@ -168,18 +168,24 @@ devices::ForceModel SimEngine::force_model(int hand) const {
 
 SimEngine::Checkpoint SimEngine::checkpoint() const {
   if (surgery_) {
-    if (ticks_ != 0) throw std::logic_error("a surgical scene keeps no checkpoint but its start");
-    return {{}, hand_, metrics_, 0, nullptr};
+    return {{},           hand_,   metrics_,
+            ticks_,       nullptr, std::make_shared<const SurgeryWorld>(*surgery_),
+            scene_events_};
   }
-  return {simulation_->save_state(), hand_, metrics_, ticks_,
-          std::make_shared<const sim::tools::DamageTracker>(*damage_)};
+  return {simulation_->save_state(),
+          hand_,
+          metrics_,
+          ticks_,
+          std::make_shared<const sim::tools::DamageTracker>(*damage_),
+          nullptr,
+          {}};
 }
 
 void SimEngine::restore(const Checkpoint& c) {
   if (surgery_) {
-    if (c.ticks != 0) throw std::logic_error("a surgical scene restores only its start");
-    surgery_->reset();
-    scene_events_.clear();
+    if (!c.surgery) throw std::logic_error("restore: the checkpoint is not of a surgical scene");
+    *surgery_ = *c.surgery;
+    scene_events_ = c.scene_events;
   } else {
     simulation_->restore_state(c.simulation);
     if (c.damage) *damage_ = *c.damage;

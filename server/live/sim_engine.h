@@ -112,10 +112,12 @@ class SimEngine {
     RunningMetrics metrics;
     std::int64_t ticks = 0;
     std::shared_ptr<const sim::tools::DamageTracker> damage;
+    // A surgical scene's world, whole (SurgicalScene::clone), and its events so far.
+    std::shared_ptr<const SurgeryWorld> surgery;
+    SceneEventLog scene_events;
   };
-  // A surgical scene keeps no checkpoints but its start: checkpoint() at tick 0 only (it throws
-  // std::logic_error elsewhere), and restore() of it rebuilds the scene.
-  bool checkpoints_anywhere() const { return surgery_ == nullptr; }
+  // Any tick, any scene; restore() makes the state bit for bit what it was, and the checkpoint
+  // stays valid (for restoring again).
   Checkpoint checkpoint() const;
   void restore(const Checkpoint& checkpoint);
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "devices/device_state.h"
+#include "sim/core/clone_ptr.h"
 #include "sim/interact/tool_contact.h"
 #include "sim/mesh/boundary_surface.h"
 #include "sim/surgery/scene_presets.h"
@@ -26,7 +27,11 @@ class SurgeryWorld {
   int substeps() const { return substeps_; }
   // One tick: hand h from from[h] to to[h] (the first two hands of the shorter span).
   void tick(std::span<const devices::DeviceState> from, std::span<const devices::DeviceState> to);
-  // Back to the scene's start (a replay's seek backwards: the scene keeps no checkpoints).
+  // A copy is a deep one (SurgicalScene::clone): a checkpoint that replays bit for bit.
+  SurgeryWorld(const SurgeryWorld&) = default;
+  SurgeryWorld& operator=(const SurgeryWorld&) = default;
+
+  // Back to the scene's start.
   void reset();
 
   // What device `hand` feels: the force on the hand and the PSD stiffness of its tools' local
@@ -52,7 +57,7 @@ class SurgeryWorld {
   std::shared_ptr<const sim::surgery::SurgicalSceneSetup> setup_;
   double dt_ = 0;
   int substeps_ = 1;
-  std::unique_ptr<sim::surgery::SurgicalScene> scene_;
+  sim::ClonePtr<sim::surgery::SurgicalScene> scene_;
   std::vector<sim::surgery::ToolInput> inputs_;
   std::array<sim::ToolContact, 2> contacts_;  // per hand (SimEngine::kMaxHands)
   std::shared_ptr<const sim::BoundarySurface> surface_;

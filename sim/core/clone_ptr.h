@@ -24,6 +24,7 @@ class ClonePtr {
     return *this;
   }
 
+  void reset() { p_.reset(); }
   T* get() const { return p_.get(); }
   T* operator->() const { return p_.get(); }
   T& operator*() const { return *p_; }

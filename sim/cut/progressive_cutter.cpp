@@ -53,11 +53,6 @@ ProgressiveCutter::ProgressiveCutter(TetMesh& mesh, const CutOptions& options, R
   }
 }
 
-ProgressiveCutter::ProgressiveCutter(const ProgressiveCutter& other, TetMesh& mesh)
-    : ProgressiveCutter(other) {
-  mesh_ = &mesh;
-}
-
 void ProgressiveCutter::undo_temporary() {
   for (auto it = saved_rows_.rbegin(); it != saved_rows_.rend(); ++it) {
     for (int k = 0; k < 4; ++k)

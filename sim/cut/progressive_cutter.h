@@ -88,9 +88,11 @@ class ProgressiveCutter {
   explicit ProgressiveCutter(TetMesh& mesh, const CutOptions& options = {}, Real pose_spacing = 0,
                              BladeSpace space = BladeSpace::current);
 
-  // A copy cuts mesh instead (a copy of the original's mesh, for a checkpoint of a scene);
-  // everything else, an open stroke included, is the original's.
-  ProgressiveCutter(const ProgressiveCutter& other, TetMesh& mesh);
+  // A copy (an open stroke included) cuts the same mesh until rebind() gives it another: a copy
+  // of that mesh, for a checkpoint of a whole scene.
+  ProgressiveCutter(const ProgressiveCutter&) = default;
+  ProgressiveCutter& operator=(const ProgressiveCutter&) = default;
+  void rebind(TetMesh& mesh) { mesh_ = &mesh; }
 
   // One haptic frame: the blade's cutting edge is (a, b) [m, in the blade space]. The first
   // pose of a stroke only starts it. Throws std::invalid_argument if a == b.
@@ -109,8 +111,6 @@ class ProgressiveCutter {
   const FrameReport& last_frame() const { return frame_; }
 
  private:
-  // Only through the constructor above: a plain copy would cut the original's mesh.
-  ProgressiveCutter(const ProgressiveCutter&) = default;
   void undo_temporary();
   // update's work after the undo, with the blade in the blade space.
   void update_in_space(const Vec3& a, const Vec3& b);

@@ -58,16 +58,18 @@ SurgicalScene::SurgicalScene(SurgicalSceneSpec spec) : spec_(std::move(spec)) {
   tissue_ = std::make_unique<TissueBody>(spec_.tissue, model, spec_.fixed, spec_.dt,
                                          spec_.wave_speed, spec_.damping_time, far);
   tissue_->set_ambient_damping(spec_.ambient_damping);
+  auto bones = std::make_shared<std::vector<collide::RigidBody>>();
   for (std::size_t b = 0; b < spec_.bones.size(); ++b) {
     try {
-      bones_.emplace_back(spec_.bones[b].vertices, spec_.bones[b].triangles);
+      bones->emplace_back(spec_.bones[b].vertices, spec_.bones[b].triangles);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument("surgical scene: bones[" + std::to_string(b) + "] (" +
                                   spec_.bones[b].name + "): " + e.what());
     }
   }
-  bone_depths_.assign(bones_.size(), 0);
-  bone_touching_.assign(bones_.size(), 0);
+  bones_ = std::move(bones);
+  bone_depths_.assign(bones_->size(), 0);
+  bone_touching_.assign(bones_->size(), 0);
   for (const ToolSpec& t : spec_.tools) {
     Tool tool;
     tool.spec = t;
@@ -77,7 +79,7 @@ SurgicalScene::SurgicalScene(SurgicalSceneSpec spec) : spec_(std::move(spec)) {
     tools_.push_back(std::move(tool));
   }
   tools::DamageSettings damage = spec_.damage;
-  damage.protected_structures = static_cast<int>(bones_.size());
+  damage.protected_structures = static_cast<int>(bones_->size());
   damage_ = std::make_unique<tools::DamageTracker>(tissue_->mesh(), damage);
   damage_alive_.assign(static_cast<std::size_t>(tissue_->mesh().num_tets()), 1);
   const TetMesh& mesh = tissue_->mesh();
@@ -87,6 +89,16 @@ SurgicalScene::SurgicalScene(SurgicalSceneSpec spec) : spec_(std::move(spec)) {
 }
 
 SurgicalScene::~SurgicalScene() = default;
+
+SurgicalScene::SurgicalScene(const SurgicalScene&) = default;
+
+std::unique_ptr<SurgicalScene> SurgicalScene::clone() const {
+  auto copy = std::unique_ptr<SurgicalScene>(new SurgicalScene(*this));
+  for (Tool& tool : copy->tools_) {
+    if (tool.cutter) tool.cutter->rebind(copy->tissue_->mesh());
+  }
+  return copy;
+}
 
 int SurgicalScene::num_tools() const {
   return static_cast<int>(tools_.size());
@@ -158,7 +170,7 @@ void SurgicalScene::step(std::span<const ToolInput> inputs) {
   }
   tissue_->end_step(spec_.dt, spec_.gravity, prescribed_);
   // Bone contacts: a rising edge per bone is a collision with a protected structure.
-  for (std::size_t b = 0; b < bones_.size(); ++b) {
+  for (std::size_t b = 0; b < bones_->size(); ++b) {
     const bool touching = bone_depths_[b] > 0;
     if (touching && bone_touching_[b] == 0) {
       event(EventKind::collision, -1, spec_.bones[b].name);

@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "sim/collide/rigid_body.h"
+#include "sim/core/clone_ptr.h"
 #include "sim/core/types.h"
 #include "sim/cut/progressive_cutter.h"
 #include "sim/surgery/tissue_body.h"
@@ -197,8 +198,11 @@ class SurgicalScene {
   // the bones and the damage tracker do.
   explicit SurgicalScene(SurgicalSceneSpec spec);
   ~SurgicalScene();
-  SurgicalScene(const SurgicalScene&) = delete;
   SurgicalScene& operator=(const SurgicalScene&) = delete;
+  // A deep copy of the whole scene (tissue, model, cutters, tools, damage, events; the bones'
+  // fixed geometry is shared): stepped with the same inputs it stays equal to the original bit
+  // for bit. A checkpoint for replays' seeks.
+  std::unique_ptr<SurgicalScene> clone() const;
 
   // One step of dt. inputs[d] drives device d's tools; a tool whose device has no input (d >=
   // inputs.size()) stays where it was. Throws std::invalid_argument for a non-finite input.
@@ -241,6 +245,9 @@ class SurgicalScene {
  private:
   struct Tool;
 
+  // Member-wise (the ClonePtrs copy deeply); clone() then rebinds the cutters to the copy's mesh.
+  SurgicalScene(const SurgicalScene&);
+
   void cut(Tool& tool, int index);
   // The scalpel's cutting resistance this step (tool.cutting_force), from the blade's depth in
   // the tissue and the tip's motion over the step; zero unless its stroke is open.
@@ -275,10 +282,11 @@ class SurgicalScene {
   int stable_nodes() const;
 
   SurgicalSceneSpec spec_;
-  std::unique_ptr<TissueBody> tissue_;
-  std::vector<collide::RigidBody> bones_;
+  ClonePtr<TissueBody> tissue_;
+  // Fixed after construction: shared by clones (FCL's trees are costly to copy).
+  std::shared_ptr<const std::vector<collide::RigidBody>> bones_;
   std::vector<Tool> tools_;
-  std::unique_ptr<tools::DamageTracker> damage_;
+  ClonePtr<tools::DamageTracker> damage_;
   Prescribed prescribed_;
   std::vector<int> prescribed_rows_;  // rows of prescribed_.mask set by the last step
   std::vector<int> surface_nodes_;

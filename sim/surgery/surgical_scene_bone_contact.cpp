@@ -24,20 +24,20 @@ void SurgicalScene::bones(Tool& tool, int /*index*/) {
   tool.bone = {};
   tool.bone.reference_position = tool.tip;
   tool.touching_bone = false;
-  if (bones_.empty()) return;
+  if (bones_->empty()) return;
   const Real tip_radius =
       tool.spec.kind == ToolKind::probe ? tool.spec.probe.radius : tool.spec.shaft_radius;
   const collide::Sphere tip{tool.tip, tip_radius};
   const collide::Capsule shaft{tool.tip - tool.spec.shaft_length * tool.direction, tool.tip,
                                tool.spec.shaft_radius};
   std::vector<collide::Contact> contacts;
-  for (std::size_t b = 0; b < bones_.size(); ++b) {
+  for (std::size_t b = 0; b < bones_->size(); ++b) {
     for (int shape = 0; shape < 2; ++shape) {
       contacts.clear();
       if (shape == 0) {
-        bones_[b].contacts(tip, contacts);
+        (*bones_)[b].contacts(tip, contacts);
       } else {
-        bones_[b].contacts(shaft, contacts);
+        (*bones_)[b].contacts(shaft, contacts);
       }
       const collide::Contact* c = deepest(contacts);
       if (c == nullptr || !(c->depth > 0)) continue;

@@ -19,8 +19,8 @@ struct SurgicalScene::Tool {
   Vec3 direction = Vec3::UnitZ();
   std::optional<tools::Probe> probe;  // probe and scope, made at the first input
   std::optional<tools::Grasper> grasper;
-  std::unique_ptr<cut::ProgressiveCutter> cutter;
-  bool stroke = false;            // the scalpel's blade is in the tissue
+  ClonePtr<cut::ProgressiveCutter> cutter;  // a copy still cuts the original's mesh: rebind it
+  bool stroke = false;                      // the scalpel's blade is in the tissue
   std::vector<int> stroke_slots;  // committed slots the open stroke's complete cuts changed
   tools::BladeInTissue blade;     // the scalpel's blade in the tissue this step
   tools::LocalForceModel bone;    // this step's bone contacts, on the tool at its tip

@@ -61,7 +61,7 @@ class TissueBody {
 
   TissueBody& operator=(const TissueBody&) = delete;
   // A deep copy (model and all), for a checkpoint of a scene: the scene's cutters, which keep
-  // the mesh's address, are the scene's to rebind (ProgressiveCutter's copy constructor).
+  // the mesh's address, are the scene's to rebind (ProgressiveCutter::rebind).
   std::unique_ptr<TissueBody> clone() const;
 
   // The mesh with the current state (x, v). Tools that change its topology (the scalpel) edit

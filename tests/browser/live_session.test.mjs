@@ -60,6 +60,8 @@ scenario(
     await wait_for_canvas(page, 'live-canvas', {}, 'a first live frame');
     await sees(metric(page, 'state').filter({ hasText: 'Running' }), 'the state Running');
     await sees(metric(page, 'agent_online').filter({ hasText: 'Online' }), 'the station agent online');
+    // The pace is the server's: a real-time factor, and "behind" only when the server says so.
+    await sees(metric(page, 'pace').filter({ hasText: /^\d+\.\d\dx real time/ }), 'the pace as a real-time factor');
     const first = await canvas_state(page, 'live-canvas');
     assert.ok(
       Math.max(...first.grid) - Math.min(...first.grid) > 20,

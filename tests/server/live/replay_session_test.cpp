@@ -20,7 +20,7 @@ namespace {
 using namespace std::chrono_literals;
 using test::kTickS;
 
-// 3.2 s of the script: long enough for a checkpoint (every 1000 ticks) to be passed and used.
+// 3.2 s of the script: long enough for checkpoints (every 250 ticks) to be passed and used.
 constexpr std::int64_t kTicks = 1600;
 
 // Polls `done` until it holds or 20 s pass (the replay runs on its own thread).
@@ -104,7 +104,7 @@ StraightRun straight_run(const sim::Scene& scene, const std::vector<TickRecord>&
 TEST(ReplaySession, SeeksLandOnTheStraightRunsStatesBitForBit) {
   const auto scene = test::palpation_scene();
   const auto records = test::scripted_records(kTicks);
-  const auto reference = straight_run(scene, records, {250, 1000, 1200, 1250, 1500, kTicks});
+  const auto reference = straight_run(scene, records, {150, 1000, 1200, 1300, 1550, kTicks});
   EXPECT_EQ(ReplaySession::final_state_hash(scene, kTickS, records), reference.final_hash);
 
   ReplaySession replay(scene, kTickS, records);
@@ -120,10 +120,11 @@ TEST(ReplaySession, SeeksLandOnTheStraightRunsStatesBitForBit) {
     const auto& p = records[static_cast<std::size_t>(tick - 1)].input.position;
     EXPECT_EQ(snapshot->tool_tip, sim::Vec3(p.x, p.y, p.z));
   };
-  seek_and_check(2.5, 1250);  // forward past the first checkpoint (1000)
-  seek_and_check(0.5, 250);   // back: from the checkpoint at 0
-  seek_and_check(3.0, 1500);  // forward again: from the checkpoint at 1000
-  seek_and_check(2.0, 1000);  // back onto the checkpoint itself
+  // Checkpoints every kCheckpointTicks (250).
+  seek_and_check(2.6, 1300);  // forward past several checkpoints
+  seek_and_check(0.3, 150);   // back: from the checkpoint at 0
+  seek_and_check(3.1, 1550);  // forward again: from the checkpoint at 1500
+  seek_and_check(2.0, 1000);  // back onto a checkpoint itself
   EXPECT_EQ(replay.status()["state"], "paused");
 
   // Past the end clamps to the end, where the replay reports the final state's hash.

@@ -4,16 +4,22 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
+#include <map>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "server/live/replay_session.h"
 #include "server/live/scene_library.h"
 #include "server/live/scoring.h"
 #include "server/live/session_scene.h"
 #include "server/live/sim_engine.h"
+#include "tests/server/live/test_scene.h"
 
 namespace incise::server::live {
 namespace {
@@ -142,8 +148,6 @@ TEST(SurgeryEngine, AStrokeAlongTheMarkedLineCutsOnTargetAndReplaysBitForBit) {
   EXPECT_TRUE(engine.scene_events().events().empty());
   stroke(engine, along_the_line(), 0.15);
   EXPECT_EQ(engine.state_hash(), hash);
-  EXPECT_FALSE(engine.checkpoints_anywhere());
-  EXPECT_THROW(engine.checkpoint(), std::logic_error);
 
   // What scoring makes of it.
   const auto metrics = simulation_metrics(engine.damage());
@@ -156,6 +160,82 @@ TEST(SurgeryEngine, AStrokeAlongTheMarkedLineCutsOnTargetAndReplaysBitForBit) {
   EXPECT_DOUBLE_EQ(value("cut_on_target_fraction"),
                    1 - damage.cut_area_outside_target / damage.cut_area);
   EXPECT_EQ(value("sim_never_events"), 0);
+}
+
+TEST(SurgeryEngine, ACheckpointMidStrokeRestoresTheWholeSceneBitForBitAnyNumberOfTimes) {
+  // Checkpointed with the blade in the tissue and a cut open: tissue, model (warm starts
+  // included), cutter, damage and events are all in it.
+  const std::vector<sim::Vec3> line = along_the_line();
+  const sim::Vec3 halfway = 0.5 * (line[1] + line[2]);
+  const std::vector<sim::Vec3> first = {line[0], line[1], halfway};
+  const std::vector<sim::Vec3> rest = {halfway, line[2], line[3]};
+  SimEngine engine(liver(), kTickS, 2);
+  stroke(engine, first, 0.15);
+  const std::int64_t ticks = engine.ticks();
+  const auto middle = engine.checkpoint();
+  const std::string middle_hash = engine.state_hash();
+  stroke(engine, rest, 0.15);
+  const std::string hash = engine.state_hash();
+  const auto events = engine.scene_events().events().size();
+  const double area = engine.damage().cut_area;
+  ASSERT_GT(area, 0);
+
+  for (int again = 0; again < 2; ++again) {
+    engine.restore(middle);
+    EXPECT_EQ(engine.ticks(), ticks);
+    EXPECT_EQ(engine.state_hash(), middle_hash);
+    stroke(engine, rest, 0.15);
+    EXPECT_EQ(engine.state_hash(), hash) << "restore " << again;
+    EXPECT_EQ(engine.scene_events().events().size(), events);
+    EXPECT_EQ(engine.damage().cut_area, area);
+  }
+  // Another engine of the same scene (a replay's engine from the checkpointer's checkpoint).
+  SimEngine other(liver(), kTickS, 2);
+  other.restore(middle);
+  stroke(other, rest, 0.15);
+  EXPECT_EQ(other.state_hash(), hash);
+}
+
+TEST(SurgeryEngine, AReplayOfACutSeeksBothWaysOntoTheStraightRunsStatesBitForBit) {
+  // The stroke of AStrokeAlongTheMarkedLine..., slower, as a recording: hand 0 cuts, hand 1
+  // parked; 900 ticks, so that seeks cross checkpoints.
+  std::vector<TickRecord> records;
+  const std::vector<sim::Vec3> line = along_the_line();
+  const int ticks_each = static_cast<int>(0.6 / kTickS);
+  for (std::size_t k = 0; k + 1 < line.size(); ++k) {
+    for (int i = 1; i <= ticks_each; ++i) {
+      const double a = static_cast<double>(i) / ticks_each;
+      TickRecord r;
+      r.input = pointing_down((1 - a) * line[k] + a * line[k + 1]);
+      r.has_second = true;
+      r.second.input = parked();
+      records.push_back(r);
+    }
+  }
+  const auto total = static_cast<std::int64_t>(records.size());
+  const std::vector<std::int64_t> targets = {total - 10, 40, ReplaySession::kCheckpointTicks + 7,
+                                             total / 2, 1};
+  std::map<std::int64_t, sim::Points> reference;
+  {
+    SimEngine engine(liver(), kTickS, 2);
+    for (const TickRecord& r : records) {
+      replay_tick(engine, r);
+      if (std::find(targets.begin(), targets.end(), engine.ticks()) != targets.end())
+        reference[engine.ticks()] = engine.positions();
+    }
+  }
+  ReplaySession replay(liver(), kTickS, records);
+  replay.start();
+  replay.pause();
+  for (const std::int64_t tick : targets) {
+    replay.seek(static_cast<double>(tick) * kTickS);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (replay.snapshot()->tick != tick && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    ASSERT_EQ(replay.snapshot()->tick, tick);
+    EXPECT_TRUE(test::same_bits(replay.snapshot()->positions, reference.at(tick)))
+        << "seek to tick " << tick;
+  }
 }
 
 TEST(SurgeryEngine, CuttingIntoTheGallbladderBedIsANeverEvent) {
