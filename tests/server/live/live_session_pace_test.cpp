@@ -15,6 +15,7 @@
 #include "db/training_repo.h"
 #include "db/users_repo.h"
 #include "server/live/live_session.h"
+#include "sim/io/scene_json.h"
 #include "tests/server/live/test_scene.h"
 #include "tests/support/temp_dir.h"
 
@@ -51,7 +52,11 @@ TEST(LiveSessionPace, AThrottledSessionReportsBehindRealTimeShedsAndRecovers) {
                                                         "0123456789abcdef", 0, 500, kNow);
   }
   params.db_path = db_path;
-  params.scene = test::palpation_scene();
+  // The palpation block on 2 x 2 x 1 cells: a tick costs microseconds, so that unthrottled the
+  // session keeps up even on a machine busy with other tests.
+  auto scene = nlohmann::json::parse(test::palpation_text());
+  scene["mesh"]["box"]["cells"] = {2, 2, 1};
+  params.scene = sim::parse_scene_text(scene.dump());
   // Throttled: each 2 ms tick takes 6 ms more, a third of real time.
   std::atomic<bool> throttled{false};
   params.after_tick = [&throttled] {
