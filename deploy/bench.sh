@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs the benchmarks (they measure; the tests assert correctness) and writes their output to
-# results/bench-<UTC time>.txt. Takes about seven minutes; run it on a quiet machine, and quote
+# results/bench-<UTC time>.txt. Takes about ten minutes; run it on a quiet machine, and quote
 # the figures of one run together. Usage: bash deploy/bench.sh [--quick]  (--quick: 10 s runs)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -31,6 +31,12 @@ out=results/bench-$(date -u +%Y%m%dT%H%M%SZ).txt
   echo
   echo "## the liver at a surgical station: a tick idle, grasping and cutting, by cell size"
   "$bin/bench_surgery_live"
+  echo
+  echo "## seeking in a replay of a 3-minute liver attempt"
+  "$bin/bench_replay_seek"
+  echo
+  echo "## per-tet kernels against this machine's limit"
+  "$bin/bench_kernels"
   echo
   echo "## agent haptic loop, ${seconds} s"
   "$bin/bench_agent_loop" --seconds "$seconds"
