@@ -16,6 +16,12 @@
 
 namespace incise::sim::surgery {
 
+namespace {
+// Longer than the gaps between a station's device states (at most a few ticks of 2 ms), shorter
+// than a hand coming to rest.
+constexpr Real kBladeVelocityHoldS = 0.03;
+}  // namespace
+
 Real SurgicalScene::toughness(int label) const {
   for (const LabelToughness& t : spec_.toughness) {
     if (t.label == label) return t.toughness;
@@ -46,9 +52,19 @@ void SurgicalScene::resist_cut(Tool& tool) {
     const int tet = face_tets[static_cast<std::size_t>(s.face)];
     resistance += toughness(labels(tet)) * (s.to - s.from);
   }
-  const Vec3 velocity = (tool.tip - tool.previous_tip) / spec_.dt;
-  tool.cutting_force = tools::cutting_resistance(resistance / tool.blade.depth, tool.blade.depth,
-                                                 velocity, tool.direction, spec_.cutting);
+  // The velocity of the last step that moved, for up to kBladeVelocityHoldS
+  // (surgical_scene_tool.h). Still passive: while the tip stands still the force does no work, and
+  // the first step that moves again replaces it.
+  const Vec3 step_velocity = (tool.tip - tool.previous_tip) / spec_.dt;
+  if (step_velocity.squaredNorm() > 0) {
+    tool.blade_velocity = step_velocity;
+    tool.blade_velocity_time = time_;
+  } else if (time_ - tool.blade_velocity_time > kBladeVelocityHoldS) {
+    tool.blade_velocity.setZero();
+  }
+  tool.cutting_force =
+      tools::cutting_resistance(resistance / tool.blade.depth, tool.blade.depth,
+                                tool.blade_velocity, tool.direction, spec_.cutting);
 }
 
 }  // namespace incise::sim::surgery

@@ -15,6 +15,12 @@ struct SurgicalScene::Tool {
   ToolInput input;
   Vec3 tip = Vec3::Zero();
   Vec3 previous_tip = Vec3::Zero();  // at the step before (the tip's motion over the step)
+  // Scalpel: the blade's last non-zero velocity and when it was seen [m/s, s]. Device states come
+  // in gaps (the station's deadband holds back small moves): between two, the tip stands still
+  // for a few steps, and a resistance that followed that would flicker on and off (a buzz in the
+  // hand, a flood of contact events in the review). It is held for kBladeVelocityHoldS.
+  Vec3 blade_velocity = Vec3::Zero();
+  Real blade_velocity_time = 0;
   Mat3 rotation = Mat3::Identity();
   Vec3 direction = Vec3::UnitZ();
   std::optional<tools::Probe> probe;  // probe and scope, made at the first input

@@ -96,6 +96,10 @@ scenario(
     const event = review.events.find((e) => e.kind === 'cut' && e.source === 'simulation');
     assert.ok(event, JSON.stringify(review.events));
     assert.match(event.label, /^cut [0-9.]+ mm\^2, 0\.0 mm\^2 off the marked line$/);
+    // The scalpel's resistance is felt as one steady push, not a flicker: a stroke is a contact
+    // or two in the review, not hundreds.
+    const contacts = review.events.filter((e) => e.kind === 'contact' && e.hand === 0);
+    assert.ok(contacts.length <= 6, `${contacts.length} contact events of the scalpel: ${JSON.stringify(contacts.slice(0, 10))}`);
     await page.getByTestId('replay-play').click(); // pause where it is
     const before = await canvas_state(page, 'replay-canvas');
     await cut.first().click();

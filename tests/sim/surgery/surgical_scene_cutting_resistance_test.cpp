@@ -115,6 +115,28 @@ TEST(SurgicalSceneCuttingResistance, EachLabelResistsWithItsToughnessAgainstTheB
   EXPECT_TRUE(scene.state_finite());
 }
 
+TEST(SurgicalSceneCuttingResistance, InputsInGapsGiveASteadyForceNotAFlicker) {
+  // A station's device states arrive in gaps (its deadband): here a new tip every 8th step, the
+  // same one in between. The resistance stays on between them, at the toughness times the depth
+  // (label 1: 100 J/m^2 x 1 cm = 1 N), and never pushes along the motion.
+  SurgicalScene scene(labelled_block());
+  const Real dt = 1e-4, speed = 0.2;
+  Real y = -0.01;
+  int steady = 0;
+  for (int n = 1; n <= 4000 && y < 0.07; ++n) {
+    if (n % 8 == 0) y += 8 * speed * dt;
+    const ToolInput in = upright(Vec3(0.0137, y, 0.02));
+    scene.step(std::span(&in, 1));
+    const Vec3 force = scene.force_model(0).force;
+    ASSERT_LE(force.y(), 0) << "y = " << y;
+    if (std::abs(y - kSize.y() / 2) < 0.015) {
+      EXPECT_NEAR(force.y(), -1.0, 1e-9) << "step " << n << ", y = " << y;
+      ++steady;
+    }
+  }
+  EXPECT_GT(steady, 500);
+}
+
 // The height of a polyline over the point: linear between its points, by p's projection on the
 // segment it is nearest (the liver's marked line, its points on the surface).
 Real surface_height(const std::vector<Vec3>& line, const Vec3& p) {
