@@ -36,7 +36,9 @@ const rows: Row[] = [
     value: (m) => {
       if (m.real_time_factor === undefined) return '—';
       const parts = [`${m.real_time_factor.toFixed(2)}x real time`];
-      if (m.behind_real_time && m.lag_ms !== undefined) parts.push(`${m.lag_ms.toFixed(0)} ms behind`);
+      // "Behind" holds until the session has kept up for a while (the server's hysteresis); the
+      // lag shows only while there is one.
+      if (m.behind_real_time && m.lag_ms !== undefined && m.lag_ms >= 1) parts.push(`${m.lag_ms.toFixed(0)} ms behind`);
       if (m.shed) parts.push(m.shed);
       return parts.join(', ');
     },
