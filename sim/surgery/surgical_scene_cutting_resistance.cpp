@@ -17,9 +17,11 @@
 namespace incise::sim::surgery {
 
 namespace {
-// Longer than the gaps between a station's device states (at most a few ticks of 2 ms), shorter
-// than a hand coming to rest.
-constexpr Real kBladeVelocityHoldS = 0.03;
+// Longer than the longest gap between a station's device states (the agent's deadband sends one
+// at least every 50 ms: devices/agent/haptic_loop.h), short beside a hand coming to rest.
+constexpr Real kBladeVelocityHoldS = 0.06;
+// Below this the tip stands still [m/s] (a hundredth of the resistance's ramp speed).
+constexpr Real kStandingSpeed = 1e-4;
 }  // namespace
 
 Real SurgicalScene::toughness(int label) const {
@@ -55,8 +57,10 @@ void SurgicalScene::resist_cut(Tool& tool) {
   // The velocity of the last step that moved, for up to kBladeVelocityHoldS
   // (surgical_scene_tool.h). Still passive: while the tip stands still the force does no work, and
   // the first step that moves again replaces it.
+  // "Moved": faster than kStandingSpeed. A held input still moves the tip by round-off (the
+  // engine interpolates between two equal inputs), and that must not replace the held velocity.
   const Vec3 step_velocity = (tool.tip - tool.previous_tip) / spec_.dt;
-  if (step_velocity.squaredNorm() > 0) {
+  if (step_velocity.squaredNorm() > kStandingSpeed * kStandingSpeed) {
     tool.blade_velocity = step_velocity;
     tool.blade_velocity_time = time_;
   } else if (time_ - tool.blade_velocity_time > kBladeVelocityHoldS) {

@@ -18,7 +18,8 @@ struct SurgicalScene::Tool {
   // Scalpel: the blade's last non-zero velocity and when it was seen [m/s, s]. Device states come
   // in gaps (the station's deadband holds back small moves): between two, the tip stands still
   // for a few steps, and a resistance that followed that would flicker on and off (a buzz in the
-  // hand, a flood of contact events in the review). It is held for kBladeVelocityHoldS.
+  // hand, a flood of contact events in the review). It is held for kBladeVelocityHoldS
+  // (surgical_scene_cutting_resistance.cpp).
   Vec3 blade_velocity = Vec3::Zero();
   Real blade_velocity_time = 0;
   Mat3 rotation = Mat3::Identity();
