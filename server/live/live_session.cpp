@@ -222,7 +222,10 @@ nlohmann::json LiveSession::status() const {
       std::lock_guard lock(pace_mutex_);
       pace = pace_.state_at(seconds_now());
     }
-    if (!ticking) pace.behind = false, pace.lag_s = 0;
+    if (!ticking) {
+      pace.behind = false;
+      pace.lag_s = 0;
+    }
     out["behind_real_time"] = pace.behind;
     out["lag_ms"] = pace.lag_s * 1e3;
     out["real_time_factor"] = pace.real_time_factor;
@@ -393,9 +396,10 @@ void LiveSession::run() {
     if (params_.after_tick) params_.after_tick();
     int shed_level = 0;
     {
+      const double now_s = seconds_now();
       std::lock_guard lock(pace_mutex_);
-      pace_.on_tick(seconds_now(), schedule_lag_s);
-      shed_level = pace_.state_at(seconds_now()).shed_level;
+      pace_.on_tick(now_s, schedule_lag_s);
+      shed_level = pace_.state_at(now_s).shed_level;
     }
     // Shedding (pace_monitor.h): fewer snapshots, so fewer frames rendered beside the physics.
     if (engine_.ticks() % (ticks_per_snapshot * render_divisor(shed_level)) == 0) {

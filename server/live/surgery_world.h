@@ -27,12 +27,10 @@ class SurgeryWorld {
   int substeps() const { return substeps_; }
   // One tick: hand h from from[h] to to[h] (the first two hands of the shorter span).
   void tick(std::span<const devices::DeviceState> from, std::span<const devices::DeviceState> to);
-  // A copy is a deep one (SurgicalScene::clone): a checkpoint that replays bit for bit.
+  // A copy is a deep one (SurgicalScene::clone): a checkpoint that replays bit for bit. (A
+  // replay's seek restores one; nothing rebuilds the scene from its start any more.)
   SurgeryWorld(const SurgeryWorld&) = default;
   SurgeryWorld& operator=(const SurgeryWorld&) = default;
-
-  // Back to the scene's start.
-  void reset();
 
   // What device `hand` feels: the force on the hand and the PSD stiffness of its tools' local
   // force models (SurgicalScene::force_model), and 1 node in contact while one of them touches.
@@ -52,6 +50,8 @@ class SurgeryWorld {
   const std::vector<sim::surgery::SceneEvent>& events() const { return events_; }
 
  private:
+  // The scene at its start (the constructor).
+  void reset();
   void follow_surface();
 
   std::shared_ptr<const sim::surgery::SurgicalSceneSetup> setup_;
