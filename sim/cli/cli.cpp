@@ -56,8 +56,9 @@ SCENE.json (units SI; members marked ? are optional):
                  "generate": {"shape": "sphere"|"ellipsoid"|"liver", "centre"?: [x, y, z],
                  "radius": r | "radii": [rx, ry, rz], "cell_size": h} (CGAL Mesh_3)
   material       model: "mss" (mass-spring, Paloc 2006; no free Poisson ratio),
-                 "linear", "corotational" (QR), "corotational_polar", "stvk", "neohookean"
-                 (Joshi et al., eq. 4). damping in [0, 1]: for mss the fraction of
+                 "linear", "corotational" (QR), "corotational_polar",
+                 "corotational_nodal_pressure" (polar, without volumetric locking), "stvk",
+                 "neohookean" (Joshi et al., eq. 4). damping in [0, 1]: for mss the fraction of
                  2 sqrt(k (m_i + m_j)) per spring, for FEM a viscosity of damping * l_min / c
                  (default 0.1)
   materials?     {"<label>": {"E", "nu", "density", "damping"?}}: per tissue label

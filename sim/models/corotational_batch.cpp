@@ -486,4 +486,14 @@ ModelHealth CorotationalBatch::add_forces(RotationExtraction extraction, const P
   return totals.health;
 }
 
+Mat3 CorotationalBatch::rotation(int t) const {
+  const std::size_t s = static_cast<std::size_t>(t);
+  const Real w = rotation_[0][s], x = rotation_[1][s], y = rotation_[2][s], z = rotation_[3][s];
+  Mat3 r;
+  r << 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),  //
+      2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),   //
+      2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y);
+  return r;
+}
+
 }  // namespace incise::sim

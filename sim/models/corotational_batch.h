@@ -49,6 +49,10 @@ class CorotationalBatch {
   ModelHealth add_forces(RotationExtraction extraction, const Points& x, const Points& v,
                          Points& f);
 
+  // Slot t's rotation: the warm start, which after add_forces with polar rotations is the
+  // rotation that call used (NodalPressureFem's second pass reads it).
+  Mat3 rotation(int t) const;
+
   // How many tets the last add_forces sent to the scalar rotation (for tests and benchmarks).
   int last_fallbacks() const { return fallbacks_; }
   // Newton iterations per tet in the last add_forces with polar rotations (each block of four

@@ -52,7 +52,7 @@ struct CorotationalKernel {
   Mat3 damping_frame(const State& state) const { return state.deformation; }
 };
 
-class CorotationalFem final : public TetFemModel<CorotationalKernel> {
+class CorotationalFem : public TetFemModel<CorotationalKernel> {
  public:
   //   mesh        rest positions, tets (positively oriented) and labels
   //   materials   material of tet label l at materials[l]; damping is beta [s] (tet_fem_model.h)

@@ -10,6 +10,7 @@ set(INCISE_SIM_MODELS_SOURCES ${INCISE_SIM_MODELS_SOURCES}
   models/model.cpp
   models/mass_spring_model.cpp
   models/neo_hookean_fem.cpp
+  models/nodal_pressure_fem.cpp
   models/rotation_extraction.cpp
   models/stvk_fem.cpp
   models/tet_elements.cpp

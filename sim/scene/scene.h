@@ -50,13 +50,17 @@ enum class MaterialModel {
   linear,              // "linear": small-strain linear FEM
   corotational,        // "corotational": corotational linear FEM, rotations by QR
   corotational_polar,  // "corotational_polar": the same with polar decomposition
-  stvk,                // "stvk": St Venant-Kirchhoff
-  neohookean,          // "neohookean": compressible Neo-Hookean (Joshi et al., eq. 4)
+  // "corotational_nodal_pressure": corotational_polar with averaged nodal pressure, free of
+  // volumetric locking (sim/models/nodal_pressure_fem.h)
+  corotational_nodal_pressure,
+  stvk,        // "stvk": St Venant-Kirchhoff
+  neohookean,  // "neohookean": compressible Neo-Hookean (Joshi et al., eq. 4)
 };
 
 // The scene files' names of the material models, as error messages list them.
 inline constexpr std::string_view kMaterialModelNames =
-    "mss, linear, corotational, corotational_polar, stvk, neohookean";
+    "mss, linear, corotational, corotational_polar, corotational_nodal_pressure, stvk, "
+    "neohookean";
 
 // The material model a scene file names `name`, or nullopt (every scene format reads it so).
 inline std::optional<MaterialModel> material_model_named(std::string_view name) {
@@ -65,6 +69,7 @@ inline std::optional<MaterialModel> material_model_named(std::string_view name) 
       {"linear", MaterialModel::linear},
       {"corotational", MaterialModel::corotational},
       {"corotational_polar", MaterialModel::corotational_polar},
+      {"corotational_nodal_pressure", MaterialModel::corotational_nodal_pressure},
       {"stvk", MaterialModel::stvk},
       {"neohookean", MaterialModel::neohookean},
   };

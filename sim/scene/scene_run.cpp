@@ -14,6 +14,7 @@
 #include "sim/models/linear_fem.h"
 #include "sim/models/mass_spring_model.h"
 #include "sim/models/neo_hookean_fem.h"
+#include "sim/models/nodal_pressure_fem.h"
 #include "sim/models/stvk_fem.h"
 #include "sim/scene/node_selection.h"
 #include "sim/scene/scene_error.h"
@@ -153,6 +154,8 @@ std::unique_ptr<Model> make_model(const Scene& scene, const TetMesh& mesh) {
       case MaterialModel::corotational_polar:
         return std::make_unique<CorotationalFem>(mesh, std::move(materials),
                                                  RotationExtraction::polar);
+      case MaterialModel::corotational_nodal_pressure:
+        return std::make_unique<NodalPressureFem>(mesh, std::move(materials));
       case MaterialModel::stvk:
         return std::make_unique<StVenantKirchhoffFem>(mesh, std::move(materials), tangent);
       case MaterialModel::neohookean:

@@ -12,7 +12,8 @@
 //                                 "flexion_deg"}                      (LiverOptions, KneeOptions)
 //     "materials"?: {"<tissue>": {"model"?, "E"?, "nu"?, "density"?, "damping"?, "toughness"?}}
 //                   tissues: liver: "liver"; knee: "meniscus", "ligament"; model one of mss,
-//                   linear, corotational, corotational_polar, stvk, neohookean; toughness [J/m^2]
+//                   linear, corotational, corotational_polar, corotational_nodal_pressure,
+//                   stvk, neohookean; toughness [J/m^2]
 //                   >= 0, the work to cut a unit area (the scalpel's resistance; the preset's:
 //                   liver 200, meniscus 500, ligament 1000)
 //     "tools"?: [ {"kind": "probe" | "grasper" | "scalpel" | "scope", "device": integer >= 0,

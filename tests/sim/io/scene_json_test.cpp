@@ -154,7 +154,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"/material/nu", "-1.2", "material.nu: must be in (-1, 0.5) (got -1.2)"},
         BadCase{"/material/model", "\"fem\"",
                 "material.model: unknown model \"fem\" (expected: mss, linear, corotational, "
-                "corotational_polar, stvk, neohookean)"},
+                "corotational_polar, corotational_nodal_pressure, stvk, neohookean)"},
         BadCase{"/material/youngs", "1",
                 "material.youngs: unknown key (expected one of: model, E, nu, density, "
                 "damping, volume_stiffness)"},

@@ -7,6 +7,7 @@
 #include "sim/models/linear_fem.h"
 #include "sim/models/mass_spring_model.h"
 #include "sim/models/neo_hookean_fem.h"
+#include "sim/models/nodal_pressure_fem.h"
 #include "sim/models/stvk_fem.h"
 
 namespace incise::sim::testing {
@@ -106,6 +107,10 @@ std::vector<ModelFactory> all_models() {
       {"corotational_polar", true,
        [](const TetMesh& m, const Materials& mat) {
          return std::make_unique<CorotationalFem>(m, mat, RotationExtraction::polar);
+       }},
+      {"corotational_nodal_pressure", true,
+       [](const TetMesh& m, const Materials& mat) {
+         return std::make_unique<NodalPressureFem>(m, mat);
        }},
       {"stvk", true,
        [](const TetMesh& m, const Materials& mat) {

@@ -27,8 +27,8 @@ struct ModelFactory {
   bool rotation_invariant;
   std::function<std::unique_ptr<Model>(const TetMesh&, const std::vector<ElementMaterial>&)> make;
 };
-// Every model: linear, corotational (QR), corotational_polar, stvk, neohookean, mss, mss with the
-// volume term.
+// Every model: linear, corotational (QR), corotational_polar, corotational_nodal_pressure, stvk,
+// neohookean, mss, mss with the volume term.
 std::vector<ModelFactory> all_models();
 
 // Internal forces of model at (x, v).

@@ -32,6 +32,8 @@ std::string name_of(MaterialModel model) {
       return "corotational";
     case MaterialModel::corotational_polar:
       return "corotational_polar";
+    case MaterialModel::corotational_nodal_pressure:
+      return "corotational_nodal_pressure";
     case MaterialModel::stvk:
       return "stvk";
     case MaterialModel::neohookean:

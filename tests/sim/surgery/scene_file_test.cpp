@@ -295,7 +295,7 @@ TEST(SceneFile, EveryBadInputNamesItsPath) {
        "materials.meniscus: unknown key (expected one of: liver)"},
       {R"({"anatomy": "knee", "materials": {"ligament": {"model": "foam"}}})",
        R"(materials.ligament.model: "foam" is not one of mss, linear, corotational, )"
-       R"(corotational_polar, stvk, neohookean)"},
+       R"(corotational_polar, corotational_nodal_pressure, stvk, neohookean)"},
       {R"({"anatomy": "liver", "anatomy_options": {"cell_size": 0.1}})",
        "anatomy_options.cell_size: cell_size [m] = 0.1 is outside [0.00266667, 0.032]"},
       {R"({"anatomy": "knee", "anatomy_options": {"flexion_deg": 100}})",
