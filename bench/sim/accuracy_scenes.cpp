@@ -106,6 +106,8 @@ std::string model_name(sim::MaterialModel model) {
       return "corotational";
     case sim::MaterialModel::corotational_polar:
       return "corotational_polar";
+    case sim::MaterialModel::corotational_nodal_pressure:
+      return "corotational_nodal_pressure";
     case sim::MaterialModel::stvk:
       return "stvk";
     case sim::MaterialModel::neohookean:

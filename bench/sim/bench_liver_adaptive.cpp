@@ -137,28 +137,6 @@ void apply_load(const Points& rest, const VecX& masses, const VecX& inverse_mass
   }
 }
 
-// The displacement field of a mesh (rest, x, tets, alive) at rest point p: barycentric in the tet
-// holding p, or in the tet whose smallest barycentric weight is largest (the nearest, for a point
-// just outside a coarser surface; the field is extrapolated linearly).
-Vec3 displacement_at(const Points& rest, const Points& x, const Tets& tets,
-                     const std::vector<char>* alive, const Vec3& p) {
-  Real best = -std::numeric_limits<Real>::infinity();
-  Vec3 u = Vec3::Zero();
-  for (Eigen::Index t = 0; t < tets.rows(); ++t) {
-    if (alive != nullptr && (*alive)[static_cast<std::size_t>(t)] == 0) continue;
-    const std::array<int, 4> n{tets(t, 0), tets(t, 1), tets(t, 2), tets(t, 3)};
-    std::array<Vec3, 4> corners;
-    for (std::size_t k = 0; k < 4; ++k)
-      corners[k] = rest.row(n[k]).transpose();
-    const Weights4 w = barycentric(corners, p);
-    if (w.minCoeff() <= best) continue;
-    best = w.minCoeff();
-    u = interpolate_rows(x, n, w) - interpolate_rows(rest, n, w);
-    if (best >= 0) break;
-  }
-  return u;
-}
-
 struct Run {
   std::string name;
   int tets_min = 0, tets_max = 0;

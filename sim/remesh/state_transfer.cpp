@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <Eigen/LU>
@@ -39,6 +40,23 @@ Vec3 interpolate_rows(const Points& values, const std::array<int, 4>& rows, cons
   return interpolate(
       {row3(values, rows[0]), row3(values, rows[1]), row3(values, rows[2]), row3(values, rows[3])},
       w);
+}
+
+Vec3 displacement_at(const Points& rest, const Points& x, const Tets& tets,
+                     const std::vector<char>* alive, const Vec3& p) {
+  Real best = -std::numeric_limits<Real>::infinity();
+  Vec3 u = Vec3::Zero();
+  for (Eigen::Index t = 0; t < tets.rows(); ++t) {
+    if (alive != nullptr && (*alive)[static_cast<std::size_t>(t)] == 0) continue;
+    const std::array<int, 4> n{tets(t, 0), tets(t, 1), tets(t, 2), tets(t, 3)};
+    const Weights4 w =
+        barycentric({row3(rest, n[0]), row3(rest, n[1]), row3(rest, n[2]), row3(rest, n[3])}, p);
+    if (w.minCoeff() <= best) continue;
+    best = w.minCoeff();
+    u = interpolate_rows(x, n, w) - interpolate_rows(rest, n, w);
+    if (best >= 0) break;
+  }
+  return u;
 }
 
 LocatedInsertion insert_located(RemeshMesh& mesh, const Location& where, const Vec3& p) {

@@ -11,6 +11,7 @@
 
 #include <array>
 #include <functional>
+#include <vector>
 
 #include "sim/core/types.h"
 #include "sim/remesh/insertion.h"
@@ -32,6 +33,13 @@ Vec3 interpolate(const std::array<Vec3, 4>& values, const Weights4& w);
 Real interpolate(const std::array<Real, 4>& values, const Weights4& w);
 // sum_i w_i values.row(rows[i]), for a #nodes by 3 attribute (positions, velocities, ...).
 Vec3 interpolate_rows(const Points& values, const std::array<int, 4>& rows, const Weights4& w);
+
+// The displacement x - rest of a tet mesh at rest point p: barycentric in the tet holding p, or,
+// for a point outside the mesh (just outside a coarser mesh of the same shape), in the tet whose
+// smallest weight is largest, the field extrapolated linearly. alive: per tet, 0 to skip (nullptr:
+// every tet). A scan of all tets: for comparing fields in benchmarks and tests, not for a step.
+Vec3 displacement_at(const Points& rest, const Points& x, const Tets& tets,
+                     const std::vector<char>* alive, const Vec3& p);
 
 // An insertion as the models need it.
 struct InsertedVertex {
