@@ -32,6 +32,9 @@ out=results/bench-$(date -u +%Y%m%dT%H%M%SZ).txt
   echo "## the liver at a surgical station: a tick idle, grasping and cutting, by cell size"
   "$bin/bench_surgery_live"
   echo
+  echo "## the station liver: ticks per phase, what the hand feels against a converged reference"
+  if [ "${1:-}" = "--quick" ]; then "$bin/bench_station" --scene liver --quick; else "$bin/bench_station" --scene liver; fi
+  echo
   echo "## seeking in a replay of a 3-minute liver attempt"
   "$bin/bench_replay_seek"
   echo

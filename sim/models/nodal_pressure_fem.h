@@ -1,14 +1,14 @@
 #pragma once
 // Corotational FEM (polar) with averaged nodal pressure: linear tets without volumetric locking.
 //
-// A linear tet has one volume change per element. In nearly incompressible tissue (nu 0.45 and
-// up) the mesh has about as many elements as nodes' worth of freedom, so keeping every element's
-// volume nearly constant leaves too few motions: the mesh locks, stiffer than the tissue, and
-// refining it converges slowly (the station liver's grasp pull: 0.91 N on 14 mm cells, 0.62 N on
-// 8 mm, 0.43 N on 5 mm; docs/physics.md, "Locking"). Averaged nodal pressure (Bonet and Burton
-// 1998, "A simple average nodal pressure tetrahedral element"; Bonet, Marriott and Hassan 2001)
-// keeps the deviatoric part of the corotational energy per element and takes the volumetric part
-// per node, from the volume change averaged over the node's elements:
+// A linear tet has one volume change per element. As nu -> 1/2, keeping every element's volume
+// leaves too few motions: the mesh locks, stiffer than the tissue (Lame's thick cylinder at nu
+// 0.4999: plain tets 24 % short, this model 5 %; at the liver's nu 0.45 both are within 5 %:
+// tests/sim/models/nodal_pressure_fem_test.cpp; the station liver: docs/station_accuracy.md).
+// Averaged nodal pressure (Bonet and Burton 1998, "A simple average nodal pressure tetrahedral
+// element"; Bonet, Marriott and Hassan 2001) keeps the deviatoric part of the corotational energy
+// per element and takes the volumetric part per node, from the volume change averaged over the
+// node's elements:
 //
 //   eps_e = sym(R_e^T F_e) - I,  theta_e = tr(eps_e),  kappa_e = lambda_e + 2 mu_e / 3
 //   W_n = sum_{e at n} V_e / 4,  theta_n = sum_{e at n} (V_e / 4) theta_e / W_n,
