@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <concepts>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
@@ -19,6 +20,13 @@ std::string number(Real value) {
 
 void require(bool ok, const std::string& message) {
   if (!ok) throw std::invalid_argument(message);
+}
+
+// The per-step checks (measure, prescribe, hold) build their message only when they fail: a
+// step must not allocate (tests/sim/surgery/surgical_scene_allocation_test.cpp).
+template <std::invocable Message>
+void require(bool ok, Message&& message) {
+  if (!ok) throw std::invalid_argument(message());
 }
 
 void check_settings(const GraspSettings& s) {
@@ -195,9 +203,10 @@ int Grasper::grab(const Points& rest, const Points& x, const VecX& inverse_masse
 
 std::optional<ReleaseEvent> Grasper::measure(const Points& internal_forces) {
   if (phase_ != GraspPhase::holding) return std::nullopt;
-  require(internal_forces.rows() > grabbed_.back(),
-          "Grasper::measure: internal_forces has " + std::to_string(internal_forces.rows()) +
-              " rows, the grasper holds vertex " + std::to_string(grabbed_.back()));
+  require(internal_forces.rows() > grabbed_.back(), [&] {
+    return "Grasper::measure: internal_forces has " + std::to_string(internal_forces.rows()) +
+           " rows, the grasper holds vertex " + std::to_string(grabbed_.back());
+  });
   Vec3 sum = Vec3::Zero();
   for (const int i : grabbed_)
     sum += row3(internal_forces, i);
@@ -214,10 +223,11 @@ Vec3 Grasper::held_position(std::size_t k) const {
 void Grasper::prescribe(Prescribed& prescribed) const {
   if (phase_ != GraspPhase::holding) return;
   const int last = grabbed_.back();
-  require(prescribed.mask.rows() > last && prescribed.position.rows() > last,
-          "Grasper::prescribe: mask and position need a row for vertex " + std::to_string(last) +
-              ", got " + std::to_string(prescribed.mask.rows()) + " and " +
-              std::to_string(prescribed.position.rows()) + " rows");
+  require(prescribed.mask.rows() > last && prescribed.position.rows() > last, [&] {
+    return "Grasper::prescribe: mask and position need a row for vertex " + std::to_string(last) +
+           ", got " + std::to_string(prescribed.mask.rows()) + " and " +
+           std::to_string(prescribed.position.rows()) + " rows";
+  });
   for (std::size_t k = 0; k < grabbed_.size(); ++k) {
     const int i = grabbed_[k];
     prescribed.mask.row(i).setOnes();
@@ -227,12 +237,13 @@ void Grasper::prescribe(Prescribed& prescribed) const {
 
 void Grasper::hold(Real dt, Points& x, Points& v) const {
   require(dt > 0 && std::isfinite(dt),
-          "Grasper::hold: dt must be finite and > 0, got " + number(dt));
+          [&] { return "Grasper::hold: dt must be finite and > 0, got " + number(dt); });
   if (phase_ != GraspPhase::holding) return;
   const int last = grabbed_.back();
-  require(x.rows() > last && v.rows() > last,
-          "Grasper::hold: x and v need a row for vertex " + std::to_string(last) + ", got " +
-              std::to_string(x.rows()) + " and " + std::to_string(v.rows()) + " rows");
+  require(x.rows() > last && v.rows() > last, [&] {
+    return "Grasper::hold: x and v need a row for vertex " + std::to_string(last) + ", got " +
+           std::to_string(x.rows()) + " and " + std::to_string(v.rows()) + " rows";
+  });
   for (std::size_t k = 0; k < grabbed_.size(); ++k) {
     const int i = grabbed_[k];
     const Vec3 now = held_position(k);
