@@ -76,8 +76,13 @@ std::unique_ptr<TissueBody> TissueBody::clone() const {
   return copy;
 }
 
-void TissueBody::rebuild_surface() {
-  surface_ = boundary_surface(mesh_);
+void TissueBody::rebuild_surface(std::span<const int>* changed) {
+  if (changed != nullptr) {
+    boundary_.update(mesh_.tets, *changed);
+  } else {
+    boundary_ = BoundaryTracker(mesh_.tets);
+  }
+  surface_ = boundary_.surface(mesh_.num_nodes());
   faces_ = collide::mesh_surface_faces(surface_);
   bvh_.build(mesh_.x, faces_);
 }
@@ -227,7 +232,8 @@ BisectionReport TissueBody::refine(const Vec3& centre, Real radius, Real edge_le
   model_->update_elements(mesh_, alive_, report.changed);
   ++local_updates_;
   update_inverse_masses();
-  rebuild_surface();
+  std::span<const int> split(report.changed);
+  rebuild_surface(&split);
   internal_.setZero(mesh_.num_nodes(), 3);
   forces_.setZero(mesh_.num_nodes(), 3);
   return report;
@@ -257,7 +263,8 @@ void TissueBody::topology_changed(int tets_before, std::span<const int> changed)
   }
   // Model::update_elements follows slot views that only grow (remeshing's): when the cut undid
   // temporary pieces and the arrays shrank, the model is rebuilt instead.
-  if (mesh_.num_tets() >= tets_before && static_cast<std::size_t>(n) >= old_nodes) {
+  const bool grew = mesh_.num_tets() >= tets_before && static_cast<std::size_t>(n) >= old_nodes;
+  if (grew) {
     alive_.assign(static_cast<std::size_t>(mesh_.num_tets()), 1);
     model_->update_elements(mesh_, alive_, changed);
     ++local_updates_;
@@ -266,7 +273,7 @@ void TissueBody::topology_changed(int tets_before, std::span<const int> changed)
     ++full_updates_;
   }
   update_inverse_masses();
-  rebuild_surface();
+  rebuild_surface(grew ? &changed : nullptr);
   internal_.setZero(n, 3);
   forces_.setZero(n, 3);
 }

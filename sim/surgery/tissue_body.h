@@ -146,7 +146,10 @@ class TissueBody {
  private:
   TissueBody(const TissueBody&) = default;  // through clone(), which fixes condensed_
 
-  void rebuild_surface();
+  // The surface and its tree after a change: from scratch (changed == nullptr: a new mesh, a
+  // compaction), or with the boundary tracker updated for the changed tet slots only (the mesh
+  // grew: a cut frame, a refinement).
+  void rebuild_surface(std::span<const int>* changed = nullptr);
   void update_inverse_masses();
   // After a compaction (node_map: old node -> new or -1): held flags and kept splits follow,
   // the model is rebuilt.
@@ -159,6 +162,7 @@ class TissueBody {
   std::vector<char> fixed_;
   std::vector<std::array<Real, 3>> fixed_rest_;  // sorted rest points of held nodes
   VecX inv_mass_;
+  BoundaryTracker boundary_;
   BoundarySurface surface_;
   Triangles faces_;
   collide::SurfaceBvh bvh_;

@@ -3,9 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <map>
 #include <set>
+#include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include "sim/mesh/box_mesher.h"
 
@@ -145,6 +148,71 @@ TEST(SurfaceVertices, CollapsedSurfaceHasZeroNormalsNotNaN) {
   Points V, N;
   surface_vertices(surface, Points::Zero(mesh.num_nodes(), 3), V, N);
   EXPECT_TRUE(N.isZero(0));
+}
+
+// The tracker's surface equals a fresh extraction through a run of local changes: tets split at
+// their centroids (slot t keeps one child, three are appended), and one tet taken out of the mesh
+// by giving its slot the nodes of a detached copy (a crack opening).
+void expect_same(const BoundarySurface& a, const BoundarySurface& b, int change) {
+  ASSERT_EQ(a.nodes, b.nodes) << "change " << change;
+  ASSERT_EQ(a.tets, b.tets) << "change " << change;
+  ASSERT_TRUE(a.faces == b.faces) << "change " << change;
+}
+
+TEST(BoundaryTracker, FollowsLocalChangesFaceForFace) {
+  TetMesh mesh = make_box_mesh(kSize, kCells);
+  BoundaryTracker tracker(mesh.tets);
+  expect_same(tracker.surface(mesh.num_nodes()), boundary_surface(mesh), -1);
+  std::vector<int> changed;
+  for (int change = 0; change < 40; ++change) {
+    changed.clear();
+    const int t = (change * 37) % static_cast<int>(mesh.tets.rows());
+    const std::array<int, 4> n{mesh.tets(t, 0), mesh.tets(t, 1), mesh.tets(t, 2), mesh.tets(t, 3)};
+    const int first_new = mesh.num_nodes();
+    if (change % 5 == 4) {
+      // Detach tet t: its slot gets four new nodes at the same places.
+      mesh.rest.conservativeResize(first_new + 4, 3);
+      for (int k = 0; k < 4; ++k) {
+        mesh.rest.row(first_new + k) = mesh.rest.row(n[static_cast<std::size_t>(k)]);
+        mesh.tets(t, k) = first_new + k;
+      }
+      changed.push_back(t);
+    } else {
+      // Split at the centroid c: (c, 1, 2, 3), (0, c, 2, 3), (0, 1, c, 3), (0, 1, 2, c) keep the
+      // orientation.
+      mesh.rest.conservativeResize(first_new + 1, 3);
+      Vec3 centre = Vec3::Zero();
+      for (const int v : n)
+        centre += row3(mesh.rest, v) / 4;
+      mesh.rest.row(first_new) = centre.transpose();
+      const auto rows = mesh.tets.rows();
+      mesh.tets.conservativeResize(rows + 3, 4);
+      for (int k = 0; k < 4; ++k) {
+        std::array<int, 4> child = n;
+        child[static_cast<std::size_t>(k)] = first_new;
+        const auto row = k == 0 ? static_cast<Eigen::Index>(t) : rows + k - 1;
+        for (int j = 0; j < 4; ++j)
+          mesh.tets(row, j) = child[static_cast<std::size_t>(j)];
+        changed.push_back(static_cast<int>(row));
+      }
+    }
+    mesh.labels.conservativeResize(mesh.tets.rows());
+    mesh.labels.setZero();
+    tracker.update(mesh.tets, changed);
+    expect_same(tracker.surface(mesh.num_nodes()), boundary_surface(mesh), change);
+  }
+}
+
+TEST(BoundaryTracker, RefusesAFaceSharedByThreeTetsAndAShrinkingMesh) {
+  const TetMesh mesh = make_box_mesh(kSize, kCells);
+  Tets three(3, 4);
+  three << 0, 1, 2, 3,  //
+      0, 1, 2, 4,       //
+      0, 1, 2, 5;
+  EXPECT_THROW(BoundaryTracker{three}, std::invalid_argument);
+  BoundaryTracker tracker(mesh.tets);
+  const Tets fewer = mesh.tets.topRows(mesh.tets.rows() - 1);
+  EXPECT_THROW(tracker.update(fewer, {}), std::invalid_argument);
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "sim/cut/simplify_cut.h"
+#include "sim/mesh/boundary_surface.h"
 #include "sim/mesh/box_mesher.h"
 #include "sim/scene/scene_run.h"
 #include "sim/solve/stable_time_step.h"
@@ -486,6 +487,13 @@ void random_tool_sequence(bool adaptive_tissue) {
     }
     scene.step(inputs);
     ASSERT_TRUE(scene.state_finite()) << "step " << n;
+    // The surface the tissue keeps up to date through cuts, refinement and coarsening
+    // (BoundaryTracker) is the one a from-scratch extraction gives, face for face.
+    const BoundarySurface fresh = boundary_surface(scene.tissue().mesh());
+    const BoundarySurface& kept = scene.tissue().surface();
+    ASSERT_EQ(kept.nodes, fresh.nodes) << "step " << n;
+    ASSERT_EQ(kept.tets, fresh.tets) << "step " << n;
+    ASSERT_TRUE(kept.faces == fresh.faces) << "step " << n;
   }
   for (int device = 0; device < 3; ++device) {
     const tools::LocalForceModel m = scene.force_model(device);
