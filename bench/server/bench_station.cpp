@@ -382,7 +382,8 @@ int run_liver(const Options& options) {
   probing.move(probe_above(s), probe_above(s), parked(), parked(), settle_s);
   const Equilibrium probed = probe_phase(probing, s, phases[1]);
 
-  // The reference: the same scripts on two uniformly fine meshes without adaptivity, extrapolated.
+  // The reference: the same scripts on the uniformly fine mesh without adaptivity, and on one 1.25
+  // times coarser for the reference's spread.
   const double fine_cell = options.quick ? 0.006 : options.reference_cell;
   const double ratio = 1.25;
   struct Reference {

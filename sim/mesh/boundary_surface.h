@@ -40,9 +40,9 @@ class BoundaryTracker {
   // for a node index of 2^21 or more (faces are keyed by their three nodes in 64 bits).
   explicit BoundaryTracker(const Tets& tets);
 
-  // Rows `changed` of tets hold other tets than at the last call (or are new rows: the mesh may
-  // only have grown); every other row is as it was. Throws as the constructor, with the tracker
-  // then unusable (rebuild it).
+  // Rows `changed` (each at most once) of tets hold other tets than at the last call (or are new
+  // rows: the mesh may only have grown); every other row is as it was. Throws as the constructor,
+  // with the tracker then unusable (rebuild it).
   void update(const Tets& tets, std::span<const int> changed);
 
   // The surface, numbered as boundary_surface numbers it; num_nodes is the mesh's node count.

@@ -246,6 +246,9 @@ void NodalPressureFem::update_elements(const TetMesh& mesh, const std::vector<ch
 bool NodalPressureFem::soften_element(int t, Real factor) {
   if (!CorotationalFem::soften_element(t, factor)) return false;
   softened_[static_cast<std::size_t>(t)] = 1;
+  // Leaving the averages changes which nodes the stiffness couples: a solver keeping a sparsity
+  // pattern must see a new one.
+  topology_changed();
   refresh_nodes();
   return true;
 }

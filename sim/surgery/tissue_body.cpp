@@ -77,11 +77,15 @@ std::unique_ptr<TissueBody> TissueBody::clone() const {
 }
 
 void TissueBody::rebuild_surface(std::span<const int>* changed) {
-  if (changed != nullptr) {
-    boundary_.update(mesh_.tets, *changed);
-  } else {
-    boundary_ = BoundaryTracker(mesh_.tets);
+  bool local = changed != nullptr;
+  if (local) {
+    try {
+      boundary_.update(mesh_.tets, *changed);
+    } catch (const std::invalid_argument&) {
+      local = false;  // the tracker is half updated: from scratch (which throws as it did)
+    }
   }
+  if (!local) boundary_ = BoundaryTracker(mesh_.tets);
   surface_ = boundary_.surface(mesh_.num_nodes());
   faces_ = collide::mesh_surface_faces(surface_);
   bvh_.build(mesh_.x, faces_);

@@ -174,24 +174,24 @@ Mat3 Probe::balance(const collide::SurfaceBvh& bvh, const Points& x, const Point
   for (int pass = 0; pass < kBalancePasses; ++pass) {
     // A = I + dt^2 K G over the active contacts (an inactive one: identity row, no load).
     system_.setIdentity(count, count);
-    Eigen::Matrix<Real, Eigen::Dynamic, 3> kn = k * normals_;
-    Eigen::VectorXd ke = k * excess_;
+    kn_ = k * normals_;
+    ke_ = k * excess_;
     for (Eigen::Index c = 0; c < count; ++c) {
       if (active_[static_cast<std::size_t>(c)] == 0) {
-        kn.row(c).setZero();
-        ke(c) = 0;
+        kn_.row(c).setZero();
+        ke_(c) = 0;
         continue;
       }
       for (Eigen::Index d = 0; d < count; ++d) {
         if (active_[static_cast<std::size_t>(d)] != 0) system_(c, d) += dt * dt * k * gram_(c, d);
       }
     }
-    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(system_);
-    const Eigen::Matrix<Real, Eigen::Dynamic, 3> a_kn = lu.solve(kn);
-    const Eigen::VectorXd a_ke = lu.solve(ke);
-    m = normals_.transpose() * a_kn;
+    lu_.compute(system_);
+    a_kn_ = lu_.solve(kn_);
+    a_ke_ = lu_.solve(ke_);
+    m = normals_.transpose() * a_kn_;
     m = 0.5 * (m + m.transpose());
-    const Vec3 pushed_out = normals_.transpose() * a_ke;
+    const Vec3 pushed_out = normals_.transpose() * a_ke_;
     // The coupling: a spring; saturated, its force at p0 is capped at max_force (the spring's
     // stiffness stays in the solve, so that the proxy moves a bounded distance).
     const Vec3 pull = kv * (device_ - from);
@@ -203,10 +203,11 @@ Mat3 Probe::balance(const collide::SurfaceBvh& bvh, const Points& x, const Point
     // Through the swept check, so that the proxy never tunnels into the tissue; the contacts'
     // forces follow where it actually went.
     shift = motion_.move(bvh, x, from, from + shift).centre - from;
-    const Eigen::VectorXd lambda = a_ke - a_kn * shift;
+    lambda_ = a_ke_;
+    lambda_.noalias() -= a_kn_ * shift;
     bool changed = false;
     for (std::size_t c = 0; c < n; ++c) {
-      if (active_[c] != 0 && lambda(static_cast<Eigen::Index>(c)) < 0) {
+      if (active_[c] != 0 && lambda_(static_cast<Eigen::Index>(c)) < 0) {
         active_[c] = 0;
         changed = true;
       }
@@ -214,7 +215,7 @@ Mat3 Probe::balance(const collide::SurfaceBvh& bvh, const Points& x, const Point
     proxy_ = from + shift;
     for (std::size_t c = 0; c < n; ++c) {
       multipliers_[c] =
-          active_[c] != 0 ? std::max(Real(0), lambda(static_cast<Eigen::Index>(c))) : Real(0);
+          active_[c] != 0 ? std::max(Real(0), lambda_(static_cast<Eigen::Index>(c))) : Real(0);
     }
     if (!changed) break;
   }

@@ -50,6 +50,8 @@
 
 #include <vector>
 
+#include <Eigen/LU>
+
 #include "sim/collide/surface_bvh.h"
 #include "sim/core/types.h"
 #include "sim/tools/force_model.h"
@@ -161,9 +163,12 @@ class Probe {
   // Scratch of the balance, per contact (resized, not reallocated, while the count is steady).
   std::vector<Real> multipliers_;
   std::vector<char> active_;
+  // balance()'s work arrays, kept so that a step with as many contacts as the last allocates
+  // nothing.
   Eigen::MatrixXd gram_, system_;
-  Eigen::VectorXd excess_;
-  Eigen::Matrix<Real, Eigen::Dynamic, 3> normals_;
+  Eigen::VectorXd excess_, ke_, a_ke_, lambda_;
+  Eigen::Matrix<Real, Eigen::Dynamic, 3> normals_, kn_, a_kn_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
 };
 
 }  // namespace incise::sim::tools

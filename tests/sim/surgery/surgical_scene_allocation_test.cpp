@@ -1,7 +1,7 @@
 // A surgical scene's steps allocate nothing: with no tool near the tissue, with a probe held
 // pressed in, with a grasper holding a lifted patch, and a scalpel's stroke between its cut frames.
-// Counted through the global operator new of this test executable (its own, so that no other
-// test's allocations count). Frames that change the mesh (refinement, coarsening, cut frames)
+// Counted through the C allocator of this test executable (its own, so that no other test's
+// allocations count). Frames that change the mesh (refinement, coarsening, cut frames)
 // still allocate: they grow arrays.
 // To find an allocation: TRAP_ALLOC=1 gdb -ex run -ex bt --args
 //   build/bin/sim_surgery_allocation_tests --gtest_filter=...  (it traps on the first one counted)
@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdlib>
-#include <new>
 #include <numbers>
 #include <span>
 #include <vector>
@@ -24,19 +23,32 @@
 namespace {
 std::atomic<long> allocations{0};
 std::atomic<bool> counting{false};  // inside allocations_over or a counted step
-}  // namespace
 
-void* operator new(std::size_t size) {
+void count() {
   ++allocations;
   if (counting.load() && std::getenv("TRAP_ALLOC") != nullptr) __builtin_trap();
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
 }
-void operator delete(void* p) noexcept {
-  std::free(p);
+}  // namespace
+
+// The C allocator itself, interposed (glibc), so that Eigen's matrices, which take their memory
+// from std::malloc and not from operator new, count as well as std containers and strings (the
+// default operator new calls malloc).
+extern "C" {
+void* __libc_malloc(std::size_t size);
+void* __libc_calloc(std::size_t count, std::size_t size);
+void* __libc_realloc(void* p, std::size_t size);
+void* malloc(std::size_t size) {
+  count();
+  return __libc_malloc(size);
 }
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
+void* calloc(std::size_t n, std::size_t size) {
+  count();
+  return __libc_calloc(n, size);
+}
+void* realloc(void* p, std::size_t size) {
+  count();
+  return __libc_realloc(p, size);
+}
 }
 
 namespace incise::sim::surgery {
