@@ -59,20 +59,29 @@ void NodalPressureFem::refresh_nodes() {
   stiff_rotation_.resize(static_cast<std::size_t>(e.num_tets()), Mat3::Identity());
 }
 
-void NodalPressureFem::nodal_pressures(const Points& x, std::span<const Mat3> rotations) {
+void NodalPressureFem::add_correction(const Points& u, std::span<const Mat3> rotations, Real offset,
+                                      Real sign, Points& out) const {
   const TetElements& e = elements();
   pressure_.setZero();
   for (int t = 0; t < e.num_tets(); ++t) {
     if (!averaged(t)) continue;
     const std::size_t ts = static_cast<std::size_t>(t);
-    const Mat3 deformation = edge_matrix(x, e.tets, t) * e.rest_inverse[ts];
-    theta_[ts] = rotations[ts].cwiseProduct(deformation).sum() - 3;  // tr(R^T F) - 3
+    const Mat3 deformation = edge_matrix(u, e.tets, t) * e.rest_inverse[ts];
+    theta_[ts] = rotations[ts].cwiseProduct(deformation).sum() - offset;  // tr(R^T F) - offset
     const Real share = e.rest_volume(t) / 4 * theta_[ts];
     for (int a = 0; a < 4; ++a)
       pressure_(e.tets(t, a)) += share;
   }
   for (int n = 0; n < e.num_nodes(); ++n)
     pressure_(n) = node_weight_(n) > 0 ? node_kappa_(n) * pressure_(n) / node_weight_(n) : 0;
+  for (int t = 0; t < e.num_tets(); ++t) {
+    if (!averaged(t)) continue;
+    const std::size_t ts = static_cast<std::size_t>(t);
+    const Real mean = Real(0.25) * (pressure_(e.tets(t, 0)) + pressure_(e.tets(t, 1)) +
+                                    pressure_(e.tets(t, 2)) + pressure_(e.tets(t, 3)));
+    scatter_stress(e, t, sign * (mean - bulk_modulus(e.lame[ts]) * theta_[ts]) * rotations[ts],
+                   out);
+  }
 }
 
 void NodalPressureFem::add_forces(const Points& x, const Points& v, Points& f) {
@@ -81,15 +90,7 @@ void NodalPressureFem::add_forces(const Points& x, const Points& v, Points& f) {
   for (int t = 0; t < e.num_tets(); ++t) {
     if (averaged(t)) rotation_[static_cast<std::size_t>(t)] = batch().rotation(t);
   }
-  nodal_pressures(x, rotation_);
-  for (int t = 0; t < e.num_tets(); ++t) {
-    if (!averaged(t)) continue;
-    const std::size_t ts = static_cast<std::size_t>(t);
-    const Real mean = Real(0.25) * (pressure_(e.tets(t, 0)) + pressure_(e.tets(t, 1)) +
-                                    pressure_(e.tets(t, 2)) + pressure_(e.tets(t, 3)));
-    const Real correction = mean - bulk_modulus(e.lame[ts]) * theta_[ts];
-    scatter_stress(e, t, correction * rotation_[ts], f);
-  }
+  add_correction(x, rotation_, 3, 1, f);
 }
 
 void NodalPressureFem::prepare_stiffness(const Points& x) {
@@ -105,28 +106,9 @@ void NodalPressureFem::prepare_stiffness(const Points& x) {
 
 void NodalPressureFem::add_stiffness_times(const Points& dx, Points& out) const {
   CorotationalFem::add_stiffness_times(dx, out);
-  // K dx of the correction: with d theta_e = g_e . dx, its nodal pressures, and the stress
-  // (dpbar_e - kappa_e d theta_e) R_e, whose force is minus K dx's.
-  const TetElements& e = elements();
-  pressure_.setZero();
-  for (int t = 0; t < e.num_tets(); ++t) {
-    if (!averaged(t)) continue;
-    const std::size_t ts = static_cast<std::size_t>(t);
-    const Mat3 d_deformation = edge_matrix(dx, e.tets, t) * e.rest_inverse[ts];
-    theta_[ts] = stiff_rotation_[ts].cwiseProduct(d_deformation).sum();
-    for (int a = 0; a < 4; ++a)
-      pressure_(e.tets(t, a)) += e.rest_volume(t) / 4 * theta_[ts];
-  }
-  for (int n = 0; n < e.num_nodes(); ++n)
-    pressure_(n) = node_weight_(n) > 0 ? node_kappa_(n) * pressure_(n) / node_weight_(n) : 0;
-  for (int t = 0; t < e.num_tets(); ++t) {
-    if (!averaged(t)) continue;
-    const std::size_t ts = static_cast<std::size_t>(t);
-    const Real mean = Real(0.25) * (pressure_(e.tets(t, 0)) + pressure_(e.tets(t, 1)) +
-                                    pressure_(e.tets(t, 2)) + pressure_(e.tets(t, 3)));
-    scatter_stress(e, t, -(mean - bulk_modulus(e.lame[ts]) * theta_[ts]) * stiff_rotation_[ts],
-                   out);
-  }
+  // K dx of the correction: the same pass on d theta_e = tr(R_e^T dF_e) (linear: no offset), its
+  // force negated (K = -df/dx).
+  add_correction(dx, stiff_rotation_, 0, -1, out);
 }
 
 void NodalPressureFem::add_stiffness_triplets(std::vector<Eigen::Triplet<Real>>& triplets) const {

@@ -70,9 +70,12 @@ class NodalPressureFem final : public CorotationalFem {
   bool averaged(int t) const;
   // W_n and K_n from the elements (after any change of elements or softening).
   void refresh_nodes();
-  // theta_e = tr(R_e^T F_e) - 3 for the averaged elements, into theta_; then the nodal pressures
-  // K_n theta_n into pressure_ (rotations[t]: R_e).
-  void nodal_pressures(const Points& x, std::span<const Mat3> rotations);
+  // out += sign times the correction's forces at u: theta_e = tr(R_e^T Ds_e(u) Dm_e^-1) - offset
+  // (rotations[t]: R_e) for the averaged elements, their nodal pressures K_n theta_n, and each
+  // element's stress (pbar_e - kappa_e theta_e) R_e. With u = x, offset 3 and sign 1 these are
+  // the forces; with u = dx, offset 0 and sign -1, K dx.
+  void add_correction(const Points& u, std::span<const Mat3> rotations, Real offset, Real sign,
+                      Points& out) const;
 
   std::vector<char> softened_;        // #slots
   VecX node_weight_;                  // #nodes W_n [m^3]
