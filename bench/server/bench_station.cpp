@@ -42,6 +42,7 @@
 #include <string_view>
 #include <vector>
 
+#include "bench/server/station_poses.h"
 #include "server/live/scene_library.h"
 #include "server/live/session_scene.h"
 #include "server/live/sim_engine.h"
@@ -51,6 +52,9 @@
 namespace {
 
 using namespace incise;
+using bench::along_x;
+using bench::down;
+using bench::parked;
 using server::live::SimEngine;
 using sim::Vec3;
 using Clock = std::chrono::steady_clock;
@@ -65,27 +69,6 @@ struct Options {
   double reference_cell = 0.004;
   Json patch = Json::object();
 };
-
-// The scalpel and the probe point down (R = 180 degrees about x); the grasper's jaws lie along
-// the surface (its axis along +x: R = 90 degrees about y).
-devices::DeviceState down(const Vec3& tip) {
-  devices::DeviceState s;
-  s.position = {tip.x(), tip.y(), tip.z()};
-  s.orientation = {0, 1, 0, 0};
-  return s;
-}
-devices::DeviceState along_x(const Vec3& tip, float jaw) {
-  devices::DeviceState s;
-  s.position = {tip.x(), tip.y(), tip.z()};
-  s.orientation = {std::sqrt(0.5), 0, std::sqrt(0.5), 0};
-  s.jaw = jaw;
-  return s;
-}
-devices::DeviceState parked() {
-  devices::DeviceState s;
-  s.position = {0, 0, server::live::kParkedToolHeight};
-  return s;
-}
 
 // One phase's figures (times only for the timed run).
 struct Phase {
@@ -165,14 +148,8 @@ class Run {
     const auto n = std::max(1, static_cast<int>(std::lround(seconds / kTickS)));
     for (int i = 1; i <= n; ++i) {
       const double s = static_cast<double>(i) / n;
-      const auto mix = [s](devices::DeviceState p, const devices::DeviceState& q) {
-        p.position = {(1 - s) * p.position.x + s * q.position.x,
-                      (1 - s) * p.position.y + s * q.position.y,
-                      (1 - s) * p.position.z + s * q.position.z};
-        p.jaw = static_cast<float>((1 - s) * p.jaw + s * q.jaw);
-        return p;
-      };
-      const std::array<devices::DeviceState, 2> inputs = {mix(a0, a1), mix(b0, b1)};
+      const std::array<devices::DeviceState, 2> inputs = {bench::blend(a0, a1, s),
+                                                          bench::blend(b0, b1, s)};
       const auto start = Clock::now();
       engine_->tick(inputs);
       const double us = std::chrono::duration<double, std::micro>(Clock::now() - start).count();

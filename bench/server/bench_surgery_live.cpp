@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/server/station_poses.h"
 #include "server/live/scene_library.h"
 #include "server/live/session_scene.h"
 #include "server/live/sim_engine.h"
@@ -22,6 +23,9 @@
 namespace {
 
 using namespace incise;
+using bench::along_x;
+using bench::down;
+using bench::parked;
 using Clock = std::chrono::steady_clock;
 constexpr double kTickS = 0.002;
 
@@ -36,27 +40,6 @@ Stats stats_of(std::vector<double> us) {
   return {us[us.size() / 2], us[std::min(us.size() - 1, us.size() * 95 / 100)], us.back()};
 }
 
-// The scalpel points down (R = 180 degrees about x); the grasper's jaws lie along the surface
-// (its axis along +x: R = 90 degrees about y).
-devices::DeviceState down(const sim::Vec3& tip) {
-  devices::DeviceState s;
-  s.position = {tip.x(), tip.y(), tip.z()};
-  s.orientation = {0, 1, 0, 0};
-  return s;
-}
-devices::DeviceState along_x(const sim::Vec3& tip, float jaw) {
-  devices::DeviceState s;
-  s.position = {tip.x(), tip.y(), tip.z()};
-  s.orientation = {std::sqrt(0.5), 0, std::sqrt(0.5), 0};
-  s.jaw = jaw;
-  return s;
-}
-devices::DeviceState parked() {
-  devices::DeviceState s;
-  s.position = {0, 0, server::live::kParkedToolHeight};
-  return s;
-}
-
 // Ticks the engine from (a0, b0) to (a1, b1) over `seconds`, timing each tick [us].
 std::vector<double> move(server::live::SimEngine& engine, devices::DeviceState a0,
                          devices::DeviceState a1, devices::DeviceState b0, devices::DeviceState b1,
@@ -65,14 +48,8 @@ std::vector<double> move(server::live::SimEngine& engine, devices::DeviceState a
   std::vector<double> us;
   for (int i = 1; i <= n; ++i) {
     const double s = static_cast<double>(i) / n;
-    const auto mix = [s](devices::DeviceState p, const devices::DeviceState& q) {
-      p.position = {(1 - s) * p.position.x + s * q.position.x,
-                    (1 - s) * p.position.y + s * q.position.y,
-                    (1 - s) * p.position.z + s * q.position.z};
-      p.jaw = static_cast<float>((1 - s) * p.jaw + s * q.jaw);
-      return p;
-    };
-    const std::array<devices::DeviceState, 2> inputs = {mix(a0, a1), mix(b0, b1)};
+    const std::array<devices::DeviceState, 2> inputs = {bench::blend(a0, a1, s),
+                                                        bench::blend(b0, b1, s)};
     const auto start = Clock::now();
     engine.tick(inputs);
     us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
