@@ -217,7 +217,7 @@ void ViewSession::send_metrics() {
     m["peak_strain"] = s->peak_strain;
     m["path_length_m"] = s->path_length_m;
     m["contact"] = s->contact;
-    if (s->surgical) {
+    if (s->cutting) {
       m["cut_area_m2"] = s->cut_area_m2;
       m["cut_mean_distance_m"] = s->cut_mean_distance_m;
       m["never_event"] = s->never_event;

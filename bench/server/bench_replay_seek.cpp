@@ -85,7 +85,7 @@ int main(int argc, char** argv) {
   }
   const auto source = server::live::find_scene("scenes/surgery/liver_station.json");
   const auto scene = server::live::load_session_scene(source->id, source->text);
-  auto records = recording(**scene.surgery(), minutes);
+  auto records = recording(scene.setup(), minutes);
   const auto total = static_cast<std::int64_t>(records.size());
   server::live::ReplaySession replay(scene, kTickS, std::move(records));
   replay.start();

@@ -1,6 +1,6 @@
 // Times what the server computes from a session besides the simulation itself:
 //   - the simulation's damage tracker on the palpation block (one record_strain, which the
-//     session runs every kDamageEvery ticks), per call and per tick;
+//     session runs every the block's damage interval), per call and per tick;
 //   - a whole SimEngine tick of the palpation block with the probe pressed in, damage included;
 //   - the review of a two-minute two-handed recording (events and the 50 ms timeline), and its
 //     scoring (every metric), as GET /api/sessions/{id}/review and the session's end run them.
@@ -81,21 +81,22 @@ int main() {
   for (int i = 0; i < 500; ++i)
     engine.tick(pressed);
   const auto tick = time_us(2000, [&] { engine.tick(pressed); });
+  const sim::surgery::BlockSceneOptions block;
+  const int damage_ticks = static_cast<int>(std::lround(block.damage_interval_s / 0.002));
   std::printf(
       "SimEngine tick, palpation block, probe pressed 6 mm (damage every %d ticks): "
       "median %.1f us, p95 %.1f us\n",
-      server::live::kDamageEvery, tick.median, tick.p95);
+      damage_ticks, tick.median, tick.p95);
 
   sim::tools::DamageSettings settings;
-  settings.strain_thresholds = {{0, server::live::kDamageStrain}};
-  sim::tools::DamageTracker tracker(engine.simulation().mesh(), settings);
-  const auto strain =
-      time_us(2000, [&] { tracker.record_strain(engine.simulation().mesh().x, 0.01); });
+  settings.strain_thresholds = {{0, block.strain_threshold}};
+  const sim::TetMesh& mesh = engine.world().scene().tissue().mesh();
+  sim::tools::DamageTracker tracker(mesh, settings);
+  const auto strain = time_us(2000, [&] { tracker.record_strain(mesh.x, 0.01); });
   std::printf(
       "damage tracker, %d tets: record_strain median %.1f us, p95 %.1f us "
       "(%.2f us per tick at one call per %d ticks)\n",
-      tracker.num_slots(), strain.median, strain.p95, strain.median / server::live::kDamageEvery,
-      server::live::kDamageEvery);
+      tracker.num_slots(), strain.median, strain.p95, strain.median / damage_ticks, damage_ticks);
 
   const auto records = two_handed_recording(120);
   curriculum::Task task =

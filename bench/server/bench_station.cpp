@@ -140,8 +140,8 @@ class Run {
     engine_.emplace(scene_, kTickS, 2);
   }
   SimEngine& engine() { return *engine_; }
-  const sim::surgery::SurgicalSceneSetup& setup() const { return **scene_.surgery(); }
-  const sim::surgery::SurgicalScene& scene() const { return engine_->surgery()->scene(); }
+  const sim::surgery::SurgicalSceneSetup& setup() const { return scene_.setup(); }
+  const sim::surgery::SurgicalScene& scene() const { return engine_->world().scene(); }
 
   void move(devices::DeviceState a0, devices::DeviceState a1, devices::DeviceState b0,
             devices::DeviceState b1, double seconds, Phase* phase = nullptr) {

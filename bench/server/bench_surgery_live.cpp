@@ -76,7 +76,7 @@ void run(double cell_size) {
   const auto built = Clock::now();
   const auto scene = server::live::load_session_scene(source->id, json.dump());
   const double build_s = std::chrono::duration<double>(Clock::now() - built).count();
-  const auto& setup = **scene.surgery();
+  const auto& setup = scene.setup();
   server::live::SimEngine engine(scene, kTickS, 2);
   std::printf(
       "liver station, cell %.0f mm: %lld nodes, %lld tets, dt %.1f us (%d steps a tick), "
@@ -118,7 +118,7 @@ void run(double cell_size) {
       "  cut %.1f mm^2, %.1f mm^2 off target, mean distance %.2f mm, never event %s, "
       "%d tets now\n",
       damage.cut_area * 1e6, damage.cut_area_outside_target * 1e6, damage.cut_mean_distance * 1e3,
-      damage.never_event ? "yes" : "no", engine.surgery()->scene().tissue().mesh().num_tets());
+      damage.never_event ? "yes" : "no", engine.world().scene().tissue().mesh().num_tets());
   std::printf("  finite %s; events:", engine.state_finite() ? "yes" : "no");
   for (const auto& e : engine.scene_events().events())
     std::printf(" %s (hand %d, %.2f s: %s);", e.kind.c_str(), e.hand, e.t_s, e.label.c_str());

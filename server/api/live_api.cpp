@@ -102,7 +102,7 @@ ApiResponse start_session(ApiContext& ctx) {
     throw ApiError(http::status::unprocessable_entity,
                    "scene \"" + task->scene + "\" is invalid: " + e.what());
   }
-  if (const auto mismatch = live::tools_mismatch(params.scene, task->tools); !mismatch.empty()) {
+  if (const auto mismatch = live::tools_mismatch(*params.scene, task->tools); !mismatch.empty()) {
     throw ApiError(http::status::unprocessable_entity,
                    "task \"" + task_key + "\" does not fit its scene: " + mismatch);
   }

@@ -77,11 +77,9 @@ ReplayInput replay_input(ApiContext& ctx, std::int64_t recording_id) {
     throw ApiError(http::status::conflict,
                    name + " needs scene \"" + meta->scene + "\", which this server does not have");
   }
-  const auto version = live::scene_version(scene->text);
-  if (version != meta->scene_version) {
-    throw ApiError(http::status::conflict, name + " was made with scene version " +
-                                               meta->scene_version + "; the scene is now " +
-                                               version + ", so it cannot be replayed exactly");
+  if (const auto refusal = live::replay_refusal(meta->scene, meta->scene_version, scene->text);
+      !refusal.empty()) {
+    throw ApiError(http::status::conflict, name + " cannot be replayed: " + refusal);
   }
   auto ticks = live::load_tick_records(db, recording_id);
   if (ticks.empty()) throw ApiError(http::status::conflict, name + " is empty");

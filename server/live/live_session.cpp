@@ -34,6 +34,11 @@ Clock::duration period_of(double hz) {
   return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / hz));
 }
 
+const SessionScene& scene_of(const LiveSessionParams& params) {
+  if (!params.scene) throw std::invalid_argument("a live session needs a scene");
+  return *params.scene;
+}
+
 }  // namespace
 
 int hands_for(const curriculum::Task& task) {
@@ -107,7 +112,7 @@ constexpr double kMaxUnrecordedS = 10.0;
 LiveSession::LiveSession(LiveSessionParams params, AgentLink agent)
     : params_(std::move(params)),
       agent_(std::move(agent)),
-      engine_(params_.scene, 1.0 / params_.tick_hz, hands_for(params_.task)),
+      engine_(scene_of(params_), 1.0 / params_.tick_hz, hands_for(params_.task)),
       pace_(engine_.tick_s()) {
   publish_snapshot();
 }
@@ -118,7 +123,7 @@ LiveSession::~LiveSession() {
 }
 
 void LiveSession::start() {
-  streamer_ = std::make_unique<FrameStreamer>(*this, camera_for(params_.scene));
+  streamer_ = std::make_unique<FrameStreamer>(*this, camera_for(*params_.scene));
   thread_ = std::thread([this] { run(); });
 }
 

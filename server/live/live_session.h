@@ -41,7 +41,7 @@ struct LiveSessionParams {
   std::int64_t session_id = 0;
   std::int64_t station_id = 0;
   std::int64_t recording_id = 0;
-  SessionScene scene = sim::Scene{};
+  std::optional<SessionScene> scene;  // required
   curriculum::Task task;
   std::filesystem::path db_path;
   double tick_hz = 500;         // simulation ticks per second of real time
@@ -65,7 +65,7 @@ class LiveSession : public StreamSource {
     std::function<void(const char* state)> send_notice;
   };
 
-  // Builds the engine (throws sim::SceneError / std::invalid_argument for a bad scene). Does not
+  // Builds the engine (throws std::invalid_argument without a scene or for a bad tick). Does not
   // start: call start().
   LiveSession(LiveSessionParams params, AgentLink agent);
   ~LiveSession() override;  // stops (as "server shutting down") if still running

@@ -16,7 +16,7 @@ std::optional<SceneSource> find_scene(std::string_view id) {
   return std::nullopt;
 }
 
-std::string scene_version(std::string_view text) {
+std::string text_hash(std::string_view text) {
   std::uint64_t h = 14695981039346656037ull;
   for (const char c : text) {
     h ^= static_cast<unsigned char>(c);
@@ -25,6 +25,32 @@ std::string scene_version(std::string_view text) {
   char out[17];
   std::snprintf(out, sizeof out, "%016llx", static_cast<unsigned long long>(h));
   return out;
+}
+
+std::string scene_version(std::string_view text) {
+  return std::to_string(kSceneRuntime) + ":" + text_hash(text);
+}
+
+std::string replay_refusal(std::string_view id, std::string_view recorded, std::string_view text) {
+  const auto colon = recorded.find(':');
+  const std::string_view runtime =
+      colon == std::string_view::npos ? "1" : recorded.substr(0, colon);
+  const std::string_view hash =
+      colon == std::string_view::npos ? recorded : recorded.substr(colon + 1);
+  const std::string current = std::to_string(kSceneRuntime);
+  // Runtime 1 ran the surgical scenes as runtime 2 does.
+  const bool same_runtime =
+      runtime == current || (runtime == "1" && id.starts_with(kSurgicalScenePrefix));
+  if (!same_runtime) {
+    return "it was recorded on simulation runtime " + std::string(runtime) +
+           (runtime == "1" ? " (the palpation block's retired sim core simulation)" : "") +
+           ", and this server replays runtime " + current + "; its scores stand";
+  }
+  if (hash != text_hash(text)) {
+    return "it was made with scene version " + std::string(hash) + "; the scene is now " +
+           text_hash(text) + ", so it cannot be replayed exactly";
+  }
+  return "";
 }
 
 }  // namespace incise::server::live

@@ -1,12 +1,16 @@
 #pragma once
 // The scenes tasks refer to ("scenes/palpation.json"), compiled into the server from sim/scenes/
-// so that a deployed server needs no source tree. A scene's version is a hash of its text: a
-// recording stores it, and a replay refuses to run against a scene that has changed since.
+// so that a deployed server needs no source tree. A scene's version names the runtime and hashes
+// the text: a recording stores it, and a replay refuses to run on another runtime or against a
+// scene that has changed since.
 #include <optional>
 #include <string>
 #include <string_view>
 
 namespace incise::server::live {
+
+// Surgical scene files live here; every other scene is a sim core scene (session_scene.h).
+inline constexpr std::string_view kSurgicalScenePrefix = "scenes/surgery/";
 
 struct SceneSource {
   std::string_view id;    // as tasks name it, e.g. "scenes/palpation.json"
@@ -17,6 +21,21 @@ struct SceneSource {
 std::optional<SceneSource> find_scene(std::string_view id);
 
 // FNV-1a 64 of the text, 16 hex digits.
+std::string text_hash(std::string_view text);
+
+// The runtime that replays this server's recordings. Runtime 1 ran the palpation block on the
+// sim core's own simulation (sim::Simulation, sphere tips) and the surgical scenes on
+// SurgicalScene; runtime 2 runs every scene on SurgicalScene (the block with probes), so a
+// runtime 1 recording of a surgical scene replays bit for bit and one of the block does not.
+inline constexpr int kSceneRuntime = 2;
+
+// What a recording stores: "<runtime>:<text_hash>", e.g. "2:85944171f73967e8". (Runtime 1 stored
+// the bare hash.)
 std::string scene_version(std::string_view text);
+
+// "" if a recording of scene `id` whose version is `recorded` replays exactly on this server,
+// whose scene text is `text`; else why not, in a sentence (the runtime that made it, or that
+// the scene changed since).
+std::string replay_refusal(std::string_view id, std::string_view recorded, std::string_view text);
 
 }  // namespace incise::server::live

@@ -102,7 +102,8 @@ std::vector<curriculum::MetricValue> simulation_metrics(const sim::tools::Damage
       {"sim_damage_index", damage.damage_index, "",
        "Share of the tissue's volume the simulation strained beyond its damage threshold (max "
        "principal Green strain; " +
-           curriculum::shortest_text(kDamageStrain) + " in the palpation block)."},
+           curriculum::shortest_text(sim::surgery::BlockSceneOptions{}.strain_threshold) +
+           " in the palpation block)."},
       {"sim_peak_strain", damage.peak_strain, "",
        "Largest principal Green strain of any tissue element in the simulation."},
       {"cut_area_m2", damage.cut_area, "m^2",

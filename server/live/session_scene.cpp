@@ -1,11 +1,22 @@
 #include "server/live/session_scene.h"
 
 #include <algorithm>
+#include <stdexcept>
+#include <utility>
 
 #include "sim/io/scene_json.h"
 #include "sim/surgery/scene_file.h"
 
 namespace incise::server::live {
+
+SessionScene::SessionScene(std::shared_ptr<const sim::surgery::SurgicalSceneSetup> setup)
+    : setup_(std::move(setup)) {
+  if (!setup_) throw std::invalid_argument("a session scene needs a scene");
+}
+
+SessionScene::SessionScene(const sim::Scene& block)
+    : setup_(std::make_shared<const sim::surgery::SurgicalSceneSetup>(
+          sim::surgery::make_block_surgery(block))) {}
 
 SessionScene load_session_scene(std::string_view id, std::string_view text) {
   if (id.starts_with(kSurgicalScenePrefix)) {
@@ -16,11 +27,11 @@ SessionScene load_session_scene(std::string_view id, std::string_view text) {
 }
 
 std::string tools_mismatch(const SessionScene& scene, const std::vector<std::string>& tools) {
-  const auto* surgery = scene.surgery();
-  if (surgery == nullptr) return "";
+  const sim::surgery::SurgicalSceneSetup& setup = scene.setup();
+  if (setup.tools_stand_for_any) return "";
   for (std::size_t i = 0; i < tools.size(); ++i) {
     std::vector<std::string_view> held;
-    for (const auto& t : (*surgery)->spec.tools) {
+    for (const auto& t : setup.spec.tools) {
       if (t.device == static_cast<int>(i)) held.push_back(sim::surgery::to_string(t.kind));
     }
     if (std::find(held.begin(), held.end(), tools[i]) != held.end()) continue;
@@ -47,16 +58,14 @@ render::Camera with_clip_planes(render::Camera camera) {
 
 render::Camera camera_for(const SessionScene& scene) {
   render::Camera camera;
-  if (const sim::Scene* block = scene.block()) {
-    if (block->view) {
-      camera.eye = block->view->eye;
-      camera.target = block->view->target;
-      camera.up = block->view->up;
-      camera.fov_y_deg = block->view->fov_y_deg;
-    }
+  const sim::surgery::SurgicalSceneSetup& setup = scene.setup();
+  if (const auto& view = setup.view) {
+    camera.eye = view->eye;
+    camera.target = view->target;
+    camera.up = view->up;
+    camera.fov_y_deg = view->fov_y_deg;
     return with_clip_planes(camera);
   }
-  const auto& setup = **scene.surgery();
   const sim::Points& rest = setup.spec.tissue.rest;
   const sim::Vec3 low = rest.colwise().minCoeff().transpose();
   const sim::Vec3 high = rest.colwise().maxCoeff().transpose();

@@ -1,39 +1,36 @@
 #pragma once
-// What a task's scene id names, ready to simulate: a scene of the sim core (the palpation block:
-// sim/scenes/*.json, a sim::Scene with sphere tools) or a surgical scene (sim/scenes/surgery/
-// *.json: a liver or knee with probe, grasper, scalpel or scope bound to the station's devices,
-// sim/surgery/). The id says which: surgical scenes live under "scenes/surgery/".
+// What a task's scene id names, ready to simulate: a surgical scene (sim/surgery/), the one
+// runtime of every live session and replay. The id says how it is read: surgical scene files live
+// under "scenes/surgery/" (a liver or knee with probe, grasper, scalpel or scope bound to the
+// station's devices); every other scene is a sim core scene (sim/scenes/*.json: the palpation
+// block), made a surgical scene with a probe in each hand (make_block_surgery).
 #include <memory>
 #include <string>
 #include <string_view>
-#include <variant>
 #include <vector>
 
+#include "server/live/scene_library.h"
 #include "sim/render/camera.h"
 #include "sim/scene/scene.h"
 #include "sim/surgery/scene_presets.h"
 
 namespace incise::server::live {
 
-inline constexpr std::string_view kSurgicalScenePrefix = "scenes/surgery/";
-
 class SessionScene {
  public:
-  // Implicit: a sim::Scene is the common case (tests and the palpation tasks).
-  SessionScene(sim::Scene block)
-      : value_(std::move(block)) {}  // NOLINT(google-explicit-constructor)
-  explicit SessionScene(std::shared_ptr<const sim::surgery::SurgicalSceneSetup> surgery)
-      : value_(std::move(surgery)) {}
+  // Throws std::invalid_argument for a null setup.
+  explicit SessionScene(std::shared_ptr<const sim::surgery::SurgicalSceneSetup> setup);
+  // A sim core scene (tests and the palpation tasks), with a probe for each of two hands;
+  // implicit, as the common case. Throws sim::SceneError as make_block_surgery does.
+  SessionScene(const sim::Scene& block);  // NOLINT(google-explicit-constructor)
 
-  // The sim core's scene, or nullptr for a surgical one.
-  const sim::Scene* block() const { return std::get_if<sim::Scene>(&value_); }
-  // The surgical scene (meshed, with its tools), or nullptr for a sim core scene.
-  const std::shared_ptr<const sim::surgery::SurgicalSceneSetup>* surgery() const {
-    return std::get_if<std::shared_ptr<const sim::surgery::SurgicalSceneSetup>>(&value_);
+  const sim::surgery::SurgicalSceneSetup& setup() const { return *setup_; }
+  const std::shared_ptr<const sim::surgery::SurgicalSceneSetup>& shared_setup() const {
+    return setup_;
   }
 
  private:
-  std::variant<sim::Scene, std::shared_ptr<const sim::surgery::SurgicalSceneSetup>> value_;
+  std::shared_ptr<const sim::surgery::SurgicalSceneSetup> setup_;
 };
 
 // Parses (and for a surgical scene meshes: about a second) the scene with this id and text.
@@ -42,11 +39,11 @@ SessionScene load_session_scene(std::string_view id, std::string_view text);
 
 // "" if a task's tools (tools[i] is held by device i) fit the scene, else why not: a surgical
 // scene's tools are bound to devices, and the task must name each device's tool kind (e.g.
-// "tools[0] is \"probe\" but the scene gives device 0 a scalpel"). A sim core scene's sphere
-// tools stand for any tool.
+// "tools[0] is \"probe\" but the scene gives device 0 a scalpel"). The block's probes stand for
+// any tool.
 std::string tools_mismatch(const SessionScene& scene, const std::vector<std::string>& tools);
 
-// The camera the live view starts with: the scene's "view" if it has one; for a surgical scene a
+// The camera the live view starts with: the scene's "view" if it has one; otherwise a
 // view of the whole tissue from above and in front, aimed halfway between the tissue's centre
 // (of its bounding box) and the marked cut line's middle (the centre alone without a line).
 render::Camera camera_for(const SessionScene& scene);

@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "sim/interact/sphere_tool.h"
+
 namespace incise::server::live {
 namespace {
 
@@ -17,31 +19,6 @@ devices::Vec3 to_device(const sim::Vec3& v) {
   return {v.x(), v.y(), v.z()};
 }
 
-int substeps_for(const sim::Scene& scene, double tick_s) {
-  const double dt = scene.solver.dt;
-  if (!(tick_s > 0) || !(dt > 0)) throw std::invalid_argument("tick and dt must be positive");
-  const double n = tick_s / dt;
-  const double rounded = std::round(n);
-  if (rounded < 1 || std::abs(n - rounded) > 1e-9 * rounded) {
-    throw std::invalid_argument("the tick " + std::to_string(tick_s) +
-                                " s is not a whole number of solver.dt " + std::to_string(dt) +
-                                " s");
-  }
-  return static_cast<int>(rounded);
-}
-
-// One strain threshold (kDamageStrain) for every tissue label of the mesh.
-sim::tools::DamageSettings damage_settings(const sim::TetMesh& mesh) {
-  std::vector<int> labels(mesh.labels.data(), mesh.labels.data() + mesh.labels.size());
-  if (labels.empty()) labels.push_back(0);
-  std::sort(labels.begin(), labels.end());
-  labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
-  sim::tools::DamageSettings settings;
-  for (const int label : labels)
-    settings.strain_thresholds.push_back({label, kDamageStrain});
-  return settings;
-}
-
 }  // namespace
 
 SimEngine::SimEngine(const SessionScene& scene, double tick_s, int hands)
@@ -49,35 +26,30 @@ SimEngine::SimEngine(const SessionScene& scene, double tick_s, int hands)
   if (hands < 1 || hands > kMaxHands) {
     throw std::invalid_argument("a session has 1 or 2 hands, not " + std::to_string(hands));
   }
-  if (const auto* surgery = scene.surgery()) {
-    surgery_ = std::make_unique<SurgeryWorld>(*surgery, tick_s);
-    substeps_ = surgery_->substeps();
-    return;
-  }
-  const sim::Scene& block = *scene.block();
-  substeps_ = substeps_for(block, tick_s);
-  simulation_.emplace(block);
-  surface_ =
-      std::make_shared<const sim::BoundarySurface>(sim::boundary_surface(simulation_->mesh()));
-  tool_ = block.tool.value_or(sim::SphereTool{});
-  node_forces_ = sim::Points::Zero(simulation_->mesh().num_nodes(), 3);
-  damage_.emplace(simulation_->mesh(), damage_settings(simulation_->mesh()));
+  world_ = std::make_unique<SurgeryWorld>(scene.shared_setup(), tick_s);
 }
 
 const sim::Points& SimEngine::positions() const {
-  return surgery_ ? surgery_->scene().tissue().mesh().x : simulation_->mesh().x;
+  return world_->scene().tissue().mesh().x;
 }
 
 std::shared_ptr<const sim::BoundarySurface> SimEngine::surface() const {
-  return surgery_ ? surgery_->surface() : surface_;
+  return world_->surface();
 }
 
 sim::tools::DamageMetrics SimEngine::damage() const {
-  return surgery_ ? surgery_->scene().damage() : damage_->metrics();
+  return world_->scene().damage();
 }
 
 bool SimEngine::state_finite() const {
-  return surgery_ ? surgery_->scene().state_finite() : simulation_->state_finite();
+  return world_->scene().state_finite();
+}
+
+double SimEngine::tool_radius(int hand) const {
+  for (const auto& tool : world_->setup().spec.tools) {
+    if (tool.device == hand && tool.kind == sim::surgery::ToolKind::probe) return tool.probe.radius;
+  }
+  return sim::SphereTool{}.radius;
 }
 
 void SimEngine::tick(const devices::DeviceState& input) {
@@ -86,43 +58,22 @@ void SimEngine::tick(const devices::DeviceState& input) {
 
 void SimEngine::tick(std::span<const devices::DeviceState> inputs) {
   const int n = std::min(hands_, static_cast<int>(inputs.size()));
-  std::array<sim::Vec3, kMaxHands> from;
-  std::array<sim::Vec3, kMaxHands> to;
-  std::array<devices::DeviceState, kMaxHands> from_input;
-  for (int h = 0; h < n; ++h) {
-    const auto i = static_cast<std::size_t>(h);
-    to[i] = to_vec(inputs[i].position);
-    from[i] = hand_[i].has_input ? hand_[i].tip : to[i];
-    from_input[i] = hand_[i].has_input ? hand_[i].last_input : inputs[i];
-  }
-  if (surgery_) {
-    const auto count = static_cast<std::size_t>(n);
-    surgery_->tick(std::span<const devices::DeviceState>(from_input.data(), count),
-                   inputs.first(count));
-    for (std::size_t i = 0; i < count; ++i)
-      hand_[i].contact = surgery_->contact(static_cast<int>(i));
-  } else {
-    for (int s = 1; s <= substeps_; ++s) {
-      const double a = static_cast<double>(s) / substeps_;
-      node_forces_.setZero();
-      for (int h = 0; h < n; ++h) {
-        const auto i = static_cast<std::size_t>(h);
-        const sim::Vec3 centre = (1 - a) * from[i] + a * to[i];
-        hand_[i].contact = sim::apply_sphere_contact(tool_, centre, *surface_,
-                                                     simulation_->mesh().x, node_forces_);
-      }
-      simulation_->step(node_forces_);
-    }
-  }
+  const auto count = static_cast<std::size_t>(n);
+  std::array<devices::DeviceState, kMaxHands> from;
+  for (std::size_t i = 0; i < count; ++i)
+    from[i] = hand_[i].has_input ? hand_[i].last_input : inputs[i];
+  world_->tick(std::span<const devices::DeviceState>(from.data(), count), inputs.first(count));
   const sim::Vec3 parked(0, 0, kParkedToolHeight);
-  for (int h = 0; h < n; ++h) {
-    const auto i = static_cast<std::size_t>(h);
-    hand_[i].path_length_m += (to[i] - from[i]).norm();
-    hand_[i].tip = to[i];
+  for (std::size_t i = 0; i < count; ++i) {
+    Hand& hand = hand_[i];
+    hand.contact = world_->contact(static_cast<int>(i));
+    const sim::Vec3 to = to_vec(inputs[i].position);
+    if (hand.has_input) hand.path_length_m += (to - hand.tip).norm();
+    hand.tip = to;
     // A hand at the parked position has not reported yet (a two-handed session's second device
     // comes a little later): its first real state must not sweep it in from the park.
-    hand_[i].has_input = to[i] != parked;
-    hand_[i].last_input = inputs[i];
+    hand.has_input = to != parked;
+    hand.last_input = inputs[i];
   }
   const sim::ToolContact& primary = hand_[0].contact;
   metrics_.path_length_m = hand_[0].path_length_m;
@@ -131,13 +82,8 @@ void SimEngine::tick(std::span<const devices::DeviceState> inputs) {
   metrics_.force_squared_time += force * force * tick_s_;
   if (primary.nodes_in_contact > 0) ++metrics_.contact_ticks;
   ++ticks_;
-  if (surgery_ && !surgery_->events().empty()) {
-    scene_events_.add(surgery_->events(), time_s(), surgery_->setup().spec.tools, damage());
-  }
-  // A non-finite state is the session's to report (state_finite); the damage stays as it was.
-  // (A surgical scene tracks its own damage, every spec.damage_every steps.)
-  if (damage_ && ticks_ % kDamageEvery == 0 && simulation_->state_finite()) {
-    damage_->record_strain(simulation_->mesh().x, kDamageEvery * tick_s_);
+  if (!world_->events().empty()) {
+    scene_events_.add(world_->events(), time_s(), world_->setup().spec.tools, damage());
   }
 }
 
@@ -167,29 +113,13 @@ devices::ForceModel SimEngine::force_model(int hand) const {
 }
 
 SimEngine::Checkpoint SimEngine::checkpoint() const {
-  if (surgery_) {
-    return {{},           hand_,   metrics_,
-            ticks_,       nullptr, std::make_shared<const SurgeryWorld>(*surgery_),
-            scene_events_};
-  }
-  return {simulation_->save_state(),
-          hand_,
-          metrics_,
-          ticks_,
-          std::make_shared<const sim::tools::DamageTracker>(*damage_),
-          nullptr,
-          {}};
+  return {hand_, metrics_, ticks_, std::make_shared<const SurgeryWorld>(*world_), scene_events_};
 }
 
 void SimEngine::restore(const Checkpoint& c) {
-  if (surgery_) {
-    if (!c.surgery) throw std::logic_error("restore: the checkpoint is not of a surgical scene");
-    *surgery_ = *c.surgery;
-    scene_events_ = c.scene_events;
-  } else {
-    simulation_->restore_state(c.simulation);
-    if (c.damage) *damage_ = *c.damage;
-  }
+  if (!c.world) throw std::invalid_argument("restore: the checkpoint holds no world");
+  *world_ = *c.world;
+  scene_events_ = c.scene_events;
   hand_ = c.hands;
   metrics_ = c.metrics;
   ticks_ = c.ticks;
@@ -216,7 +146,7 @@ std::shared_ptr<Snapshot> make_snapshot(const SimEngine& engine) {
   s->surface = engine.surface();
   s->positions = engine.positions();
   s->tool_tip = engine.tool_tip();
-  s->tool_radius = engine.tool().radius;
+  s->tool_radius = engine.tool_radius();
   s->hands = engine.hands();
   if (engine.hands() > 1) {
     s->second_tool_tip = engine.tool_tip(1);
@@ -229,10 +159,12 @@ std::shared_ptr<Snapshot> make_snapshot(const SimEngine& engine) {
   const auto damage = engine.damage();
   s->damage_index = damage.damage_index;
   s->peak_strain = damage.peak_strain;
-  s->surgical = engine.surgery() != nullptr;
-  if (const SurgeryWorld* world = engine.surgery()) {
-    s->marks = world->marked_line();
-    // The tool points along R e_z (tip forwards); its shaft runs back the other way.
+  const SurgeryWorld& world = engine.world();
+  s->cutting = !world.setup().tools_stand_for_any;
+  s->marks = world.marked_line();
+  // The tool points along R e_z (tip forwards); its shaft runs back the other way. The block's
+  // probes stand upright, whatever their devices' orientation.
+  if (!world.setup().tools_stand_for_any) {
     for (int h = 0; h < engine.hands(); ++h) {
       s->shaft_direction[static_cast<std::size_t>(h)] =
           -(tool_input(engine.last_input(h)).orientation * sim::Vec3::UnitZ());

@@ -28,19 +28,20 @@ struct Snapshot {
   int hands = 1;                          // tools in the scene (a two-handed task has 2)
   sim::Vec3 second_tool_tip = sim::Vec3::Zero();
   sim::Vec3 second_force_n = sim::Vec3::Zero();
-  // From each tool's tip back along its shaft, unit (surgical scenes: from the device's
-  // orientation; the palpation block's probes stand upright).
+  // From each tool's tip back along its shaft, unit (from the device's orientation; the
+  // palpation block's probes stand upright).
   std::array<sim::Vec3, 2> shaft_direction = {sim::Vec3::UnitZ(), sim::Vec3::UnitZ()};
-  // The marked cut line's points as the tissue carries them now (surgical scenes), for the
+  // The marked cut line's points as the tissue carries them now (if the scene has one), for the
   // renderer to draw as ink dots.
   std::vector<sim::Vec3> marks;
   double peak_force_n = 0;
   double path_length_m = 0;
   double damage_index = 0;  // the simulation's damaged tissue volume fraction (SimEngine)
   double peak_strain = 0;   // the largest principal Green strain so far [-]
-  // A surgical scene's cuts (surgical only): their area (rest, one side) and mean distance to the
-  // marked line, and whether a protected structure was cut (a never event).
-  bool surgical = false;
+  // The cuts of a scene that has them (cutting: every scene but the palpation block): their area
+  // (rest, one side) and mean distance to the marked line, and whether a protected structure was
+  // cut (a never event).
+  bool cutting = false;
   double cut_area_m2 = 0;
   double cut_mean_distance_m = 0;
   bool never_event = false;

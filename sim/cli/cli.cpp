@@ -125,18 +125,11 @@ int solve(const std::vector<std::string>& args, std::ostream& err) {
   const std::filesystem::path scene_dir = std::filesystem::path(*scene_file).parent_path();
   try {
     scene = read_scene_file(*scene_file);
-    // The live sessions' path (a box of mass-springs, symplectic Euler) as before; every other
-    // combination through the general runner.
-    const bool classic = scene.mesh.source == MeshSource::box &&
-                         scene.material.model == MaterialModel::mass_spring &&
-                         scene.material.volume_stiffness == 0 &&
-                         scene.solver.integrator == Integrator::symplectic_euler;
     if (scene.adaptivity) {
       result =
           remesh::run_adaptive_scene(scene, build_scene_mesh(scene, scene_dir), &final_mesh).result;
     } else {
-      result = classic ? run_scene(scene)
-                       : run_scene_checked(scene, build_scene_mesh(scene, scene_dir)).result;
+      result = run_scene_checked(scene, build_scene_mesh(scene, scene_dir)).result;
     }
   } catch (const SceneError& error) {
     err << "incise: " << *scene_file << ": " << error.what() << "\n";

@@ -30,12 +30,8 @@ struct RunResult {
   Points final_positions;     // #nodes by 3 x at the end [m] (= rest + displacement)
 };
 
-// Runs scene.solver.steps steps of Simulation(scene), stopping early when a position or velocity
-// stops being finite. Steps are timed one by one (at most kMaxTimedSteps of them, evenly spaced,
-// so that the record stays small for long runs) and ms_per_step is their median.
-// Throws SceneError like Simulation.
-RunResult run_scene(const Scene& scene);
-
+// The runners (scene_run.h, remesh/adaptive_run.h) time at most this many steps, evenly spaced,
+// so that the record stays small for long runs; ms_per_step is their median.
 inline constexpr std::int64_t kMaxTimedSteps = 1'000'000;
 
 }  // namespace incise::sim

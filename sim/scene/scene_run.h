@@ -11,8 +11,8 @@
 //   static                                 the equilibrium, in solver.steps load increments (loads,
 //                                          gravity and "displace" constraints grow linearly to
 //                                          their full value); Newton to solver.tolerance
-// "displace" constraints ramp over the first half of the steps of a dynamic run, as in
-// Simulation. Loads are split equally over their selected nodes.
+// "displace" constraints ramp linearly over the first max(1, steps / 2) steps of a dynamic run
+// and are then held. Loads are split equally over their selected nodes.
 // A scene with "adaptivity" is run by remesh::run_adaptive_scene (sim/remesh/adaptive_run.h; the
 // CLI dispatches), whose RunResult describes the FINAL remeshed mesh: its node and tet counts.
 #include <memory>

@@ -9,7 +9,7 @@
 namespace incise::sim {
 
 // Checks the value ranges stated in scene.h that need no mesh (selections are checked against
-// the mesh when a Simulation is built). Throws SceneError for the first problem, e.g.
+// the mesh when a scene is run or made a live block). Throws SceneError for the first problem, e.g.
 //   material.E: must be positive (got -3)
 void validate_scene(const Scene& scene);
 

@@ -1,11 +1,16 @@
 #include "sim/surgery/scene_presets.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <stdexcept>
 #include <utility>
 
+#include "sim/mesh/box_mesher.h"
+#include "sim/scene/node_selection.h"
+#include "sim/scene/scene_error.h"
 #include "sim/scene/scene_run.h"
+#include "sim/scene/scene_validation.h"
 #include "sim/solve/stable_time_step.h"
 
 namespace incise::sim::surgery {
@@ -71,6 +76,71 @@ std::vector<ToolSpec> KneeSceneOptions::default_tools() {
   probe.probe.radius = 0.0015;  // a hook probe's tip
   probe.shaft_radius = 0.0015;
   return {scope, probe};
+}
+
+SurgicalSceneSetup make_block_surgery(const Scene& block, const BlockSceneOptions& options) {
+  validate_scene(block);
+  if (options.hands < 1 || options.hands > 2) {
+    throw std::invalid_argument("a block has probes for 1 or 2 hands");
+  }
+  if (block.mesh.source != MeshSource::box) {
+    throw SceneError("mesh", "a live block is a box (\"mesh\": {\"box\": ...})");
+  }
+  if (!block.loads.empty()) throw SceneError("loads", "a live block takes no loads");
+  if (block.adaptivity) throw SceneError("adaptivity", "a live block does not remesh");
+  if (block.solver.integrator != Integrator::symplectic_euler) {
+    throw SceneError("solver.integrator", "a live block steps with \"symplectic_euler\"");
+  }
+  SurgicalSceneSetup setup;
+  setup.name = "block";
+  setup.view = block.view;
+  setup.tools_stand_for_any = true;
+  SurgicalSceneSpec& spec = setup.spec;
+  spec.tissue = make_box_mesh(block.mesh.box.size, block.mesh.box.cells);
+  const TetMesh& mesh = spec.tissue;
+  spec.fixed.assign(static_cast<std::size_t>(mesh.num_nodes()), 0);
+  const Real tolerance = selection_tolerance(mesh.rest);
+  for (std::size_t k = 0; k < block.constraints.size(); ++k) {
+    const Constraint& c = block.constraints[k];
+    if (c.axes != Axes{true, true, true} || !c.displacement.isZero()) {
+      throw SceneError("constraints[" + std::to_string(k) + "]",
+                       "a live block's constraints fix all three axes (\"fix\": \"xyz\")");
+    }
+    const std::vector<int> nodes = nodes_in_box(mesh.rest, c.where.box, tolerance);
+    if (nodes.empty()) {
+      throw SceneError("constraints[" + std::to_string(k) + "].where", "selects no node");
+    }
+    for (const int i : nodes)
+      spec.fixed[static_cast<std::size_t>(i)] = 1;
+  }
+  spec.model = [scene = block](const TetMesh& m) { return make_model(scene, m); };
+  spec.dt = block.solver.dt;
+  Real c = 0, damping = 0;
+  for (const ElementMaterial& m : element_materials(block, mesh)) {
+    c = std::max(c, p_wave_speed(m.youngs_modulus, m.poisson_ratio, m.density));
+    damping = std::max(damping, m.damping);
+  }
+  const Real l_min = element_lengths(mesh.rest, mesh.tets).min_altitude;
+  spec.wave_speed = c;
+  spec.damping_time = damping * l_min / c;
+  spec.gravity = block.gravity;
+  const SphereTool sphere = block.tool.value_or(SphereTool{});
+  for (int hand = 0; hand < options.hands; ++hand) {
+    ToolSpec probe = make_tool(ToolKind::probe, hand);
+    probe.probe.radius = sphere.radius;
+    probe.probe.coupling_stiffness = sphere.stiffness;
+    probe.probe.max_force = options.max_force;
+    spec.tools.push_back(probe);
+  }
+  std::vector<int> labels(mesh.labels.data(), mesh.labels.data() + mesh.labels.size());
+  if (labels.empty()) labels.push_back(0);
+  std::sort(labels.begin(), labels.end());
+  labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
+  for (const int label : labels)
+    spec.damage.strain_thresholds.push_back({label, options.strain_threshold});
+  spec.damage_every =
+      std::max(1, static_cast<int>(std::lround(options.damage_interval_s / spec.dt)));
+  return setup;
 }
 
 SurgicalSceneSetup make_liver_surgery(const LiverSceneOptions& options) {

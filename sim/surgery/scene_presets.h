@@ -4,6 +4,9 @@
 // anatomy.h) into a SurgicalSceneSpec with their tools:
 //   liver  a liver-like organ held on its flat side, for laparoscopic probing, grasping and
 //          cutting along a marked line (the cut target); the gallbladder bed is protected;
+//   block  a sim core scene (sim/scenes/*.json: a box of tissue on its fixed face, the palpation
+//          block) with a probe in each hand: the live sessions run every scene on this one
+//          runtime;
 //   knee   a knee-like joint: rigid femur and tibia (FCL surfaces), deformable menisci and ACL
 //          from a labelled volume, held at their attachments; a 30-degree arthroscope and a
 //          probe, for inspection (landmarks) and a meniscus cut (the medial meniscus's radial
@@ -12,6 +15,7 @@
 // simulated. The time step is the tissue's stable step (stable_time_step, kExplicitSafety); the
 // wave speed and damping time for TissueBody's sliver guard follow the materials.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +32,9 @@ struct SurgicalSceneSetup {
   std::vector<Landmark> landmarks;
   std::vector<Portal> portals;   // knee: where the scope and the probe enter
   std::vector<Vec3> cut_target;  // the marked line [m]
+  std::optional<ViewSpec> view;  // the scene's own camera, if it names one (the block's "view")
+  // The block's probes stand for any tool a task names (a "retractor" is a probe that holds).
+  bool tools_stand_for_any = false;
 };
 
 struct LiverSceneOptions {
@@ -80,6 +87,24 @@ struct KneeSceneOptions {
   std::vector<ToolSpec> tools = default_tools();
   static std::vector<ToolSpec> default_tools();  // a scope on device 0, a probe on device 1
 };
+
+// The block: a sim core scene as a surgical scene. Its tissue is the box mesh with the scene's
+// material and gravity, held where a "fix" constraint holds all three axes; its step is the
+// scene's solver.dt. Its "tool" (a sphere) becomes a probe on each of the devices 0 .. hands - 1:
+// the sphere's radius, a virtual coupling as stiff as the sphere's penalty, saturating at
+// max_force. Tissue strained beyond strain_threshold (every label) is damaged, recorded every
+// damage_interval_s.
+struct BlockSceneOptions {
+  int hands = 2;                  // 1 or 2
+  Real max_force = 20;            // [N] the probes' saturation (the session's force limit)
+  Real strain_threshold = 0.4;    // [-]
+  Real damage_interval_s = 0.01;  // [s]
+};
+
+// Throws SceneError naming the key for what the block cannot carry live: a mesh other than a
+// box, loads, a "displace" or per-axis constraint, adaptivity, or an integrator other than
+// symplectic_euler (and as validate_scene for an invalid scene).
+SurgicalSceneSetup make_block_surgery(const Scene& block, const BlockSceneOptions& options = {});
 
 // Throws std::invalid_argument for bad options (as the anatomy's checks, or a bad material).
 SurgicalSceneSetup make_liver_surgery(const LiverSceneOptions& options);

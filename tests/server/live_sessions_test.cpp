@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <future>
+#include <limits>
 #include <memory>
 #include <thread>
 
@@ -65,9 +66,16 @@ TEST(LiveSession, BuiltButNotStarted) {
 }
 
 TEST(LiveSession, BadTickRateThrows) {
-  live::LiveSessionParams params;
-  params.scene = live::test::palpation_scene();
-  params.tick_hz = 487;  // 1/487 s is no whole number of 1e-4 s steps
+  // 0.01 Hz: a tick of 100 s would need 400,000 steps of the block's 2.5e-4 s.
+  for (const double hz : {0.0, -500.0, 0.01, std::numeric_limits<double>::quiet_NaN()}) {
+    live::LiveSessionParams params;
+    params.scene = live::test::palpation_scene();
+    params.tick_hz = hz;
+    EXPECT_THROW(live::LiveSession(std::move(params), live::LiveSession::AgentLink{}),
+                 std::invalid_argument)
+        << hz;
+  }
+  live::LiveSessionParams params;  // no scene
   EXPECT_THROW(live::LiveSession(std::move(params), live::LiveSession::AgentLink{}),
                std::invalid_argument);
 }

@@ -77,7 +77,8 @@ TEST(ReplaySession, EmptyRecordingHasNoDuration) {
 }
 
 TEST(ReplaySession, BadTickThrows) {
-  EXPECT_THROW(ReplaySession(test::palpation_scene(), 0.00205, {}), std::invalid_argument);
+  EXPECT_THROW(ReplaySession(test::palpation_scene(), 0.0, {}), std::invalid_argument);
+  EXPECT_THROW(ReplaySession(test::palpation_scene(), -0.002, {}), std::invalid_argument);
 }
 
 // The straight run: positions after each of `ticks`, and the hash at the end.
@@ -93,7 +94,7 @@ StraightRun straight_run(const sim::Scene& scene, const std::vector<TickRecord>&
   for (const auto& r : records) {
     engine.tick(r.input);
     for (const auto k : keep)
-      if (engine.ticks() == k) run.positions[k] = engine.simulation().mesh().x;
+      if (engine.ticks() == k) run.positions[k] = engine.positions();
   }
   run.final_hash = engine.state_hash();
   return run;

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -11,8 +12,8 @@
 
 #include "sim/io/scene_json.h"
 #include "sim/scene/scene_validation.h"
-#include "sim/scene/simulation.h"
 #include "sim/surgery/scene_file.h"
+#include "sim/surgery/scene_presets.h"
 
 namespace incise::server::live {
 namespace {
@@ -38,9 +39,10 @@ TEST(SceneLibrary, PalpationSceneIsEmbeddedVerbatimAndValid) {
   ASSERT_TRUE(scene.tool.has_value());  // a live scene needs a probe and a camera
   EXPECT_EQ(scene.tool->radius, 0.005);
   ASSERT_TRUE(scene.view.has_value());
-  EXPECT_EQ(scene.solver.dt, 1e-4);
-  const sim::Simulation simulation(scene);  // its selections pick nodes of the mesh
-  EXPECT_EQ(simulation.mesh().num_nodes(), 13 * 13 * 5);
+  EXPECT_EQ(scene.solver.dt, 2.5e-4);
+  const auto block = sim::surgery::make_block_surgery(scene);  // its selections pick nodes
+  EXPECT_EQ(block.spec.tissue.num_nodes(), 13 * 13 * 5);
+  EXPECT_EQ(std::count(block.spec.fixed.begin(), block.spec.fixed.end(), 1), 13 * 13);
 }
 
 TEST(SceneLibrary, EverySceneOfTheSourceTreeIsEmbedded) {
@@ -86,18 +88,44 @@ TEST(SceneLibrary, UnknownIdsAreNotFound) {
   EXPECT_FALSE(find_scene("scenes/palpation").has_value());
 }
 
-TEST(SceneVersion, IsFnv1a64InHex) {
+TEST(SceneVersion, IsTheRuntimeAndTheFnv1a64OfTheTextInHex) {
   // The published FNV-1a 64 test vectors.
-  EXPECT_EQ(scene_version(""), "cbf29ce484222325");
-  EXPECT_EQ(scene_version("a"), "af63dc4c8601ec8c");
-  EXPECT_EQ(scene_version("foobar"), "85944171f73967e8");
+  EXPECT_EQ(text_hash(""), "cbf29ce484222325");
+  EXPECT_EQ(text_hash("a"), "af63dc4c8601ec8c");
+  EXPECT_EQ(text_hash("foobar"), "85944171f73967e8");
+  EXPECT_EQ(scene_version("foobar"), "2:85944171f73967e8");
+}
+
+TEST(SceneVersion, ARecordingReplaysOnItsRuntimeAgainstItsSceneText) {
+  const std::string block(find_scene("scenes/palpation.json")->text);
+  const std::string liver(find_scene("scenes/surgery/liver_station.json")->text);
+  const std::string block_id = "scenes/palpation.json";
+  const std::string liver_id = "scenes/surgery/liver_station.json";
+  EXPECT_EQ(replay_refusal(block_id, scene_version(block), block), "");
+  EXPECT_EQ(replay_refusal(liver_id, scene_version(liver), liver), "");
+  // Runtime 1 (a bare hash) ran the surgical scenes as runtime 2 does, the block on the retired
+  // sim core simulation.
+  EXPECT_EQ(replay_refusal(liver_id, text_hash(liver), liver), "");
+  EXPECT_EQ(replay_refusal(block_id, text_hash(block), block),
+            "it was recorded on simulation runtime 1 (the palpation block's retired sim core "
+            "simulation), and this server replays runtime 2; its scores stand");
+  EXPECT_EQ(replay_refusal(block_id, "3:" + text_hash(block), block),
+            "it was recorded on simulation runtime 3, and this server replays runtime 2; its "
+            "scores stand");
+  // A changed scene refuses whatever the runtime.
+  EXPECT_EQ(replay_refusal(liver_id, text_hash(liver), liver + " "),
+            "it was made with scene version " + text_hash(liver) + "; the scene is now " +
+                text_hash(liver + " ") + ", so it cannot be replayed exactly");
+  EXPECT_NE(replay_refusal(block_id, scene_version(block), block + " "), "");
+  EXPECT_NE(replay_refusal(block_id, "", block), "");
 }
 
 TEST(SceneVersion, IsStableAndChangesWithAnyOneCharacter) {
   const std::string text(find_scene("scenes/palpation.json")->text);
   const auto version = scene_version(text);
-  ASSERT_EQ(version.size(), 16u);
-  EXPECT_EQ(version.find_first_not_of("0123456789abcdef"), std::string::npos);
+  ASSERT_EQ(version.size(), 18u);
+  EXPECT_EQ(version.substr(0, 2), "2:");
+  EXPECT_EQ(version.find_first_not_of("0123456789abcdef", 2), std::string::npos);
   EXPECT_EQ(scene_version(std::string(text)), version);  // depends on the text only
 
   for (std::size_t at = 0; at < text.size(); ++at) {

@@ -38,7 +38,7 @@ const SessionScene& liver() {
   return scene;
 }
 const sim::surgery::SurgicalSceneSetup& setup() {
-  return **liver().surgery();
+  return liver().setup();
 }
 
 sim::Vec3 place(const std::string& name) {
@@ -89,7 +89,6 @@ std::vector<sim::Vec3> along_the_line() {
 
 TEST(SurgeryEngine, TheTickIsTheFewestStepsNoLongerThanTheScenesStableStep) {
   const SimEngine engine(liver(), kTickS, 2);
-  ASSERT_NE(engine.surgery(), nullptr);
   const int n = engine.substeps();
   ASSERT_GE(n, 1);
   EXPECT_LE(kTickS / n, setup().spec.dt);
@@ -97,8 +96,7 @@ TEST(SurgeryEngine, TheTickIsTheFewestStepsNoLongerThanTheScenesStableStep) {
     EXPECT_GT(kTickS / (n - 1), setup().spec.dt);
   }
   EXPECT_EQ(engine.positions().rows(), setup().spec.tissue.rest.rows());
-  EXPECT_EQ(engine.surface()->faces.rows(),
-            engine.surgery()->scene().tissue().surface().faces.rows());
+  EXPECT_EQ(engine.surface()->faces.rows(), engine.world().scene().tissue().surface().faces.rows());
   EXPECT_TRUE(engine.state_finite());
   EXPECT_THROW(SimEngine(liver(), 0.0, 2), std::invalid_argument);
   EXPECT_THROW(SimEngine(liver(), kTickS, 3), std::invalid_argument);
@@ -113,7 +111,7 @@ TEST(SurgeryEngine, AStrokeAlongTheMarkedLineCutsOnTargetAndReplaysBitForBit) {
   const auto damage = engine.damage();
   std::printf("cut %.1f mm^2, %.1f mm^2 off target, mean distance %.2f mm, %d tets\n",
               1e6 * damage.cut_area, 1e6 * damage.cut_area_outside_target,
-              1e3 * damage.cut_mean_distance, engine.surgery()->scene().tissue().mesh().num_tets());
+              1e3 * damage.cut_mean_distance, engine.world().scene().tissue().mesh().num_tets());
   // 4 cm along the line, 6 mm deep: at most 240 mm^2 (docs/surgical_scenes.md: shallow cuts
   // open in part).
   EXPECT_GT(damage.cut_area, 40e-6);
@@ -285,7 +283,7 @@ TEST(SurgeryEngine, TheGrasperHoldsTheLiverAndTheLeftHandFeelsItsPull) {
     }
   };
   // At rest the marked line's ink dots are the scene's marked points.
-  const auto line = engine.surgery()->marked_line();
+  const auto line = engine.world().marked_line();
   ASSERT_EQ(line.size(), setup().cut_target.size());
   for (std::size_t k = 0; k < line.size(); ++k)
     EXPECT_EQ(line[k], setup().cut_target[k]);
@@ -312,7 +310,7 @@ TEST(SurgeryEngine, TheGrasperHoldsTheLiverAndTheLeftHandFeelsItsPull) {
   EXPECT_EQ(model.reference_position.z, lifted.z());
   // The tissue under the jaws rose, and the ink dots there with it.
   const auto middle = line.size() / 2;
-  EXPECT_GT(engine.surgery()->marked_line()[middle].z(), line[middle].z() + 0.001);
+  EXPECT_GT(engine.world().marked_line()[middle].z(), line[middle].z() + 0.001);
 }
 
 TEST(SurgeryEngine, TasksMustNameTheToolsTheSceneGivesEachDevice) {
@@ -322,7 +320,7 @@ TEST(SurgeryEngine, TasksMustNameTheToolsTheSceneGivesEachDevice) {
             "tools[0] is \"probe\" but the scene gives device 0 a scalpel");
   EXPECT_EQ(tools_mismatch(liver(), {"scalpel", "scope"}),
             "tools[1] is \"scope\" but the scene gives device 1 a grasper");
-  // A sim core scene's sphere tools stand for any tool.
+  // The block's probes stand for any tool.
   const auto palpation = find_scene("scenes/palpation.json");
   ASSERT_TRUE(palpation);
   EXPECT_EQ(tools_mismatch(load_session_scene(palpation->id, palpation->text), {"scalpel"}), "");

@@ -22,7 +22,7 @@
 namespace incise::server::live::test {
 
 inline constexpr const char* kPalpationId = "scenes/palpation.json";
-inline constexpr double kTickS = 0.002;  // the live sessions' 500 Hz tick: 20 sub-steps of 1e-4 s
+inline constexpr double kTickS = 0.002;  // the live sessions' 500 Hz tick: 8 sub-steps of 2.5e-4 s
 
 // Geometry of palpation.json: an 8 x 8 x 3 cm block on z = 0, a probe of radius 5 mm, top nodes
 // every 8/12 cm.

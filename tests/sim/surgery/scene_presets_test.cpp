@@ -1,6 +1,7 @@
 // The surgical scenes built from the anatomy: the liver probed, grasped and cut along its marked
 // line (on target, no never event, the held side unmoved); the knee inspected through its portals
-// with the 30-degree scope and the probe, and its ACL (protected) cut: a never event.
+// with the 30-degree scope and the probe, and its ACL (protected) cut: a never event. The
+// palpation block as a surgical scene.
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "sim/scene/scene_error.h"
 #include "sim/solve/stable_time_step.h"
 #include "sim/surgery/scene_presets.h"
 
@@ -212,6 +214,121 @@ TEST(KneeScene, ScopeAndProbeThroughThePortalsAndTheLigamentIsProtected) {
   EXPECT_GT(count(cut, EventKind::never_event), 0);
   EXPECT_TRUE(scene.damage().never_event);
   (void)inspection;
+}
+
+// The palpation block's scene (sim/scenes/palpation.json), written out.
+Scene palpation_block() {
+  Scene scene;
+  scene.mesh.box.size = Vec3(0.08, 0.08, 0.03);
+  scene.mesh.box.cells = Vec3i(12, 12, 4);
+  scene.material = {MaterialModel::mass_spring, 3000, 0.45, 1000, 0.5, 0};
+  Constraint bottom;
+  bottom.where.box = {Vec3::Zero(), Vec3(0.08, 0.08, 0)};
+  scene.constraints = {bottom};
+  scene.tool = SphereTool{0.005, 300, 0};
+  scene.solver.dt = 2.5e-4;
+  scene.solver.steps = 1;
+  return scene;
+}
+
+TEST(BlockScene, HeldOnItsFixedFaceWithAProbeOfTheSpheresSizeInEachHand) {
+  const SurgicalSceneSetup setup = make_block_surgery(palpation_block());
+  EXPECT_EQ(setup.name, "block");
+  EXPECT_TRUE(setup.tools_stand_for_any);
+  const TetMesh& mesh = setup.spec.tissue;
+  ASSERT_EQ(mesh.num_nodes(), 13 * 13 * 5);
+  for (int i = 0; i < mesh.num_nodes(); ++i) {
+    EXPECT_EQ(setup.spec.fixed[static_cast<std::size_t>(i)] == 1, mesh.rest(i, 2) == 0) << i;
+  }
+  ASSERT_EQ(setup.spec.tools.size(), 2u);
+  for (int d = 0; d < 2; ++d) {
+    const ToolSpec& t = setup.spec.tools[static_cast<std::size_t>(d)];
+    EXPECT_EQ(t.kind, ToolKind::probe);
+    EXPECT_EQ(t.device, d);
+    EXPECT_EQ(t.probe.radius, 0.005);
+    EXPECT_EQ(t.probe.coupling_stiffness, 300);
+    EXPECT_EQ(t.probe.max_force, 20);
+  }
+  EXPECT_EQ(setup.spec.dt, 2.5e-4);
+  EXPECT_EQ(setup.spec.damage_every, 40);  // 10 ms
+}
+
+TEST(BlockScene, APressedProbeFeelsTheTissuePushBackHarderTheDeeperItGoes) {
+  const SurgicalSceneSetup setup = make_block_surgery(palpation_block());
+  const Vec3 top(0.04, 0.04, 0.03 + 0.005);  // the tip's sphere resting on the top face
+  std::vector<Real> forces;
+  for (const Real depth : {0.002, 0.004}) {
+    SurgicalScene scene(setup.spec);
+    // Lowered over 0.1 s and held for 0.4 s (the block settles within a few tenths).
+    run(scene, 2000, [&](Real s) {
+      return std::vector<ToolInput>{
+          at(top - std::min(1.0, 5 * s) * depth * Vec3::UnitZ(), -Vec3::UnitZ())};
+    });
+    const Vec3 f = scene.force_model(0).force;
+    // Up, and less than the coupling alone would give (the tissue gives way under the tip).
+    EXPECT_GT(f.z(), 0);
+    EXPECT_LT(f.z(), 300 * depth);
+    EXPECT_LT(std::hypot(f.x(), f.y()), 1e-3 * f.z());
+    forces.push_back(f.z());
+    EXPECT_TRUE(scene.state_finite());
+  }
+  EXPECT_GT(forces[1], 1.5 * forces[0]);
+}
+
+// A hard case: the device swept through the middle of the block at 1 m/s, in one side and out of
+// the other. The probe's proxy cannot follow it through (it never tunnels): it drags the tissue
+// along, saturated, and the block stays finite and calms down once the device is gone.
+TEST(BlockScene, ADeviceSweptThroughTheBlockAtOneMetrePerSecondLeavesItFiniteAndCalm) {
+  SurgicalScene scene(make_block_surgery(palpation_block()).spec);
+  const Real dt = 2.5e-4;
+  const Vec3 start(-0.01, 0.04, 0.015);
+  const Vec3 velocity(1, 0, 0);  // [m/s]
+  const auto max_speed = [&] { return scene.tissue().mesh().v.rowwise().norm().maxCoeff(); };
+  const int sweep = static_cast<int>(std::lround(0.1 / (velocity.x() * dt)));
+  Real peak = 0;
+  Real peak_force = 0;
+  for (int s = 1; s <= sweep; ++s) {
+    scene.step(std::vector<ToolInput>{at(start + velocity * (s * dt), -Vec3::UnitZ())});
+    ASSERT_TRUE(scene.state_finite()) << "step " << s;
+    ASSERT_TRUE(scene.force_model(0).force.allFinite());
+    peak = std::max(peak, max_speed());
+    peak_force = std::max(peak_force, scene.force_model(0).force.norm());
+  }
+  EXPECT_GT(peak_force, 1);  // it did hit the tissue
+  EXPECT_LE(peak_force, 20 + 1e-9);
+  EXPECT_GT(peak, 0.1);  // and shook it
+  for (int s = 0; s < 4000; ++s)
+    scene.step(std::vector<ToolInput>{at(Vec3(-1, -1, -1), -Vec3::UnitZ())});
+  ASSERT_TRUE(scene.state_finite());
+  EXPECT_LT(max_speed(), 1e-3 * peak);
+}
+
+TEST(BlockScene, WhatALiveBlockCannotCarryIsRefusedByItsKey) {
+  const auto refused = [](const std::function<void(Scene&)>& change, const std::string& key) {
+    Scene scene = palpation_block();
+    change(scene);
+    try {
+      make_block_surgery(scene);
+      ADD_FAILURE() << key << " accepted";
+    } catch (const SceneError& e) {
+      EXPECT_EQ(e.path(), key);
+    }
+  };
+  refused([](Scene& s) { s.loads.push_back({s.constraints[0].where, Vec3(0, 0, -1)}); }, "loads");
+  refused([](Scene& s) { s.constraints[0].axes = {true, true, false}; }, "constraints[0]");
+  refused([](Scene& s) { s.constraints[0].displacement = Vec3(0, 0, 0.001); }, "constraints[0]");
+  refused([](Scene& s) { s.solver.integrator = Integrator::implicit_euler; }, "solver.integrator");
+  refused(
+      [](Scene& s) {
+        s.constraints[0].where.box = {Vec3(1, 1, 1), Vec3(2, 2, 2)};
+      },
+      "constraints[0].where");
+  refused(
+      [](Scene& s) {
+        s.mesh.source = MeshSource::file;
+        s.mesh.file = "block.msh";
+      },
+      "mesh");
 }
 
 }  // namespace
