@@ -74,8 +74,9 @@ scenario(
     assert.ok(second.sim_time > first.sim_time, `sim time advanced from ${first.sim_time} to ${second.sim_time}`);
     const changed = first.grid.filter((v, i) => Math.abs(v - second.grid[i]) > 8).length;
     assert.ok(changed >= 10, `the picture changed in ${changed} of ${first.grid.length} sampled pixels`);
-    const fps = Number(await metric(page, 'fps').textContent());
-    assert.ok(fps > 0, `measured fps ${fps}`);
+    // The page's meter counts the frames drawn in the last second: a positive rate shows within a
+    // few seconds even on a loaded machine (where a second without a frame reads 0.0).
+    await sees(metric(page, 'fps').filter({ hasText: /^(?!0\.0$)\d+\.\d$/ }), 'a positive frame rate');
     // The agent's link report arrives once a second: the haptic loop at about 1 kHz, a round
     // trip, and device 0 with its model age.
     await sees(metric(page, 'haptic_loop').filter({ hasText: / Hz$/ }), 'the haptic loop rate');
