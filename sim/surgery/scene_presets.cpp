@@ -30,10 +30,11 @@ ModelFactory model_of(const std::map<int, Material>& materials) {
   return [scene = scene_of(materials)](const TetMesh& mesh) { return make_model(scene, mesh); };
 }
 
-// dt, wave speed and damping time of a tissue mesh with these materials: the stable step of the
-// fastest material on the mesh's smallest altitude, and beta = damping l_min / c (scene_run.h's
-// Kelvin-Voigt time; for the mass-spring model, a bound of the same order).
-void set_step(SurgicalSceneSpec& spec, const std::map<int, Material>& materials) {
+// The sliver guard's wave speed and damping time of a tissue mesh with these materials: the
+// fastest material's P-wave speed c, and beta = damping l_min / c (scene_run.h's Kelvin-Voigt
+// time; for the mass-spring model, a bound of the same order). Returns l_min / c, the time a wave
+// takes across the smallest altitude.
+Real set_guard(SurgicalSceneSpec& spec, const std::map<int, Material>& materials) {
   Real c = 0, damping = 0;
   for (const auto& [label, m] : materials) {
     c = std::max(c, p_wave_speed(m.youngs_modulus, m.poisson_ratio, m.density));
@@ -41,8 +42,13 @@ void set_step(SurgicalSceneSpec& spec, const std::map<int, Material>& materials)
   }
   const Real l_min = element_lengths(spec.tissue.rest, spec.tissue.tets).min_altitude;
   spec.wave_speed = c;
-  spec.dt = kExplicitSafety * l_min / c;
   spec.damping_time = damping * l_min / c;
+  return l_min / c;
+}
+
+// set_guard, and dt the stable step of the fastest material on the smallest altitude.
+void set_step(SurgicalSceneSpec& spec, const std::map<int, Material>& materials) {
+  spec.dt = kExplicitSafety * set_guard(spec, materials);
 }
 
 tools::MarkedTarget target_of(const std::vector<Vec3>& line, Real half_width) {
@@ -115,14 +121,10 @@ SurgicalSceneSetup make_block_surgery(const Scene& block, const BlockSceneOption
   }
   spec.model = [scene = block](const TetMesh& m) { return make_model(scene, m); };
   spec.dt = block.solver.dt;
-  Real c = 0, damping = 0;
-  for (const ElementMaterial& m : element_materials(block, mesh)) {
-    c = std::max(c, p_wave_speed(m.youngs_modulus, m.poisson_ratio, m.density));
-    damping = std::max(damping, m.damping);
-  }
-  const Real l_min = element_lengths(mesh.rest, mesh.tets).min_altitude;
-  spec.wave_speed = c;
-  spec.damping_time = damping * l_min / c;
+  // Every material a label may take (a label without its own takes "material").
+  std::map<int, Material> materials = block.materials_by_label;
+  materials.emplace(-1, block.material);
+  set_guard(spec, materials);
   spec.gravity = block.gravity;
   const SphereTool sphere = block.tool.value_or(SphereTool{});
   for (int hand = 0; hand < options.hands; ++hand) {

@@ -15,9 +15,7 @@
 
 #include <gtest/gtest.h>
 
-#include "sim/mesh/box_mesher.h"
-#include "sim/scene/scene_run.h"
-#include "sim/solve/stable_time_step.h"
+#include "sim/surgery/scene_presets.h"
 #include "sim/surgery/surgical_scene.h"
 
 namespace {
@@ -56,25 +54,18 @@ namespace {
 
 const Vec3 kSize(0.06, 0.06, 0.03);
 
+// A corotational block held on its base (make_block_surgery, the palpation block's builder), with
+// the liver station's ambient damping and the given tools.
 SurgicalSceneSpec block(std::vector<ToolSpec> tools) {
-  SurgicalSceneSpec spec;
-  spec.tissue = make_box_mesh(kSize, Vec3i(6, 6, 3));
-  spec.fixed.assign(static_cast<std::size_t>(spec.tissue.num_nodes()), 0);
-  for (int i = 0; i < spec.tissue.num_nodes(); ++i) {
-    if (spec.tissue.rest(i, 2) == 0) spec.fixed[static_cast<std::size_t>(i)] = 1;
-  }
   Scene scene;
-  scene.material.model = MaterialModel::corotational_polar;
-  scene.material.youngs_modulus = 5000;
-  scene.material.poisson_ratio = 0.45;
-  scene.material.density = 1000;
-  scene.material.damping = 0.3;
-  spec.model = [scene](const TetMesh& mesh) { return make_model(scene, mesh); };
+  scene.mesh.box = {kSize, Vec3i(6, 6, 3)};
+  scene.material = {MaterialModel::corotational_polar, 5000, 0.45, 1000, 0.3};
+  scene.constraints = {
+      {{Box3(Vec3::Zero(), Vec3(kSize.x(), kSize.y(), 0))}, {true, true, true}, Vec3::Zero()}};
+  scene.solver.dt = 1e-4;
+  scene.solver.steps = 1;
+  SurgicalSceneSpec spec = make_block_surgery(scene).spec;
   spec.tools = std::move(tools);
-  spec.dt = 1e-4;
-  spec.wave_speed = p_wave_speed(5000, 0.45, 1000);
-  spec.damping_time =
-      0.3 * element_lengths(spec.tissue.rest, spec.tissue.tets).min_altitude / spec.wave_speed;
   spec.ambient_damping = 20;
   return spec;
 }
