@@ -11,7 +11,8 @@
 // (corotational_batch.cpp: a square root or a division counts one, comparisons none); the scalar
 // kernels are not counted ("-"). The corotational models also run their scalar reference
 // (add_forces_scalar) for the speed-up.
-//   bench_kernels [--quick]   (--quick: the 3k box only, fewer repeats)
+//   bench_kernels [--quick] [--model NAME]   (--quick: the 3k box only, fewer repeats; --model:
+//   the models whose name starts with NAME)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -178,11 +179,11 @@ double bytes_per_tet(double element_bytes, const Box& box) {
 
 // The vectorised kernels' flops per tet (corotational_batch.cpp, counted line by line): F and
 // det F 68, the stress of the stretch 75 (+45 for U = R^T F), the damping 209, the nodal forces
-// 72; polar adds 52 per call and 201 per Newton iteration, QR 48 for Gram-Schmidt and 64 for
+// 72; polar adds 67 per call and 202 per Newton iteration, QR 48 for Gram-Schmidt and 64 for
 // its dR/dF term.
 double batch_flops(RotationExtraction extraction, double iterations) {
   const double common = 68 + 75 + 45 + 209 + 72;
-  return extraction == RotationExtraction::polar ? common + 52 + 201 * iterations
+  return extraction == RotationExtraction::polar ? common + 67 + 202 * iterations
                                                  : common + 48 + 64;
 }
 
@@ -194,7 +195,19 @@ struct Row {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  // --quick: the 3k box only, fewer repeats; --model NAME: that model only (for profiling).
+  bool quick = false;
+  std::string only;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--quick") == 0) {
+      quick = true;
+    } else if (std::strcmp(argv[i], "--model") == 0 && i + 1 < argc) {
+      only = argv[++i];
+    } else {
+      std::fprintf(stderr, "usage: bench_kernels [--quick] [--model NAME]\n");
+      return 2;
+    }
+  }
   Machine machine;
   machine.flops = peak_flops(quick ? 20'000'000 : 100'000'000);
   machine.bytes = bandwidth();
@@ -220,6 +233,7 @@ int main(int argc, char** argv) {
     std::printf("  %-24s %10s %10s %10s %9s %9s %10s %12s\n", "model, kernel", "ns/tet", "limit ns",
                 "of limit", "flops", "bytes", "Newton", "stiffness ns");
     for (const Row& row : rows) {
+      if (!only.empty() && row.name.rfind(only, 0) != 0) continue;
       Scene scene;
       scene.material = {row.kind, 3000, 0.45, 1000, 0.1};
       auto model = make_model(scene, box.mesh);

@@ -38,12 +38,11 @@ std::string replay_refusal(std::string_view id, std::string_view recorded, std::
   const std::string_view hash =
       colon == std::string_view::npos ? recorded : recorded.substr(colon + 1);
   const std::string current = std::to_string(kSceneRuntime);
-  // Runtime 1 ran the surgical scenes as runtime 2 does.
-  const bool same_runtime =
-      runtime == current || (runtime == "1" && id.starts_with(kSurgicalScenePrefix));
-  if (!same_runtime) {
+  if (runtime != current) {
     return "it was recorded on simulation runtime " + std::string(runtime) +
-           (runtime == "1" ? " (the palpation block's retired sim core simulation)" : "") +
+           (runtime == "1" && !id.starts_with(kSurgicalScenePrefix)
+                ? " (the palpation block's retired sim core simulation)"
+                : "") +
            ", and this server replays runtime " + current + "; its scores stand";
   }
   if (hash != text_hash(text)) {

@@ -23,13 +23,16 @@ std::optional<SceneSource> find_scene(std::string_view id);
 // FNV-1a 64 of the text, 16 hex digits.
 std::string text_hash(std::string_view text);
 
-// The runtime that replays this server's recordings. Runtime 1 ran the palpation block on the
-// sim core's own simulation (sim::Simulation, sphere tips) and the surgical scenes on
-// SurgicalScene; runtime 2 runs every scene on SurgicalScene (the block with probes), so a
-// runtime 1 recording of a surgical scene replays bit for bit and one of the block does not.
-inline constexpr int kSceneRuntime = 2;
+// The runtime that replays this server's recordings bit for bit; a recording of another one is
+// refused (its scores stand). Runtime 1 ran the palpation block on the sim core's own simulation
+// (sim::Simulation, sphere tips) and the surgical scenes on SurgicalScene; runtime 2 ran every
+// scene on SurgicalScene (the block with probes); runtime 3 rounds the corotational forces
+// differently (the vectorised kernel's gather and Newton steps, corotational_batch.h) and
+// records the physics' shedding level per tick (tick_record.h). Anything that changes a
+// simulation's bits for the same inputs takes the next number.
+inline constexpr int kSceneRuntime = 3;
 
-// What a recording stores: "<runtime>:<text_hash>", e.g. "2:85944171f73967e8". (Runtime 1 stored
+// What a recording stores: "<runtime>:<text_hash>", e.g. "3:85944171f73967e8". (Runtime 1 stored
 // the bare hash.)
 std::string scene_version(std::string_view text);
 

@@ -97,18 +97,19 @@ INCISE_LANES M3 linear_stress_of(const M3& e, Real shift, Lanes mu, Lanes lambda
   return s;
 }
 
-// The rotation of unit quaternions (w, x, y, z).
-INCISE_LANES M3 rotation_of(Lanes w, Lanes x, Lanes y, Lanes z) {
+// |q|^2 times the rotation of the quaternion q (w, x, y, z), whatever its length.
+INCISE_LANES M3 homogeneous_rotation_of(Lanes w, Lanes x, Lanes y, Lanes z) {
+  const Lanes ww = w * w, xx = x * x, yy = y * y, zz = z * z;
   M3 r;
-  r.m[0][0] = 1 - 2 * (y * y + z * z);
+  r.m[0][0] = ww + xx - yy - zz;
   r.m[0][1] = 2 * (x * y - w * z);
   r.m[0][2] = 2 * (x * z + w * y);
   r.m[1][0] = 2 * (x * y + w * z);
-  r.m[1][1] = 1 - 2 * (x * x + z * z);
+  r.m[1][1] = ww - xx + yy - zz;
   r.m[1][2] = 2 * (y * z - w * x);
   r.m[2][0] = 2 * (x * z - w * y);
   r.m[2][1] = 2 * (y * z + w * x);
-  r.m[2][2] = 1 - 2 * (x * x + y * y);
+  r.m[2][2] = ww - xx - yy + zz;
   return r;
 }
 
@@ -116,10 +117,34 @@ struct Quaternions {
   Lanes w, x, y, z;
 };
 
+// The rotation of q, whatever its length, by a division: no square root on the way to the stress.
+INCISE_LANES M3 rotation_of(const Quaternions& q) {
+  const Lanes inverse_norm2 = 1 / (q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+  M3 rotation = homogeneous_rotation_of(q.w, q.x, q.y, q.z);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      rotation.m[i][j] *= inverse_norm2;
+  return rotation;
+}
+
+// q at unit length.
+INCISE_LANES Quaternions normalised(const Quaternions& q) {
+  const Lanes n = 1 / lanes_sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+  return {q.w * n, q.x * n, q.y * n, q.z * n};
+}
+
 // Newton on the rotation maximising tr(R^T F) from q (the header). Returns the lanes that
 // converged: those whose last step was below kStepTolerance with a positive definite Hessian.
 // Lanes outside `active` (slots without an element) count as converged from the start. Adds the
 // iterations it ran to `iterations`.
+//
+// No square root lies on the chain from one iterate to the next, and its divisions run beside
+// other work: q is kept unnormalised, R = R~(q) / |q|^2 with R~ the homogeneous rotation of q
+// (1 / |q|^2 computed beside R~), and the step theta = adj(H) w / det H enters q as the
+// quaternion (2 det H, adj(H) w) / (tr H)^3, which turns R by the same rotation as
+// (1, theta / 2); the gradient step w / |tr A| enters as (2, w / |tr A|). Both divisors are known
+// as soon as A is, and they keep |q| within a few powers of ten of 1 over kMaxNewton steps (det H
+// is at least 1e-12 (tr H)^3 where the Newton step is taken).
 INCISE_LANES LaneMask polar_newton(const M3& f, LaneMask active, Quaternions& q, int& iterations) {
   // A step below 1e-6 rad leaves an error of its square (quadratic convergence), 1e-12: done. A
   // tet whose rotation changed by less than that since the last call takes one iteration.
@@ -127,7 +152,7 @@ INCISE_LANES LaneMask polar_newton(const M3& f, LaneMask active, Quaternions& q,
   LaneMask converged = ~active;
   for (int iteration = 0; iteration < CorotationalBatch::kMaxNewton; ++iteration) {
     ++iterations;
-    const M3 a = transpose_times(rotation_of(q.w, q.x, q.y, q.z), f);
+    const M3 a = transpose_times(rotation_of(q), f);
     const Lanes w0 = a.m[2][1] - a.m[1][2];
     const Lanes w1 = a.m[0][2] - a.m[2][0];
     const Lanes w2 = a.m[1][0] - a.m[0][1];
@@ -150,44 +175,43 @@ INCISE_LANES LaneMask polar_newton(const M3& f, LaneMask active, Quaternions& q,
     // Sylvester's criterion, with the determinant away from zero relative to H's size.
     const LaneMask definite =
         (h00 > 0) & (c22 > 0) & (scale > 0) & (det > Real(1e-12) * scale * scale * scale);
-    const Lanes inverse_det = select(definite, 1 / det, splat(0));
+    // theta = v / d with d > 0, and the step's scale g (above).
     const Lanes abs_trace = select(trace < 0, -trace, trace);
-    const Lanes step_scale = 1 / (abs_trace + Real(1e-12) * (scale + 1));
-    Lanes t0 = select(definite, (c00 * w0 + c01 * w1 + c02 * w2) * inverse_det, w0 * step_scale);
-    Lanes t1 = select(definite, (c01 * w0 + c11 * w1 + c12 * w2) * inverse_det, w1 * step_scale);
-    Lanes t2 = select(definite, (c02 * w0 + c12 * w1 + c22 * w2) * inverse_det, w2 * step_scale);
+    const Lanes gradient_d = abs_trace + Real(1e-12) * (scale + 1);
+    const Lanes inverse_g =
+        1 / select(converged, splat(1), select(definite, scale * scale * scale, gradient_d));
+    Lanes d = select(definite, det, gradient_d);
+    Lanes v0 = select(definite, c00 * w0 + c01 * w1 + c02 * w2, w0);
+    Lanes v1 = select(definite, c01 * w0 + c11 * w1 + c12 * w2, w1);
+    Lanes v2 = select(definite, c02 * w0 + c12 * w1 + c22 * w2, w2);
     // Lanes already converged stay where they are.
-    t0 = select(converged, splat(0), t0);
-    t1 = select(converged, splat(0), t1);
-    t2 = select(converged, splat(0), t2);
-    Lanes norm2 = t0 * t0 + t1 * t1 + t2 * t2;
-    // At most a radian per step.
-    const LaneMask long_step = norm2 > 1;
-    const Lanes shorten = select(long_step, 1 / lanes_sqrt(norm2), splat(1));
-    t0 *= shorten;
-    t1 *= shorten;
-    t2 *= shorten;
-    norm2 = select(long_step, splat(1), norm2);
-    // q <- q (1, theta / 2), normalised: R <- R exp([theta]) to second order.
-    const Lanes n = 1 / lanes_sqrt(1 + Real(0.25) * norm2);
-    const Lanes dw = n;
-    const Lanes dx = Real(0.5) * n * t0;
-    const Lanes dy = Real(0.5) * n * t1;
-    const Lanes dz = Real(0.5) * n * t2;
+    d = select(converged, splat(1), d);
+    v0 = select(converged, splat(0), v0);
+    v1 = select(converged, splat(0), v1);
+    v2 = select(converged, splat(0), v2);
+    const Lanes v_norm2 = v0 * v0 + v1 * v1 + v2 * v2;
+    const Lanes d2 = d * d;
+    // At most a radian per step (rare: a cold start or a fast turn).
+    const LaneMask long_step = v_norm2 > d2;
+    if (any(long_step)) {
+      const Lanes shorten = select(long_step, d / lanes_sqrt(v_norm2), splat(1));
+      v0 *= shorten;
+      v1 *= shorten;
+      v2 *= shorten;
+    }
+    // q <- q (2 d, v) / g: R <- R exp([theta]) to second order.
+    const Lanes dw = 2 * d * inverse_g;
+    v0 *= inverse_g;
+    v1 *= inverse_g;
+    v2 *= inverse_g;
     const Quaternions p = q;
-    q.w = p.w * dw - p.x * dx - p.y * dy - p.z * dz;
-    q.x = p.w * dx + p.x * dw + p.y * dz - p.z * dy;
-    q.y = p.w * dy - p.x * dz + p.y * dw + p.z * dx;
-    q.z = p.w * dz + p.x * dy - p.y * dx + p.z * dw;
-    converged |= definite & (norm2 < kStepTolerance2);
+    q.w = p.w * dw - p.x * v0 - p.y * v1 - p.z * v2;
+    q.x = p.w * v0 + p.x * dw + p.y * v2 - p.z * v1;
+    q.y = p.w * v1 - p.x * v2 + p.y * dw + p.z * v0;
+    q.z = p.w * v2 + p.x * v1 - p.y * v0 + p.z * dw;
+    converged |= definite & (v_norm2 < kStepTolerance2 * d2);
     if (all(converged)) break;
   }
-  // Unit length again (round-off drifts it over many steps).
-  const Lanes n = 1 / lanes_sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
-  q.w *= n;
-  q.x *= n;
-  q.y *= n;
-  q.z *= n;
   return converged;
 }
 
@@ -205,18 +229,60 @@ void set_lane(M3& a, int l, const Mat3& m) {
       a.m[i][j][l] = m(i, j);
 }
 
-// Ds = [x1 - x0, x2 - x0, x3 - x0] of four tets, node[lane][tet node] into x (#nodes by 3).
+using Pair = Real __attribute__((vector_size(2 * sizeof(Real))));
+
+// (x, y, z, 0) of the point at p: two loads, never past p[2].
+INCISE_LANES Lanes point_at(const Real* p) {
+  Pair xy;
+  std::memcpy(&xy, p, sizeof xy);
+  const Pair z0 = {p[2], 0};
+  return __builtin_shufflevector(xy, z0, 0, 1, 2, 3);
+}
+
+// p[0..2] += the first three entries of a.
+INCISE_LANES void add_point(Real* p, Lanes a) {
+  Pair xy;
+  std::memcpy(&xy, p, sizeof xy);
+  xy += __builtin_shufflevector(a, a, 0, 1);
+  std::memcpy(p, &xy, sizeof xy);
+  p[2] += a[2];
+}
+
+// The 4x4 transpose: row i of r holds entry i of a, b, c and d (rows nobody reads cost nothing,
+// the function being inlined).
+INCISE_LANES void transpose(Lanes a, Lanes b, Lanes c, Lanes d, Lanes (&r)[4]) {
+  const Lanes ab02 = __builtin_shufflevector(a, b, 0, 4, 2, 6);
+  const Lanes ab13 = __builtin_shufflevector(a, b, 1, 5, 3, 7);
+  const Lanes cd02 = __builtin_shufflevector(c, d, 0, 4, 2, 6);
+  const Lanes cd13 = __builtin_shufflevector(c, d, 1, 5, 3, 7);
+  r[0] = __builtin_shufflevector(ab02, cd02, 0, 1, 4, 5);
+  r[1] = __builtin_shufflevector(ab13, cd13, 0, 1, 4, 5);
+  r[2] = __builtin_shufflevector(ab02, cd02, 2, 3, 6, 7);
+  r[3] = __builtin_shufflevector(ab13, cd13, 2, 3, 6, 7);
+}
+
+// Ds = [x1 - x0, x2 - x0, x3 - x0] of four tets, node[lane][tet node] into x (#nodes by 3): each
+// lane's edges as (x, y, z, 0) vectors, transposed into lanes.
 INCISE_LANES M3 edge_matrix_of(const Real* x, const int (&node)[4][4]) {
-  M3 ds;
+  Lanes edge[3][4];  // [k][lane]
   for (int l = 0; l < 4; ++l) {
-    const Real* x0 = x + 3 * node[l][0];
-    for (int k = 0; k < 3; ++k) {
-      const Real* xk = x + 3 * node[l][k + 1];
-      for (int i = 0; i < 3; ++i)
-        ds.m[i][k][l] = xk[i] - x0[i];
-    }
+    const Lanes x0 = point_at(x + 3 * node[l][0]);
+    for (int k = 0; k < 3; ++k)
+      edge[k][l] = point_at(x + 3 * node[l][k + 1]) - x0;
+  }
+  M3 ds;
+  for (int k = 0; k < 3; ++k) {
+    Lanes rows[4];
+    transpose(edge[k][0], edge[k][1], edge[k][2], edge[k][3], rows);
+    for (int i = 0; i < 3; ++i)
+      ds.m[i][k] = rows[i];
   }
   return ds;
+}
+
+// How many lanes of m are set.
+INCISE_LANES int count(LaneMask m) {
+  return static_cast<int>(-(m[0] + m[1] + m[2] + m[3]));
 }
 
 struct BatchView {
@@ -255,10 +321,7 @@ INCISE_LANES void forces_of_four(const BatchView& b, int base, const Real* x, co
   // F = Ds Dm^-1 and, for the damping, dF/dt = (dDs/dt) Dm^-1.
   const M3 deformation = times(edge_matrix_of(x, node), rest_inverse);
   const Lanes j = determinant(deformation);
-  for (int l = 0; l < 4; ++l) {
-    if (!alive[l]) continue;
-    totals.health.inverted_elements += j[l] <= 0 ? 1 : 0;
-  }
+  totals.health.inverted_elements += count(alive & (j <= 0));
 
   M3 rotation;
   M3 stretch;
@@ -267,7 +330,8 @@ INCISE_LANES void forces_of_four(const BatchView& b, int base, const Real* x, co
     Quaternions q{load(b.rotation[0] + base), load(b.rotation[1] + base),
                   load(b.rotation[2] + base), load(b.rotation[3] + base)};
     const LaneMask converged = polar_newton(deformation, alive, q, totals.newton_iterations);
-    rotation = rotation_of(q.w, q.x, q.y, q.z);
+    rotation = rotation_of(q);
+    q = normalised(q);
     if (!all(converged)) {
       for (int l = 0; l < 4; ++l) {
         if (converged[l] || !alive[l]) continue;
@@ -322,11 +386,9 @@ INCISE_LANES void forces_of_four(const BatchView& b, int base, const Real* x, co
       }
     }
   }
-  for (int l = 0; l < 4; ++l) {
-    if (!alive[l]) continue;
-    totals.health.degenerate_elements +=
-        (degenerate[l] || !(__builtin_fabs(j[l]) >= kDegenerateVolumeRatio)) ? 1 : 0;
-  }
+  const Lanes abs_j = select(j < 0, -j, j);
+  totals.health.degenerate_elements +=
+      count(alive & (degenerate | ~(abs_j >= kDegenerateVolumeRatio)));
 
   const Lanes mu = load(b.mu + base);
   const Lanes lambda = load(b.lambda + base);
@@ -362,20 +424,22 @@ INCISE_LANES void forces_of_four(const BatchView& b, int base, const Real* x, co
         stress.m[i][k] += factor * viscous.m[i][k];
   }
 
-  // [f1 f2 f3] = -V0 P Dm^-T, f0 = -(f1 + f2 + f3).
+  // [f1 f2 f3] = -V0 P Dm^-T, f0 = -(f1 + f2 + f3); back from lanes to each tet's (x, y, z, 0).
   const M3 h = times_transpose(stress, rest_inverse);
-  for (int l = 0; l < 4; ++l) {
-    if (!alive[l]) continue;
-    const Real scale = -volume[l];
-    Real* f0 = f + 3 * node[l][0];
+  const Lanes scale = -volume;
+  Lanes nodal[4][3];  // [tet node][coordinate], lanes
+  for (int i = 0; i < 3; ++i) {
+    nodal[0][i] = splat(0);
     for (int k = 0; k < 3; ++k) {
-      Real* fk = f + 3 * node[l][k + 1];
-      for (int i = 0; i < 3; ++i) {
-        const Real value = scale * h.m[i][k][l];
-        fk[i] += value;
-        f0[i] -= value;
-      }
+      nodal[k + 1][i] = scale * h.m[i][k];
+      nodal[0][i] -= nodal[k + 1][i];
     }
+  }
+  for (int a = 0; a < 4; ++a) {
+    Lanes per_lane[4];
+    transpose(nodal[a][0], nodal[a][1], nodal[a][2], splat(0), per_lane);
+    for (int l = 0; l < 4; ++l)
+      if (alive[l]) add_point(f + 3 * node[l][a], per_lane[l]);
   }
 }
 
