@@ -113,7 +113,10 @@ LiveSession::LiveSession(LiveSessionParams params, AgentLink agent)
     : params_(std::move(params)),
       agent_(std::move(agent)),
       engine_(scene_of(params_), 1.0 / params_.tick_hz, hands_for(params_.task)),
-      pace_(engine_.tick_s()) {
+      shed_plan_{engine_.world().setup().spec.adaptivity.enabled
+                     ? sim::surgery::kMaxAdaptivityShedLevel
+                     : 0},
+      pace_(engine_.tick_s(), shed_plan_.max_level()) {
   publish_snapshot();
 }
 
@@ -234,7 +237,7 @@ nlohmann::json LiveSession::status() const {
     out["behind_real_time"] = pace.behind;
     out["lag_ms"] = pace.lag_s * 1e3;
     out["real_time_factor"] = pace.real_time_factor;
-    out["shed"] = shed_text(pace.shed_level);
+    out["shed"] = shed_plan_.text(pace.shed_level);
   }
   out["force_models_sent"] = force_models_sent_.load();
   out["hands"] = engine_.hands();
@@ -310,6 +313,7 @@ void LiveSession::run() {
   auto rate_window_start = next;
   std::int64_t rate_window_ticks = 0;
   TickRecord record;
+  int shed_level = 0;  // the pace monitor's, after the last tick
   restart_pace();
   while (true) {
     std::array<Input, SimEngine::kMaxHands> inputs;
@@ -361,9 +365,12 @@ void LiveSession::run() {
       states[h].device_index = static_cast<std::uint8_t>(h);
       if (!inputs[h].received) states[h].position = {0, 0, kParkedToolHeight};
     }
+    // Shedding (pace_monitor.h), the physics' part first: recorded with the tick.
+    engine_.set_shed_level(shed_plan_.physics_level(shed_level));
     engine_.tick(std::span<const devices::DeviceState>(states.data(),
                                                        static_cast<std::size_t>(engine_.hands())));
     record.tick = static_cast<std::uint32_t>(engine_.ticks() - 1);
+    record.shed = static_cast<std::uint8_t>(engine_.shed_level());
     record.input = states[0];
     for (int i = 0; i < 3; ++i)
       record.force[i] = static_cast<float>(engine_.contact(0).force_on_tool[i]);
@@ -399,15 +406,14 @@ void LiveSession::run() {
       }
     }
     if (params_.after_tick) params_.after_tick();
-    int shed_level = 0;
     {
       const double now_s = seconds_now();
       std::lock_guard lock(pace_mutex_);
       pace_.on_tick(now_s, schedule_lag_s);
       shed_level = pace_.state_at(now_s).shed_level;
     }
-    // Shedding (pace_monitor.h): fewer snapshots, so fewer frames rendered beside the physics.
-    if (engine_.ticks() % (ticks_per_snapshot * render_divisor(shed_level)) == 0) {
+    // Shedding, the picture's part: fewer snapshots, so fewer frames rendered beside the physics.
+    if (engine_.ticks() % (ticks_per_snapshot * shed_plan_.render_divisor(shed_level)) == 0) {
       publish_snapshot();
     }
     if (engine_.ticks() % ticks_per_damage_sample == 0) {
@@ -422,8 +428,8 @@ void LiveSession::run() {
       rate_window_start = Clock::now();
       rate_window_ticks = 0;
     }
-    if (engine_.ticks() >= static_cast<std::int64_t>(kSecondHandBit)) {
-      // A tick number has 31 bits in the recording: 49 days at 500 Hz.
+    if (engine_.ticks() > static_cast<std::int64_t>(kMaxRecordedTick)) {
+      // A tick number has 29 bits in the recording (tick_record.h).
       std::lock_guard lock(mutex_);
       stop_requested_ = true;
       reason_ = "session reached the longest recordable length";

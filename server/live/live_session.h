@@ -127,6 +127,7 @@ class LiveSession : public StreamSource {
   std::atomic<std::int64_t> late_ticks_{0};
   std::atomic<std::int64_t> force_models_sent_{0};
   // Keeping up with real time (pace_monitor.h): the session thread reports, status() reads.
+  const ShedPlan shed_plan_;
   mutable std::mutex pace_mutex_;
   PaceMonitor pace_;
 

@@ -4,23 +4,35 @@
 
 namespace incise::server::live {
 
-const char* shed_text(int level) {
-  switch (level) {
+int ShedPlan::physics_level(int level) const {
+  return std::clamp(level, 0, physics_levels);
+}
+
+int ShedPlan::render_divisor(int level) const {
+  return 1 << std::clamp(level - physics_levels, 0, kRenderShedLevels);
+}
+
+std::string ShedPlan::text(int level) const {
+  std::string text;
+  switch (physics_level(level)) {
+    case 0:
+      break;
     case 1:
-      return "render rate halved";
-    case 2:
-      return "render rate quartered";
+      text = "refinement paused";
+      break;
     default:
-      return "";
+      text = "refinement paused, refined tissue coarsened";
   }
+  const int divisor = render_divisor(level);
+  if (divisor > 1) {
+    if (!text.empty()) text += ", ";
+    text += divisor == 2 ? "render rate halved" : "render rate quartered";
+  }
+  return text;
 }
 
-int render_divisor(int level) {
-  return 1 << std::clamp(level, 0, kMaxShedLevel);
-}
-
-PaceMonitor::PaceMonitor(double tick_s, PaceSettings settings)
-    : tick_s_(tick_s), settings_(settings) {}
+PaceMonitor::PaceMonitor(double tick_s, int max_level, PaceSettings settings)
+    : tick_s_(tick_s), max_level_(std::max(0, max_level)), settings_(settings) {}
 
 void PaceMonitor::restart(double now_s) {
   last_tick_s_ = window_start_s_ = now_s;
@@ -44,7 +56,7 @@ void PaceMonitor::close_window(double now_s) {
       state_.real_time_factor < settings_.behind_factor || window_lag_s_ > settings_.behind_lag_s;
   if (behind) {
     state_.behind = true;
-    state_.shed_level = std::min(state_.shed_level + 1, kMaxShedLevel);
+    state_.shed_level = std::min(state_.shed_level + 1, max_level_);
     kept_up_since_s_ = -1;
   } else if (state_.real_time_factor >= settings_.recover_factor &&
              window_lag_s_ < settings_.behind_lag_s / 2) {

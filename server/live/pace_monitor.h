@@ -13,10 +13,11 @@
 //               half of behind_lag_s
 //   shedding    one level more for each window that ends behind, one less for each recover_s
 //               kept up (so a level that was not needed is given back, and one that was comes
-//               straight back): shed_text(level) says what each level leaves out.
+//               straight back): ShedPlan says what each level leaves out.
 //
 // Plain arithmetic on the times it is given: no clock, no thread, no allocation.
 #include <cstdint>
+#include <string>
 
 namespace incise::server::live {
 
@@ -32,22 +33,34 @@ struct PaceState {
   bool behind = false;
   double lag_s = 0;             // how far behind schedule [s], a stalled tick included
   double real_time_factor = 1;  // simulated over wall time in the last window
-  int shed_level = 0;           // 0 .. kMaxShedLevel
+  int shed_level = 0;           // 0 .. max_level
 };
 
-// Levels of shedding, in the order they are taken. The physics-changing levels (coarser
-// remeshing, a narrower active region) will come first once a recording carries the level per
-// tick, so that a replay sheds as the session did; until then only the picture is shed.
-inline constexpr int kMaxShedLevel = 2;
-// "" for 0; "render rate halved", "render rate quartered".
-const char* shed_text(int level);
-// How many times fewer snapshots (and so rendered frames) a level publishes: 1, 2, 4.
-int render_divisor(int level);
+// Levels of shedding, in the order they are taken: first the physics' (a scene with adaptivity
+// pauses its refinement, then also coarsens what it refined as soon as no tool holds it:
+// sim::surgery::shed_adaptivity; recorded per tick, so that a replay sheds as the session did),
+// then the picture's (half, then a quarter of the frames). A scene without adaptivity has only
+// the picture's two levels.
+inline constexpr int kRenderShedLevels = 2;
+struct ShedPlan {
+  int physics_levels = 0;  // 0, or sim::surgery::kMaxAdaptivityShedLevel with adaptivity
+
+  int max_level() const { return physics_levels + kRenderShedLevels; }
+  // The physics' level at shedding level `level` (SimEngine::set_shed_level).
+  int physics_level(int level) const;
+  // How many times fewer snapshots (and so rendered frames) a level publishes: 1, 2 or 4.
+  int render_divisor(int level) const;
+  // What a level leaves out, for people: "" for 0, e.g. "refinement paused, refined tissue
+  // coarsened, render rate halved".
+  std::string text(int level) const;
+};
 
 class PaceMonitor {
  public:
-  // tick_s: simulated time per tick [s], > 0.
-  explicit PaceMonitor(double tick_s, PaceSettings settings = {});
+  // tick_s: simulated time per tick [s], > 0; max_level: the most shedding levels (ShedPlan::
+  // max_level).
+  explicit PaceMonitor(double tick_s, int max_level = kRenderShedLevels,
+                       PaceSettings settings = {});
 
   // The schedule (re)starts at now_s [s]: the first tick of a session, after a pause, or while
   // it waits for its first device state. Keeps the shed level.
@@ -61,6 +74,7 @@ class PaceMonitor {
   void close_window(double now_s);
 
   double tick_s_;
+  int max_level_;
   PaceSettings settings_;
   PaceState state_;
   double last_tick_s_ = 0;  // wall time of the last tick's end (or of restart)

@@ -26,6 +26,7 @@ constexpr std::int64_t kAbortCheckTicks = 64;
 }  // namespace
 
 void replay_tick(SimEngine& engine, const TickRecord& record) {
+  engine.set_shed_level(record.shed);  // as the session shed its physics at this tick
   if (engine.hands() == 1) return engine.tick(record.input);
   const std::array<devices::DeviceState, 2> inputs = {record.input, record.second.input};
   engine.tick(inputs);

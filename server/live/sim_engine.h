@@ -47,6 +47,12 @@ class SimEngine {
   // Advances one tick with hand i's tool at inputs[i].position; inputs.size() == hands().
   void tick(std::span<const devices::DeviceState> inputs);
   int hands() const { return hands_; }
+  // The physics' shedding level from the next tick on, 0 .. sim::surgery::
+  // kMaxAdaptivityShedLevel (the scene's adaptivity, sim/surgery/surgical_scene.h; clamped): a
+  // live session sets it as it falls behind real time, and records it per tick so that a replay
+  // sets it as the session did.
+  void set_shed_level(int level) { world_->set_shed_level(level); }
+  int shed_level() const { return world_->scene().shed_level(); }
 
   double tick_s() const { return tick_s_; }
   int substeps() const { return world_->substeps(); }

@@ -39,6 +39,9 @@ class SurgeryWorld {
   }
 
   const sim::surgery::SurgicalScene& scene() const { return *scene_; }
+  // How much of its adaptivity the scene sheds from the next tick on (SurgicalScene::
+  // set_shed_level).
+  void set_shed_level(int level) { scene_->set_shed_level(level); }
   const sim::surgery::SurgicalSceneSetup& setup() const { return *setup_; }
   // The tissue's boundary; a new object whenever the topology changed (cuts, refinement).
   const std::shared_ptr<const sim::BoundarySurface>& surface() const { return surface_; }

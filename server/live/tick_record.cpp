@@ -45,7 +45,8 @@ void append_hand(std::uint32_t tick, const devices::DeviceState& s, const float 
 }  // namespace
 
 void append_tick_record(const TickRecord& record, std::vector<std::uint8_t>& out) {
-  append_hand(record.tick, record.input, record.force, out);
+  const std::uint32_t shed = static_cast<std::uint32_t>(record.shed) << kShedShift & kShedBits;
+  append_hand((record.tick & kMaxRecordedTick) | shed, record.input, record.force, out);
   if (record.has_second) {
     append_hand(record.tick | kSecondHandBit, record.second.input, record.second.force, out);
   }
@@ -87,7 +88,8 @@ std::string decode_tick_records(std::span<const std::uint8_t> chunk, std::vector
              (out[out.size() - 2].has_second ? "two" : "one");
     }
     TickRecord r;
-    r.tick = tick;
+    r.tick = tick & kMaxRecordedTick;
+    r.shed = static_cast<std::uint8_t>((tick & kShedBits) >> kShedShift);
     r.input = hand.input;
     std::copy(std::begin(hand.force), std::end(hand.force), std::begin(r.force));
     if (!out.empty() && r.tick != out.back().tick + 1) {

@@ -5,9 +5,12 @@
 // fixed-size little-endian records:
 //
 //   offset size  field
-//        0    4  tick          u32, counted from 0 at the session start (paused time is skipped);
-//                              bit 31 set: the second hand's record of the same tick
-//                              (kSecondHandBit | tick), right after the first hand's
+//        0    4  tick          u32: bits 0-28 the tick, counted from 0 at the session start
+//                              (paused time is skipped); bits 29-30 the physics' shedding level
+//                              the tick ran at (SimEngine::set_shed_level; 0 in recordings made
+//                              before shedding existed, which is what they ran at); bit 31 set:
+//                              the second hand's record of the same tick (kSecondHandBit | tick),
+//                              right after the first hand's
 //        4    1  buttons       u8
 //        5    4  jaw           f32
 //        9   24  position      3 x f64 tool tip [m], scene frame
@@ -32,7 +35,8 @@ struct HandRecord {
 // A tick of a one- or two-handed session: the first hand (device 0) in input and force, the
 // second (device 1) in second when has_second.
 struct TickRecord {
-  std::uint32_t tick = 0;
+  std::uint32_t tick = 0;  // <= kMaxRecordedTick
+  std::uint8_t shed = 0;   // 0 .. 3
   devices::DeviceState input;
   float force[3] = {0, 0, 0};
   bool has_second = false;
@@ -41,6 +45,10 @@ struct TickRecord {
 
 inline constexpr std::size_t kTickRecordSize = 77;
 inline constexpr std::uint32_t kSecondHandBit = 0x80000000u;
+inline constexpr int kShedShift = 29;
+inline constexpr std::uint32_t kShedBits = 0x60000000u;
+// The last tick a recording can number: 12 days at 500 Hz.
+inline constexpr std::uint32_t kMaxRecordedTick = 0x1fffffffu;
 
 // Appends record's kTickRecordSize bytes to out (twice that with a second hand).
 void append_tick_record(const TickRecord& record, std::vector<std::uint8_t>& out);

@@ -99,6 +99,16 @@ struct AdaptivitySpec {
   int max_splits = 2000;     // per refinement, >= 1
 };
 
+// The adaptivity a scene runs with while its session sheds work to keep up with real time
+// (server/live/pace_monitor.h), level by level: 0 the spec itself; 1 refinement paused (no new
+// splits: max_splits 0; the tissue refined already stays as long as a tool uses it); 2 also the
+// refined tissue coarsened as soon as no tool holds it (coarsen_after 0). Levels above 2 act as
+// 2. Pausing, rather than refining to a longer edge, is what lightens a tick: a coarser target
+// widens the grasper's region by the edge length and refuses fewer splits, and on the station
+// liver it made more tets, not fewer.
+inline constexpr int kMaxAdaptivityShedLevel = 2;
+AdaptivitySpec shed_adaptivity(const AdaptivitySpec& spec, int level);
+
 // A condensed far field (Knee Arthroscopy VR, section VI; sim/models/
 // hybrid_condensed_model.h): the scene declares where the surgery happens, a ball (rest) around
 // centre; the tets with no node inside it are the far field, linear and condensed to their
@@ -239,6 +249,11 @@ class SurgicalScene {
   int splits_refused() const { return splits_refused_; }
   int splits_undone() const { return splits_undone_; }
   int refined_regions() const { return static_cast<int>(regions_.size()); }
+  // The shedding level of the adaptivity from the next step on (shed_adaptivity), clamped to
+  // 0 .. kMaxAdaptivityShedLevel. Part of the state: a clone keeps it, and a replay sets it per
+  // tick as the session did.
+  void set_shed_level(int level);
+  int shed_level() const { return shed_level_; }
   // Scalpel updates refused because the blade reached the condensed far field (spec.far_field).
   int cuts_outside_region() const { return cuts_outside_region_; }
 
@@ -298,6 +313,7 @@ class SurgicalScene {
   Real strain_time_ = 0;  // since the last strain record
   std::int64_t steps_ = 0;
   int cuts_refused_ = 0;
+  int shed_level_ = 0;
   int strain_records_skipped_ = 0;
   int collapses_ = 0;
   struct Region {

@@ -8,8 +8,19 @@
 
 namespace incise::sim::surgery {
 
+AdaptivitySpec shed_adaptivity(const AdaptivitySpec& spec, int level) {
+  AdaptivitySpec shed = spec;
+  if (level >= 1) shed.max_splits = 0;
+  if (level >= 2) shed.coarsen_after = 0;
+  return shed;
+}
+
+void SurgicalScene::set_shed_level(int level) {
+  shed_level_ = std::clamp(level, 0, kMaxAdaptivityShedLevel);
+}
+
 void SurgicalScene::adapt() {
-  const AdaptivitySpec& a = spec_.adaptivity;
+  const AdaptivitySpec a = shed_adaptivity(spec_.adaptivity, shed_level_);
   for (const Tool& t : tools_) {
     if (t.stroke) return;  // the cutter's temporary nodes would go stale
   }
@@ -68,8 +79,9 @@ void SurgicalScene::adapt() {
 }
 
 void SurgicalScene::refine(int tool, const Vec3& centre, Real radius) {
-  const AdaptivitySpec& a = spec_.adaptivity;
+  const AdaptivitySpec a = shed_adaptivity(spec_.adaptivity, shed_level_);
   regions_.push_back({centre, radius, time_, tool});
+  if (a.max_splits == 0) return;  // refinement paused (shed_adaptivity)
   const BisectionReport report = tissue_->refine(centre, radius, a.edge_length, a.max_splits);
   splits_ += report.splits;
   splits_refused_ += report.refused;

@@ -30,8 +30,8 @@ TEST(PaceMonitor, KeepingUpIsNotBehindAndShedsNothing) {
   EXPECT_NEAR(s.real_time_factor, 1.0, 1e-6);
   EXPECT_EQ(s.lag_s, 0);
   EXPECT_EQ(s.shed_level, 0);
-  EXPECT_EQ(std::string(shed_text(s.shed_level)), "");
-  EXPECT_EQ(render_divisor(s.shed_level), 1);
+  EXPECT_EQ(ShedPlan{}.text(s.shed_level), "");
+  EXPECT_EQ(ShedPlan{}.render_divisor(s.shed_level), 1);
 }
 
 TEST(PaceMonitor, HalfSpeedIsBehindWithItsFactorAndShedsLevelByLevelUpToTheLast) {
@@ -42,17 +42,40 @@ TEST(PaceMonitor, HalfSpeedIsBehindWithItsFactorAndShedsLevelByLevelUpToTheLast)
   EXPECT_TRUE(s.behind);
   EXPECT_NEAR(s.real_time_factor, 0.5, 0.01);
   EXPECT_EQ(s.shed_level, 1);
-  EXPECT_EQ(std::string(shed_text(1)), "render rate halved");
-  EXPECT_EQ(render_divisor(1), 2);
   t = run(pace, t, 3, 0.5);
   s = pace.state_at(t);
-  EXPECT_EQ(s.shed_level, kMaxShedLevel);  // never beyond the last level
-  EXPECT_EQ(render_divisor(kMaxShedLevel), 4);
+  EXPECT_EQ(s.shed_level, kRenderShedLevels);  // never beyond the last level
+}
+
+TEST(PaceMonitor, ASceneWithAdaptivityShedsItsRemeshingFirstThenThePicture) {
+  const ShedPlan plan{2};
+  EXPECT_EQ(plan.max_level(), 4);
+  const int physics[] = {0, 1, 2, 2, 2};
+  const int divisor[] = {1, 1, 1, 2, 4};
+  const char* text[] = {"", "refinement paused", "refinement paused, refined tissue coarsened",
+                        "refinement paused, refined tissue coarsened, render rate halved",
+                        "refinement paused, refined tissue coarsened, render rate quartered"};
+  for (int level = 0; level <= 4; ++level) {
+    EXPECT_EQ(plan.physics_level(level), physics[level]) << level;
+    EXPECT_EQ(plan.render_divisor(level), divisor[level]) << level;
+    EXPECT_EQ(plan.text(level), text[level]) << level;
+  }
+  // Without adaptivity only the picture is shed.
+  const ShedPlan picture_only;
+  EXPECT_EQ(picture_only.max_level(), 2);
+  EXPECT_EQ(picture_only.physics_level(2), 0);
+  EXPECT_EQ(picture_only.text(1), "render rate halved");
+  EXPECT_EQ(picture_only.render_divisor(2), 4);
+  // The monitor climbs to the plan's last level and no further.
+  PaceMonitor pace(kTickS, plan.max_level());
+  pace.restart(0);
+  const double t = run(pace, 0, 4, 0.5);
+  EXPECT_EQ(pace.state_at(t).shed_level, 4);
 }
 
 TEST(PaceMonitor, RecoversAfterKeepingUpAndGivesTheLevelsBackOneAtATime) {
   PaceSettings settings;
-  PaceMonitor pace(kTickS, settings);
+  PaceMonitor pace(kTickS, kRenderShedLevels, settings);
   pace.restart(0);
   double t = run(pace, 0, 2, 0.5);
   ASSERT_TRUE(pace.state_at(t).behind);

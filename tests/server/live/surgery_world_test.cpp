@@ -19,6 +19,7 @@
 #include "server/live/scoring.h"
 #include "server/live/session_scene.h"
 #include "server/live/sim_engine.h"
+#include "server/live/tick_record.h"
 #include "tests/server/live/test_scene.h"
 
 namespace incise::server::live {
@@ -311,6 +312,69 @@ TEST(SurgeryEngine, TheGrasperHoldsTheLiverAndTheLeftHandFeelsItsPull) {
   // The tissue under the jaws rose, and the ink dots there with it.
   const auto middle = line.size() / 2;
   EXPECT_GT(engine.world().marked_line()[middle].z(), line[middle].z() + 0.001);
+}
+
+// A session behind real time sheds its remeshing first (pace_monitor.h, SimEngine::
+// set_shed_level): the grasper closing on the liver at level 2 refines nothing (at level 0 it
+// refines under its jaws), and the recording, which carries the level per tick, replays onto the
+// shed run's state, not the unshed one's.
+TEST(SurgeryEngine, ShedRemeshingIsRecordedPerTickAndReplaysAsItRan) {
+  const devices::Quat along_x{std::sqrt(0.5), 0, std::sqrt(0.5), 0};
+  const sim::Vec3 top = 0.5 * (place("cut_start") + place("cut_end")) - sim::Vec3(0.005, 0, 0);
+  const sim::Vec3 above = top + sim::Vec3(0, 0, 0.02);
+  const sim::Vec3 on = top + sim::Vec3(0, 0, 0.0005);
+  // The grasper's inputs: down onto the lobe (0.1 s), closing (0.1 s), holding (0.05 s).
+  std::vector<devices::DeviceState> left;
+  const auto add = [&](const sim::Vec3& from, const sim::Vec3& to, float jaw_from, float jaw_to,
+                       double seconds) {
+    const auto n = static_cast<int>(seconds / kTickS);
+    for (int i = 1; i <= n; ++i) {
+      const double a = static_cast<double>(i) / n;
+      auto state = pointing_down((1 - a) * from + a * to,
+                                 static_cast<float>((1 - a) * jaw_from + a * jaw_to), along_x);
+      state.device_index = 1;
+      left.push_back(state);
+    }
+  };
+  add(above, on, 1, 1, 0.1);
+  add(on, on, 1, 0, 0.1);
+  add(on, on, 0, 0, 0.05);
+  // Level 2 from the 40th tick on (the pace monitor's climb), or never.
+  const auto run = [&](bool shed, std::vector<TickRecord>* records) {
+    SimEngine engine(liver(), kTickS, 2);
+    for (std::size_t i = 0; i < left.size(); ++i) {
+      engine.set_shed_level(shed && i >= 40 ? 2 : 0);
+      const std::array<devices::DeviceState, 2> inputs = {parked(), left[i]};
+      engine.tick(inputs);
+      if (records != nullptr) {
+        TickRecord r;
+        r.tick = static_cast<std::uint32_t>(i);
+        r.shed = static_cast<std::uint8_t>(engine.shed_level());
+        r.input = inputs[0];
+        r.has_second = true;
+        r.second.input = inputs[1];
+        records->push_back(r);
+      }
+    }
+    EXPECT_TRUE(engine.state_finite());
+    return std::make_pair(engine.world().scene().tissue().mesh().num_tets(), engine.state_hash());
+  };
+  std::vector<TickRecord> records;
+  const auto [shed_tets, shed_hash] = run(true, &records);
+  const auto [full_tets, full_hash] = run(false, nullptr);
+  const int at_rest = setup().spec.tissue.num_tets();
+  std::printf("tets after the grasp: %d unshed, %d shed (%d at rest)\n", full_tets, shed_tets,
+              at_rest);
+  EXPECT_GT(full_tets, at_rest);
+  EXPECT_EQ(shed_tets, at_rest);
+  // Through the recording's bytes, as a replay reads them.
+  std::vector<std::uint8_t> bytes;
+  for (const auto& r : records)
+    append_tick_record(r, bytes);
+  std::vector<TickRecord> decoded;
+  ASSERT_EQ(decode_tick_records(bytes, decoded), "");
+  EXPECT_EQ(ReplaySession::final_state_hash(liver(), kTickS, decoded), shed_hash);
+  EXPECT_NE(shed_hash, full_hash);
 }
 
 TEST(SurgeryEngine, TasksMustNameTheToolsTheSceneGivesEachDevice) {

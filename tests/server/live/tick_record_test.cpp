@@ -60,6 +60,7 @@ float any_float(std::mt19937_64& rng) {
 TickRecord any_record(std::mt19937_64& rng, std::uint32_t tick) {
   TickRecord r;
   r.tick = tick;
+  r.shed = static_cast<std::uint8_t>(rng() % 4);
   r.input.buttons = static_cast<std::uint8_t>(rng());
   r.input.jaw = any_float(rng);
   r.input.position = {any_double(rng), any_double(rng), any_double(rng)};
@@ -78,8 +79,8 @@ bool same_bits(const T& a, const T& b) {
   const auto& s = a.input;
   const auto& t = b.input;
   const bool same =
-      a.tick == b.tick && s.device_index == t.device_index && s.buttons == t.buttons &&
-      same_bits(s.jaw, t.jaw) && same_bits(s.position.x, t.position.x) &&
+      a.tick == b.tick && a.shed == b.shed && s.device_index == t.device_index &&
+      s.buttons == t.buttons && same_bits(s.jaw, t.jaw) && same_bits(s.position.x, t.position.x) &&
       same_bits(s.position.y, t.position.y) && same_bits(s.position.z, t.position.z) &&
       same_bits(s.orientation.w, t.orientation.w) && same_bits(s.orientation.x, t.orientation.x) &&
       same_bits(s.orientation.y, t.orientation.y) && same_bits(s.orientation.z, t.orientation.z) &&
@@ -110,6 +111,7 @@ TEST(TickRecord, EachRecordIs77Bytes) {
 TEST(TickRecord, FieldsSitAtTheDocumentedOffsets) {
   TickRecord r;
   r.tick = 0x01020304;
+  r.shed = 2;  // bits 29-30 of the tick field: 0x40 in its top byte
   r.input.buttons = 0xa5;
   r.input.jaw = 0.25f;
   r.input.position = {1.5, -2.5, 3.5};
@@ -126,7 +128,7 @@ TEST(TickRecord, FieldsSitAtTheDocumentedOffsets) {
     return same_bits(read, value);
   };
   EXPECT_EQ(out[0], 0x04);  // little-endian
-  EXPECT_EQ(out[3], 0x01);
+  EXPECT_EQ(out[3], 0x41);
   EXPECT_EQ(out[4], 0xa5);
   EXPECT_TRUE(at(5, 0.25f));
   EXPECT_TRUE(at(9, 1.5));
@@ -144,8 +146,9 @@ TEST(TickRecord, FieldsSitAtTheDocumentedOffsets) {
 TEST(TickRecord, RandomRecordsRoundTripBitForBit) {
   std::mt19937_64 rng(20240611);
   std::vector<TickRecord> records;
-  // Near the top of the 31 bits a tick has (bit 31 marks a second hand's record).
-  const std::uint32_t first = kSecondHandBit - 6000;
+  // Up to the last tick a recording can number (bits 29-30 carry the shedding level, bit 31
+  // marks a second hand's record), each with some shedding level.
+  const std::uint32_t first = kMaxRecordedTick - 4999;
   for (std::uint32_t i = 0; i < 5000; ++i)
     records.push_back(any_record(rng, first + i));
   const Bytes bytes = encode(records);

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <numeric>
 #include <random>
@@ -207,6 +208,64 @@ TEST(SurgicalScene, AProbeRefinesWhereItTouchesAndTheTissueCoarsensOnceItLeaves)
   EXPECT_EQ(tissue.mesh().num_tets(), original.num_tets());
   EXPECT_GT(tet_volumes(tissue.mesh().x, tissue.mesh().tets).minCoeff(), 0);
   EXPECT_GE(scene.damage_tracker().num_slots(), original.num_tets());
+}
+
+// A session that falls behind real time sheds its remeshing (shed_adaptivity): at level 1 a
+// press refines nothing (its region is still known), at level 2 tissue refined already is
+// coarsened as soon as the probe leaves, where level 0 keeps it for coarsen_after; a clone
+// carries the level, and the level is clamped.
+TEST(SurgicalScene, ShedRemeshingPausesRefinementThenCoarsensAtOnce) {
+  const AdaptivitySpec spec = adaptive();
+  EXPECT_EQ(shed_adaptivity(spec, 0).max_splits, spec.max_splits);
+  EXPECT_EQ(shed_adaptivity(spec, 1).max_splits, 0);
+  EXPECT_EQ(shed_adaptivity(spec, 1).coarsen_after, spec.coarsen_after);
+  EXPECT_EQ(shed_adaptivity(spec, 2).max_splits, 0);
+  EXPECT_EQ(shed_adaptivity(spec, 2).coarsen_after, 0);
+  const Vec3 under(0.031, 0.029, kSize.z());
+  const Vec3 above = under + Vec3(0, 0, tools::ProbeSettings{}.radius);
+  const auto scene_at = [&](int level) {
+    SurgicalSceneSpec s = block({make_tool(ToolKind::probe)});
+    s.adaptivity = spec;
+    auto scene = std::make_unique<SurgicalScene>(std::move(s));
+    scene->set_shed_level(level);
+    return scene;
+  };
+  const auto run = [&](SurgicalScene& scene, int steps, Real depth) {
+    for (int n = 0; n < steps; ++n) {
+      const ToolInput in = at(above - Vec3(0, 0, depth * std::min(1.0, n / 1000.0)));
+      scene.step(std::span(&in, 1));
+    }
+    ASSERT_TRUE(scene.state_finite());
+  };
+  const int at_rest = block({}).tissue.num_tets();
+
+  const auto paused = scene_at(1);
+  EXPECT_EQ(paused->clone()->shed_level(), 1);
+  run(*paused, 1500, 0.003);
+  EXPECT_EQ(paused->splits(), 0);
+  EXPECT_EQ(paused->refined_regions(), 1);
+  EXPECT_EQ(paused->tissue().mesh().num_tets(), at_rest);
+
+  // Lifted 2 cm for 0.02 s, less than coarsen_after (0.05 s).
+  for (const int level : {0, 2}) {
+    const auto scene = scene_at(0);
+    run(*scene, 1500, 0.003);
+    ASSERT_GT(scene->splits(), 0);
+    scene->set_shed_level(level);
+    run(*scene, 200, -0.02);
+    if (level == 0) {
+      EXPECT_EQ(scene->splits_undone(), 0);
+      EXPECT_GT(scene->tissue().mesh().num_tets(), at_rest);
+    } else {
+      EXPECT_EQ(scene->splits_undone(), scene->splits());
+      EXPECT_EQ(scene->tissue().mesh().num_tets(), at_rest);
+    }
+  }
+
+  const auto clamped = scene_at(7);
+  EXPECT_EQ(clamped->shed_level(), kMaxAdaptivityShedLevel);
+  clamped->set_shed_level(-1);
+  EXPECT_EQ(clamped->shed_level(), 0);
 }
 
 // A probe held pressed into tissue refined under it (triangles smaller than its tip) comes to
