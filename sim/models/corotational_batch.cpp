@@ -5,50 +5,15 @@
 #include <cstdint>
 #include <cstring>
 
+#include "sim/models/lanes.h"
 #include "sim/models/tet_fem_model.h"
-
-// Four doubles as one value: GCC's vector extension, so that the arithmetic below reads like the
-// scalar kernel's while compiling to one SIMD instruction per operation. Passing such values
-// between functions changes the ABI without AVX; every helper here is always inlined into the
-// kernels, which are the only functions that take them, so the note does not apply.
-#pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace incise::sim {
 
 namespace {
 
-using Lanes = Real __attribute__((vector_size(4 * sizeof(Real))));
-using LaneMask = std::int64_t __attribute__((vector_size(4 * sizeof(Real))));
-static_assert(CorotationalBatch::kLanes == 4);
-
-#define INCISE_LANES [[gnu::always_inline]] inline
-
-INCISE_LANES Lanes load(const Real* p) {
-  Lanes v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-INCISE_LANES void store(Real* p, Lanes v) {
-  std::memcpy(p, &v, sizeof v);
-}
-INCISE_LANES Lanes splat(Real a) {
-  return Lanes{a, a, a, a};
-}
-INCISE_LANES Lanes lanes_sqrt(Lanes a) {
-  Lanes r;
-  for (int l = 0; l < 4; ++l)
-    r[l] = __builtin_sqrt(a[l]);
-  return r;
-}
-INCISE_LANES Lanes select(LaneMask m, Lanes a, Lanes b) {
-  return m ? a : b;
-}
-INCISE_LANES bool all(LaneMask m) {
-  return (m[0] & m[1] & m[2] & m[3]) != 0;
-}
-INCISE_LANES bool any(LaneMask m) {
-  return (m[0] | m[1] | m[2] | m[3]) != 0;
-}
+using namespace lanes;
+static_assert(CorotationalBatch::kLanes == kLaneWidth);
 
 // A 3x3 matrix of lanes, m[i][j] row i column j.
 struct M3 {
@@ -229,38 +194,6 @@ void set_lane(M3& a, int l, const Mat3& m) {
       a.m[i][j][l] = m(i, j);
 }
 
-using Pair = Real __attribute__((vector_size(2 * sizeof(Real))));
-
-// (x, y, z, 0) of the point at p: two loads, never past p[2].
-INCISE_LANES Lanes point_at(const Real* p) {
-  Pair xy;
-  std::memcpy(&xy, p, sizeof xy);
-  const Pair z0 = {p[2], 0};
-  return __builtin_shufflevector(xy, z0, 0, 1, 2, 3);
-}
-
-// p[0..2] += the first three entries of a.
-INCISE_LANES void add_point(Real* p, Lanes a) {
-  Pair xy;
-  std::memcpy(&xy, p, sizeof xy);
-  xy += __builtin_shufflevector(a, a, 0, 1);
-  std::memcpy(p, &xy, sizeof xy);
-  p[2] += a[2];
-}
-
-// The 4x4 transpose: row i of r holds entry i of a, b, c and d (rows nobody reads cost nothing,
-// the function being inlined).
-INCISE_LANES void transpose(Lanes a, Lanes b, Lanes c, Lanes d, Lanes (&r)[4]) {
-  const Lanes ab02 = __builtin_shufflevector(a, b, 0, 4, 2, 6);
-  const Lanes ab13 = __builtin_shufflevector(a, b, 1, 5, 3, 7);
-  const Lanes cd02 = __builtin_shufflevector(c, d, 0, 4, 2, 6);
-  const Lanes cd13 = __builtin_shufflevector(c, d, 1, 5, 3, 7);
-  r[0] = __builtin_shufflevector(ab02, cd02, 0, 1, 4, 5);
-  r[1] = __builtin_shufflevector(ab13, cd13, 0, 1, 4, 5);
-  r[2] = __builtin_shufflevector(ab02, cd02, 2, 3, 6, 7);
-  r[3] = __builtin_shufflevector(ab13, cd13, 2, 3, 6, 7);
-}
-
 // Ds = [x1 - x0, x2 - x0, x3 - x0] of four tets, node[lane][tet node] into x (#nodes by 3): each
 // lane's edges as (x, y, z, 0) vectors, transposed into lanes.
 INCISE_LANES M3 edge_matrix_of(const Real* x, const int (&node)[4][4]) {
@@ -278,11 +211,6 @@ INCISE_LANES M3 edge_matrix_of(const Real* x, const int (&node)[4][4]) {
       ds.m[i][k] = rows[i];
   }
   return ds;
-}
-
-// How many lanes of m are set.
-INCISE_LANES int count(LaneMask m) {
-  return static_cast<int>(-(m[0] + m[1] + m[2] + m[3]));
 }
 
 struct BatchView {

@@ -8,17 +8,136 @@
 
 #include "sim/mesh/tet_adjacency.h"
 #include "sim/models/cofactor.h"
+#include "sim/models/lanes.h"
 #include "sim/models/spring_force.h"
 
 namespace incise::sim {
 
 namespace {
 
+using namespace lanes;
+
+struct SpringView {
+  int count = 0;
+  const int* ends = nullptr;  // 2 per spring: i, j
+  const Real* stiffness = nullptr;
+  const Real* damping = nullptr;
+  const Real* rest_length = nullptr;
+  const char* alive = nullptr;
+};
+
+// f += the spring-damper forces of every live spring at positions x and velocities v (#nodes by
+// 3): spring_force.h, four springs to a SIMD register (their ends gathered as (x, y, z, 0) points
+// and transposed into lanes, their forces transposed back), the last count % 4 one by one.
+// Returns how many live springs were degenerate (no direction, no force). Compiled for
+// x86-64-v3 (AVX2) and the baseline, picked at load time as corotational_batch.cpp's kernels.
+[[gnu::target_clones("arch=x86-64-v3", "default")]] int spring_forces(const SpringView& s,
+                                                                      const Real* x, const Real* v,
+                                                                      Real* f) {
+  int degenerate = 0;
+  const int whole = s.count / kLaneWidth * kLaneWidth;
+  for (int base = 0; base < whole; base += kLaneWidth) {
+    int i[4], j[4];
+    Lanes r_of[4], w_of[4];  // per spring: x_j - x_i, v_j - v_i
+    LaneMask alive;
+    for (int l = 0; l < 4; ++l) {
+      // A dead spring's ends may name nodes that no longer exist: it reads node 0 instead.
+      const bool live = s.alive[base + l] != 0;
+      i[l] = live ? s.ends[2 * (base + l)] : 0;
+      j[l] = live ? s.ends[2 * (base + l) + 1] : 0;
+      alive[l] = live ? -1 : 0;
+      r_of[l] = point_at(x + 3 * j[l]) - point_at(x + 3 * i[l]);
+      w_of[l] = point_at(v + 3 * j[l]) - point_at(v + 3 * i[l]);
+    }
+    Lanes r[4], w[4];
+    transpose(r_of[0], r_of[1], r_of[2], r_of[3], r);
+    transpose(w_of[0], w_of[1], w_of[2], w_of[3], w);
+    const Lanes length = lanes_sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+    const Lanes rest = load(s.rest_length + base);
+    // As spring_force: below 1e-12 of the rest length the direction is round-off.
+    const LaneMask directed = alive & (length > Real(1e-12) * rest);
+    degenerate += count(alive & ~directed);
+    const Lanes inverse = select(directed, 1 / length, splat(0));
+    const Lanes u0 = r[0] * inverse, u1 = r[1] * inverse, u2 = r[2] * inverse;
+    const Lanes tension = load(s.stiffness + base) * (length - rest) +
+                          load(s.damping + base) * (w[0] * u0 + w[1] * u1 + w[2] * u2);
+    Lanes on_i[4];
+    transpose(tension * u0, tension * u1, tension * u2, splat(0), on_i);
+    for (int l = 0; l < 4; ++l) {
+      if (!directed[l]) continue;
+      add_point(f + 3 * i[l], on_i[l]);
+      add_point(f + 3 * j[l], -on_i[l]);
+    }
+  }
+  for (int k = whole; k < s.count; ++k) {
+    if (s.alive[k] == 0) continue;
+    const Real* xi = x + 3 * s.ends[2 * k];
+    const Real* xj = x + 3 * s.ends[2 * k + 1];
+    const Real* vi = v + 3 * s.ends[2 * k];
+    const Real* vj = v + 3 * s.ends[2 * k + 1];
+    const SpringForce force = spring_force(Vec3(xi[0], xi[1], xi[2]), Vec3(xj[0], xj[1], xj[2]),
+                                           Vec3(vi[0], vi[1], vi[2]), Vec3(vj[0], vj[1], vj[2]),
+                                           s.stiffness[k], s.damping[k], s.rest_length[k]);
+    degenerate += force.degenerate ? 1 : 0;
+    for (int c = 0; c < 3; ++c) {
+      f[3 * s.ends[2 * k] + c] += force.on_i[c];
+      f[3 * s.ends[2 * k + 1] + c] -= force.on_i[c];
+    }
+  }
+  return degenerate;
+}
+
 // dP of the volume term P = k_v (J - 1) cof F.
 Mat3 volume_stress_differential(const Mat3& f, const Mat3& df, Real k_v) {
   const Mat3 c = cofactor(f);
   return k_v *
          (c.cwiseProduct(df).sum() * c + (f.determinant() - 1) * cofactor_differential(f, df));
+}
+
+// The springs-only health of every live tet (no volume term, so F is never formed): inverted
+// where det Ds <= 0, degenerate where |det Ds| < 6e-6 V0 (J = det Ds / (6 V0)), four tets to a
+// register as spring_forces' springs.
+[[gnu::target_clones("arch=x86-64-v3", "default")]] ModelHealth tet_health(
+    int count_tets, const int* tets, const Real* rest_volume, const char* alive, const Real* x) {
+  ModelHealth health;
+  const auto determinant = [](const Lanes(&d)[3][4]) {  // d[column k][row i]
+    return d[0][0] * (d[1][1] * d[2][2] - d[2][1] * d[1][2]) -
+           d[1][0] * (d[0][1] * d[2][2] - d[2][1] * d[0][2]) +
+           d[2][0] * (d[0][1] * d[1][2] - d[1][1] * d[0][2]);
+  };
+  const int whole = count_tets / kLaneWidth * kLaneWidth;
+  for (int base = 0; base < whole; base += kLaneWidth) {
+    Lanes edge[3][4];  // [k][lane]: x_{k+1} - x_0
+    LaneMask live;
+    for (int l = 0; l < 4; ++l) {
+      // A dead slot's nodes may no longer exist: it reads node 0 instead.
+      const bool is_live = alive[base + l] != 0;
+      live[l] = is_live ? -1 : 0;
+      const int* n = tets + 4 * (base + l);
+      const Lanes x0 = point_at(x + 3 * (is_live ? n[0] : 0));
+      for (int k = 0; k < 3; ++k)
+        edge[k][l] = point_at(x + 3 * (is_live ? n[k + 1] : 0)) - x0;
+    }
+    Lanes ds[3][4];  // [k][i]: Ds(i, k) of the four tets
+    for (int k = 0; k < 3; ++k)
+      transpose(edge[k][0], edge[k][1], edge[k][2], edge[k][3], ds[k]);
+    const Lanes det = determinant(ds);
+    const Lanes abs_det = select(det < 0, -det, det);
+    health.inverted_elements += count(live & (det <= 0));
+    health.degenerate_elements += count(live & (abs_det < Real(6e-6) * load(rest_volume + base)));
+  }
+  for (int t = whole; t < count_tets; ++t) {
+    if (alive[t] == 0) continue;
+    const int* n = tets + 4 * t;
+    Mat3 ds;
+    for (int k = 0; k < 3; ++k)
+      for (int i = 0; i < 3; ++i)
+        ds(i, k) = x[3 * n[k + 1] + i] - x[3 * n[0] + i];
+    const Real det = ds.determinant();
+    health.inverted_elements += det <= 0 ? 1 : 0;
+    health.degenerate_elements += std::abs(det) < Real(6e-6) * rest_volume[t] ? 1 : 0;
+  }
+  return health;
 }
 
 }  // namespace
@@ -205,32 +324,31 @@ void count_health(Real j, ModelHealth& health) {
 
 void MassSpringModel::add_forces(const Points& x, const Points& v, Points& f) {
   ModelHealth health;
-  for (Eigen::Index s = 0; s < springs_.rows(); ++s) {
-    if (!spring_alive_[static_cast<std::size_t>(s)]) continue;
-    const int i = springs_(s, 0);
-    const int j = springs_(s, 1);
-    const SpringForce force = spring_force(row3(x, i), row3(x, j), row3(v, i), row3(v, j),
-                                           stiffness_(s), damping_(s), rest_lengths_(s));
-    health.degenerate_elements += force.degenerate ? 1 : 0;
-    f.row(i) += force.on_i.transpose();
-    f.row(j) -= force.on_i.transpose();
-  }
-  for (int t = 0; t < elements_.num_tets(); ++t) {
-    if (!elements_.alive(t)) continue;
-    if (volume_stiffness_ > 0) {
+  const SpringView springs{static_cast<int>(springs_.rows()),
+                           springs_.data(),
+                           stiffness_.data(),
+                           damping_.data(),
+                           rest_lengths_.data(),
+                           spring_alive_.data()};
+  health.degenerate_elements += spring_forces(springs, x.data(), v.data(), f.data());
+  if (volume_stiffness_ > 0) {
+    for (int t = 0; t < elements_.num_tets(); ++t) {
+      if (!elements_.alive(t)) continue;
       const Mat3 deformation =
           edge_matrix(x, elements_.tets, t) * elements_.rest_inverse[static_cast<std::size_t>(t)];
       const Real j = deformation.determinant();
       count_health(j, health);
       const Real k_v = volume_stiffness_ * elements_.youngs_modulus(t);
       scatter_stress(elements_, t, k_v * (j - 1) * cofactor(deformation), f);
-    } else {
-      // Springs only: the health alone, without forming F or dividing (the block at a live
-      // station steps this 4,000 times a second). J = det Ds / det Dm with det Dm = 6 V0 > 0.
-      const Real det = edge_matrix(x, elements_.tets, t).determinant();
-      health.inverted_elements += det <= 0 ? 1 : 0;
-      health.degenerate_elements += std::abs(det) < 6e-6 * elements_.rest_volume(t) ? 1 : 0;
     }
+  } else {
+    // Springs only: the health alone (the block at a live station steps this 4,000 times a
+    // second).
+    const ModelHealth tets =
+        tet_health(elements_.num_tets(), elements_.tets.data(), elements_.rest_volume.data(),
+                   elements_.alive_slots.data(), x.data());
+    health.inverted_elements += tets.inverted_elements;
+    health.degenerate_elements += tets.degenerate_elements;
   }
   health_ = health;
 }

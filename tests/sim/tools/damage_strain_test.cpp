@@ -3,8 +3,12 @@
 // principal strain), on a skewed tet so that Dm^-1 is not trivial.
 
 #include <cmath>
+#include <cstdio>
 
 #include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <random>
 
 #include "sim/tools/damage_strain.h"
 
@@ -22,6 +26,47 @@ Real strain_under(const Mat3& f, const Vec3& translation = Vec3::Zero()) {
   for (int k = 0; k < 4; ++k)
     x[k] = f * kRest[k] + translation;
   return max_principal_green_strain(x[0], x[1], x[2], x[3], inverse);
+}
+
+// The trigonometry-free largest eigenvalue against Eigen's iterative solver: random symmetric
+// matrices, and ones with two or three equal eigenvalues (r = -1, r = 1 and the multiple of I,
+// where Newton starts at or converges to a double or triple root). Like every closed form from
+// the invariants (Eigen's computeDirect too), it loses half the digits where the two largest
+// eigenvalues nearly coincide (1 + r carries round-off, its square root sets t): the bound is
+// sqrt(machine epsilon) of the matrix's size there and round-off elsewhere.
+TEST(DamageStrain, LargestEigenvalueEqualsTheIterativeSolversToRoundOff) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<Real> u(-1, 1);
+  Real worst_separated = 0, worst = 0;
+  const auto check = [&](const Mat3& a) {
+    Eigen::SelfAdjointEigenSolver<Mat3> reference(a, Eigen::EigenvaluesOnly);
+    const Vec3 eigenvalues = reference.eigenvalues();
+    const Real error = std::abs(largest_symmetric_eigenvalue(a) - eigenvalues(2)) / (1 + a.norm());
+    worst = std::max(worst, error);
+    const bool separated = eigenvalues(2) - eigenvalues(1) > 1e-3 * (1 + a.norm());
+    if (separated) worst_separated = std::max(worst_separated, error);
+    EXPECT_LT(error, separated ? 1e-13 : 3e-8) << a;
+  };
+  for (int n = 0; n < 2000; ++n) {
+    Mat3 m;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        m(i, j) = u(rng);
+    check(0.5 * (m + m.transpose()));
+    // A deformation's C = F^T F near I, as the damage tracker meets it.
+    const Mat3 f = Mat3::Identity() + 0.01 * u(rng) * m;
+    check(f.transpose() * f);
+    // Repeated eigenvalues in a random frame.
+    const Mat3 q =
+        Eigen::Quaternion<Real>(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
+    const Real a = u(rng), b = u(rng);
+    check(q * Vec3(a, a, b).asDiagonal() * q.transpose());
+    check(q * Vec3(a, b, b).asDiagonal() * q.transpose());
+    check(q * Vec3(a, a, a).asDiagonal() * q.transpose());
+  }
+  EXPECT_TRUE(std::isnan(largest_symmetric_eigenvalue(Mat3::Constant(std::nan("")))));
+  std::printf("largest relative error %.2g (%.2g with the two largest eigenvalues apart)\n", worst,
+              worst_separated);
 }
 
 TEST(DamageStrain, UniaxialStretchGivesHalfOfStretchSquaredMinusOne) {
