@@ -74,7 +74,7 @@ void SurfaceBvh::rebuild(const Points& points) {
   parent_.reserve(capacity);
   leaf_slot_.reserve(capacity);
   if (!slots.empty()) build_range(points, slots, centroids, 0, live_, -1);
-  built_ratio_ = internal_area_ratio();
+  built_ratio_ = refit_ratio_ = internal_area_ratio();
 }
 
 int SurfaceBvh::build_range(const Points& points, std::vector<int>& slots,
@@ -107,14 +107,19 @@ int SurfaceBvh::build_range(const Points& points, std::vector<int>& slots,
 
 void SurfaceBvh::refit(const Points& points) {
   check_points(points, "SurfaceBvh::refit");
-  // Children are stored after their parents, so a backward sweep sees them first.
+  // Children are stored after their parents, so a backward sweep sees them first. The internal
+  // nodes' areas are summed on the way (looseness() then costs nothing).
+  Real internal_area = 0;
   for (int node = static_cast<int>(box_.size()) - 1; node >= 0; --node) {
     if (left_[node] >= 0) {
       box_[node] = box_[left_[node]].merged(box_[right_[node]]);
+      internal_area += surface_area(box_[node]);
     } else if (leaf_slot_[node] >= 0) {
       box_[node] = triangle_box(points, leaf_slot_[node]);
     }
   }
+  const Real root_area = box_.empty() ? 0 : surface_area(box_[0]);
+  refit_ratio_ = root_area > 0 ? internal_area / root_area : 0;
 }
 
 Box3 SurfaceBvh::triangle_box(const Points& points, int slot) const {
@@ -137,7 +142,8 @@ Real SurfaceBvh::internal_area_ratio() const {
 }
 
 Real SurfaceBvh::looseness() const {
-  return built_ratio_ > 0 ? internal_area_ratio() / built_ratio_ : Real(1);
+  if (!(built_ratio_ > 0)) return 1;
+  return (refit_ratio_ >= 0 ? refit_ratio_ : internal_area_ratio()) / built_ratio_;
 }
 
 bool SurfaceBvh::needs_rebuild(Real threshold) const {

@@ -136,6 +136,9 @@ class SurfaceBvh {
   int max_index_ = -1;  // the largest point index any slot uses
 
   Real built_ratio_ = 0;  // internal_area_ratio() at the last build
+  // internal_area_ratio() as the last build or refit left it; < 0 once a triangle was added or
+  // removed since.
+  Real refit_ratio_ = -1;
 };
 
 }  // namespace incise::sim::collide

@@ -39,6 +39,7 @@ void SurfaceBvh::refit_ancestors(int node) {
 
 int SurfaceBvh::add_triangle(const Points& points, const Vec3i& triangle) {
   check_triangle(points, triangle, "SurfaceBvh::add_triangle", num_slots());
+  refit_ratio_ = -1;
   const int slot = num_slots();
   triangles_.push_back(triangle);
   leaf_of_.push_back(-1);
@@ -96,6 +97,7 @@ void SurfaceBvh::remove_triangle(int slot) {
                                      ? " is outside [0, " + std::to_string(num_slots()) + ")"
                                      : " is already removed"));
   }
+  refit_ratio_ = -1;
   const int leaf = leaf_of_[slot];
   leaf_of_[slot] = -1;
   --live_;
