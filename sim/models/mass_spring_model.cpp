@@ -198,6 +198,7 @@ void MassSpringModel::rebuild(const TetMesh& mesh) {
                       Mat3::Identity());
   prepare_stiffness(mesh.rest);
   health_ = {};
+  health_pending_ = false;
 }
 
 void MassSpringModel::set_spring_constants(int s) {
@@ -268,6 +269,7 @@ MassSpringModel::TetShare MassSpringModel::share_of(int t) const {
 
 void MassSpringModel::update_elements(const TetMesh& mesh, const std::vector<char>& alive,
                                       std::span<const int> changed) {
+  settle_health();  // with the tets the last add_forces saw
   // The leaving tets' shares, taken before update_tet_elements overwrites their slots (it checks
   // every new tet first and throws with nothing changed).
   std::vector<TetShare> leaving;
@@ -324,6 +326,7 @@ void count_health(Real j, ModelHealth& health) {
 
 void MassSpringModel::add_forces(const Points& x, const Points& v, Points& f) {
   ModelHealth health;
+  health_pending_ = false;
   const SpringView springs{static_cast<int>(springs_.rows()),
                            springs_.data(),
                            stiffness_.data(),
@@ -342,15 +345,26 @@ void MassSpringModel::add_forces(const Points& x, const Points& v, Points& f) {
       scatter_stress(elements_, t, k_v * (j - 1) * cofactor(deformation), f);
     }
   } else {
-    // Springs only: the health alone (the block at a live station steps this 4,000 times a
-    // second).
-    const ModelHealth tets =
-        tet_health(elements_.num_tets(), elements_.tets.data(), elements_.rest_volume.data(),
-                   elements_.alive_slots.data(), x.data());
-    health.inverted_elements += tets.inverted_elements;
-    health.degenerate_elements += tets.degenerate_elements;
+    // Springs only: the tets' health when asked for (health()).
+    health_x_ = x;  // no allocation while the node count stays
+    health_pending_ = true;
   }
   health_ = health;
+}
+
+void MassSpringModel::settle_health() const {
+  if (!health_pending_) return;
+  health_pending_ = false;
+  const ModelHealth tets =
+      tet_health(elements_.num_tets(), elements_.tets.data(), elements_.rest_volume.data(),
+                 elements_.alive_slots.data(), health_x_.data());
+  health_.inverted_elements += tets.inverted_elements;
+  health_.degenerate_elements += tets.degenerate_elements;
+}
+
+ModelHealth MassSpringModel::health() const {
+  settle_health();
+  return health_;
 }
 
 void MassSpringModel::prepare_stiffness(const Points& x) {

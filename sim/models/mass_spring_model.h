@@ -55,7 +55,10 @@ class MassSpringModel final : public Model {
   // springs leave empty slots (spring_alive) that later springs reuse.
   void update_elements(const TetMesh& mesh, const std::vector<char>& alive,
                        std::span<const int> changed) override;
-  ModelHealth health() const override { return health_; }
+  // Springs only, the tets' share (inverted, degenerate) is counted when asked for, from the
+  // positions of the last add_forces: a scene step never asks, and counting every step cost the
+  // block at a live station a sixth of its tick.
+  ModelHealth health() const override;
 
   const Edges& springs() const { return springs_; }           // #springs by 2 nodes (i < j)
   const VecX& stiffness() const { return stiffness_; }        // #springs k_ij [N/m]
@@ -101,7 +104,11 @@ class MassSpringModel final : public Model {
   Points direction_;               // #springs u (0 for a degenerate spring)
   VecX transverse_;                // #springs k (1 - l0 / l) (0 for a degenerate spring)
   std::vector<Mat3> deformation_;  // #tets F (volume term only)
-  ModelHealth health_;
+  // Counts the tets' share of health_ from health_x_ if add_forces left it pending.
+  void settle_health() const;
+  mutable ModelHealth health_;
+  Points health_x_;  // springs only: x of the last add_forces, while its tets are uncounted
+  mutable bool health_pending_ = false;
 };
 
 }  // namespace incise::sim
