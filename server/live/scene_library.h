@@ -26,10 +26,13 @@ std::string text_hash(std::string_view text);
 // The runtime that replays this server's recordings bit for bit; a recording of another one is
 // refused (its scores stand). Runtime 1 ran the palpation block on the sim core's own simulation
 // (sim::Simulation, sphere tips) and the surgical scenes on SurgicalScene; runtime 2 ran every
-// scene on SurgicalScene (the block with probes); runtime 3 rounds the corotational forces
-// differently (the vectorised kernel's gather and Newton steps, corotational_batch.h) and
-// records the physics' shedding level per tick (tick_record.h). Anything that changes a
-// simulation's bits for the same inputs takes the next number.
+// scene on SurgicalScene (the block with probes); runtime 3 rounds the corotational and spring
+// forces and the damage strain differently (the vectorised kernels, corotational_batch.h and
+// mass_spring_model.cpp; the strain's closed-form eigenvalue) and records the physics' shedding
+// level per tick (tick_record.h). Anything that changes a simulation's bits for the same inputs
+// takes the next number. Bit for bit holds on one kind of processor: the vectorised kernels are
+// compiled twice (AVX2 with fused multiply-adds, and the baseline without) and the loader picks
+// one, so a recording made on one kind may replay with other round-off on the other.
 inline constexpr int kSceneRuntime = 3;
 
 // What a recording stores: "<runtime>:<text_hash>", e.g. "3:85944171f73967e8". (Runtime 1 stored

@@ -101,7 +101,9 @@ struct AdaptivitySpec {
 
 // The adaptivity a scene runs with while its session sheds work to keep up with real time
 // (server/live/pace_monitor.h), level by level: 0 the spec itself; 1 refinement paused (no new
-// splits: max_splits 0; the tissue refined already stays as long as a tool uses it); 2 also the
+// splits: max_splits 0, and no region recorded, so a probe still touching when the pause ends is
+// refined then; a grasp that closed while paused stays coarse; the tissue refined already stays
+// as long as a tool uses it); 2 also the
 // refined tissue coarsened as soon as no tool holds it (coarsen_after 0). Levels above 2 act as
 // 2. Pausing, rather than refining to a longer edge, is what lightens a tick: a coarser target
 // widens the grasper's region by the edge length and refuses fewer splits, and on the station

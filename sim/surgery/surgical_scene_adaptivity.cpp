@@ -80,8 +80,10 @@ void SurgicalScene::adapt() {
 
 void SurgicalScene::refine(int tool, const Vec3& centre, Real radius) {
   const AdaptivitySpec a = shed_adaptivity(spec_.adaptivity, shed_level_);
+  // Refinement paused (shed_adaptivity): no region either, so that a touch that began while
+  // paused is refined once the pause ends (a known region is never refined again).
+  if (a.max_splits == 0) return;
   regions_.push_back({centre, radius, time_, tool});
-  if (a.max_splits == 0) return;  // refinement paused (shed_adaptivity)
   const BisectionReport report = tissue_->refine(centre, radius, a.edge_length, a.max_splits);
   splits_ += report.splits;
   splits_refused_ += report.refused;

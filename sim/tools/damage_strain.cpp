@@ -21,10 +21,15 @@ Real largest_symmetric_eigenvalue(const Mat3& a) {
   const Real p2 = (d00 * d00 + d11 * d11 + d22 * d22 + 2 * (d01 * d01 + d02 * d02 + d12 * d12)) / 6;
   if (std::isnan(p2)) return std::numeric_limits<Real>::quiet_NaN();
   if (!(p2 > 0)) return mean;  // a multiple of I
+  // r = det(D / p) / 2, with D scaled before its cubes are formed: p^3 underflows for p below
+  // about 1e-103 (and overflows above 1e102) where p itself is fine.
   const Real p = std::sqrt(p2);
+  const Real inverse_p = 1 / p;
+  const Real b00 = d00 * inverse_p, b11 = d11 * inverse_p, b22 = d22 * inverse_p;
+  const Real b01 = d01 * inverse_p, b02 = d02 * inverse_p, b12 = d12 * inverse_p;
   const Real det =
-      d00 * (d11 * d22 - d12 * d12) - d01 * (d01 * d22 - d12 * d02) + d02 * (d01 * d12 - d11 * d02);
-  const Real r = std::clamp(det / (2 * p2 * p), Real(-1), Real(1));
+      b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02) + b02 * (b01 * b12 - b11 * b02);
+  const Real r = std::clamp(det / 2, Real(-1), Real(1));
   // t = 1/2 + delta with 6 delta^2 + 4 delta^3 = 1 + r: delta is s - s^2/3 + ... in s =
   // sqrt((1 + r) / 6); the cubic below is a least-squares fit of it on [0, sqrt(1/3)] (within
   // 4e-5), and two Halley steps (cubic convergence) take it to round-off. Branch-free but for

@@ -211,7 +211,8 @@ TEST(SurgicalScene, AProbeRefinesWhereItTouchesAndTheTissueCoarsensOnceItLeaves)
 }
 
 // A session that falls behind real time sheds its remeshing (shed_adaptivity): at level 1 a
-// press refines nothing (its region is still known), at level 2 tissue refined already is
+// press refines nothing and records no region (so that when the pause ends, the probe still
+// pressing is refined), at level 2 tissue refined already is
 // coarsened as soon as the probe leaves, where level 0 keeps it for coarsen_after; a clone
 // carries the level, and the level is clamped.
 TEST(SurgicalScene, ShedRemeshingPausesRefinementThenCoarsensAtOnce) {
@@ -243,8 +244,16 @@ TEST(SurgicalScene, ShedRemeshingPausesRefinementThenCoarsensAtOnce) {
   EXPECT_EQ(paused->clone()->shed_level(), 1);
   run(*paused, 1500, 0.003);
   EXPECT_EQ(paused->splits(), 0);
-  EXPECT_EQ(paused->refined_regions(), 1);
+  EXPECT_EQ(paused->refined_regions(), 0);
   EXPECT_EQ(paused->tissue().mesh().num_tets(), at_rest);
+  // The pause ends with the probe still pressed in: it refines now.
+  paused->set_shed_level(0);
+  for (int n = 0; n < 100; ++n) {
+    const ToolInput in = at(above - Vec3(0, 0, 0.003));
+    paused->step(std::span(&in, 1));
+  }
+  EXPECT_GT(paused->splits(), 0);
+  EXPECT_EQ(paused->refined_regions(), 1);
 
   // Lifted 2 cm for 0.02 s, less than coarsen_after (0.05 s).
   for (const int level : {0, 2}) {

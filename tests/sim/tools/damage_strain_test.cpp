@@ -65,6 +65,17 @@ TEST(DamageStrain, LargestEigenvalueEqualsTheIterativeSolversToRoundOff) {
     check(q * Vec3(a, a, a).asDiagonal() * q.transpose());
   }
   EXPECT_TRUE(std::isnan(largest_symmetric_eigenvalue(Mat3::Constant(std::nan("")))));
+  // Far from 1 in size, where the deviator's cube would underflow or overflow: still its
+  // largest eigenvalue, relative to the size.
+  Mat3 nearly_i = Mat3::Identity();
+  nearly_i(0, 1) = nearly_i(1, 0) = 1e-120;
+  EXPECT_EQ(largest_symmetric_eigenvalue(nearly_i), 1);
+  const Mat3 shape = (Mat3() << 2, 1, 0, 1, 3, -1, 0, -1, 1).finished();
+  const Real expected = Eigen::SelfAdjointEigenSolver<Mat3>(shape).eigenvalues()(2);
+  for (const Real scale : {1e-150, 1e-110, 1e110, 1e150}) {
+    EXPECT_NEAR(largest_symmetric_eigenvalue(scale * shape) / scale, expected, 1e-13 * expected)
+        << scale;
+  }
   std::printf("largest relative error %.2g (%.2g with the two largest eigenvalues apart)\n", worst,
               worst_separated);
 }
