@@ -29,13 +29,15 @@ std::string text_hash(std::string_view text);
 // scene on SurgicalScene (the block with probes); runtime 3 rounds the corotational and spring
 // forces and the damage strain differently (the vectorised kernels, corotational_batch.h and
 // mass_spring_model.cpp; the strain's closed-form eigenvalue) and records the physics' shedding
-// level per tick (tick_record.h). Anything that changes a simulation's bits for the same inputs
-// takes the next number. Bit for bit holds on one kind of processor: the vectorised kernels are
-// compiled twice (AVX2 with fused multiply-adds, and the baseline without) and the loader picks
-// one, so a recording made on one kind may replay with other round-off on the other.
-inline constexpr int kSceneRuntime = 3;
+// level per tick (tick_record.h); runtime 4 makes a probe whose device first appears inside the
+// tissue only once it is outside (sim/surgery/surgical_scene_tool.h). Anything that changes a
+// simulation's bits for the same inputs takes the next number. Bit for bit holds on one kind of
+// processor: the vectorised kernels are compiled twice (AVX2 with fused multiply-adds, and the
+// baseline without) and the loader picks one, so a recording made on one kind may replay with other
+// round-off on the other.
+inline constexpr int kSceneRuntime = 4;
 
-// What a recording stores: "<runtime>:<text_hash>", e.g. "3:85944171f73967e8". (Runtime 1 stored
+// What a recording stores: "<runtime>:<text_hash>", e.g. "4:85944171f73967e8". (Runtime 1 stored
 // the bare hash.)
 std::string scene_version(std::string_view text);
 

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "sim/collide/inside_surface.h"
 #include "sim/surgery/surgical_scene_far_field.h"
 #include "sim/surgery/surgical_scene_tool.h"
 #include "sim/surgery/surgical_scene_validation.h"
@@ -155,7 +156,19 @@ void SurgicalScene::step(std::span<const ToolInput> inputs) {
     switch (tool.spec.kind) {
       case ToolKind::probe:
       case ToolKind::scope:
-        if (!tool.probe) tool.probe.emplace(tool.spec.probe, tool.tip);
+        if (!tool.probe) {
+          // The tip enters clear of the tissue (surgical_scene_tool.h): not inside it, and not in
+          // it deeper than a step may take it (touching is clear).
+          const collide::Sphere tip{tool.tip,
+                                    tool.spec.probe.radius - tool.spec.probe.allowed_penetration};
+          tissue_->bvh().overlapping_triangles(mesh.x, tip, tool.ray_triangles);
+          if (!tool.ray_triangles.empty() ||
+              collide::inside_closed_surface(tissue_->bvh(), mesh.x, tool.tip,
+                                             tool.ray_triangles)) {
+            break;
+          }
+          tool.probe.emplace(tool.spec.probe, tool.tip);
+        }
         tool.probe->step(tool.tip, tissue_->bvh(), mesh.x, mesh.v, tissue_->masses(),
                          tissue_->forces(), &tissue_->inverse_masses());
         break;

@@ -8,6 +8,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
+#include "sim/collide/inside_surface.h"
 #include "sim/tools/swept_tool_motion.h"
 #include "sim/tools/tool_checks.h"
 
@@ -249,26 +250,7 @@ bool Probe::enclosed(const collide::SurfaceBvh& bvh, const Points& x, const Poin
 }
 
 bool Probe::inside(const collide::SurfaceBvh& bvh, const Points& x, const Vec3& p) {
-  // A ray in a fixed, skew direction (no axis-aligned mesh edge or face lies along it), long
-  // enough to leave any organ; the crossings by Moller-Trumbore, counted once per triangle.
-  const Vec3 direction = Vec3(0.5773, 0.6123, 0.5402).normalized();
-  const Vec3 far = p + 10.0 * direction;
-  bvh.overlapping_triangles(x, collide::Capsule{p, far, 1e-9}, ray_triangles_);
-  int crossings = 0;
-  for (const int t : ray_triangles_) {
-    const Vec3i& tri = bvh.triangle(t);
-    const Vec3 a = row3(x, tri[0]), e1 = row3(x, tri[1]) - a, e2 = row3(x, tri[2]) - a;
-    const Vec3 h = direction.cross(e2);
-    const Real det = e1.dot(h);
-    if (std::abs(det) < 1e-300) continue;
-    const Vec3 s = p - a;
-    const Real u = s.dot(h) / det;
-    const Vec3 q = s.cross(e1);
-    const Real w = direction.dot(q) / det;
-    const Real t_hit = e2.dot(q) / det;
-    if (u >= 0 && w >= 0 && u + w <= 1 && t_hit > 0) ++crossings;
-  }
-  return crossings % 2 == 1;
+  return collide::inside_closed_surface(bvh, x, p, ray_triangles_);
 }
 
 Vec3 Probe::nearest_free_position() {

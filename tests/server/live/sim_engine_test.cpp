@@ -179,6 +179,43 @@ TEST(SimEngine, PressingTheTopFacePushesTheToolUp) {
   EXPECT_DOUBLE_EQ(model.sim_time_s, 301 * kTickS);
 }
 
+// An instrument held in the tissue as the session starts (a station's agent plays its script
+// from wherever it is when the session begins): the probe enters the scene only once it is outside
+// the tissue. Made inside, its proxy was engulfed, and when the hand drew back it held it at up
+// to the coupling's full force (10 to 15 N on the palpation block, where a press carries 0.2 N).
+// Started pressed 8 mm in (the tip's centre 3 mm under the top face, deeper than the block sags
+// under gravity), the hand feels nothing until it comes out, feels nothing above the block, and
+// then feels what a hand that started above feels pressing as deep.
+TEST(SimEngine, AProbeHeldInTheTissueAsTheSessionStartsEntersItFromOutside) {
+  const double z_touch = kTopZ + kToolRadius;
+  const double above = z_touch + 0.02, pressed = z_touch - 0.008;
+  const auto move = [](SimEngine& engine, double z0, double z1, int ticks) {
+    for (int i = 1; i <= ticks; ++i)
+      engine.tick(at(kCentreXY, kCentreXY, z0 + (z1 - z0) * i / ticks));
+  };
+  SimEngine from_above(test::palpation_scene(), kTickS);
+  move(from_above, above, above, 50);
+  move(from_above, above, pressed, 500);
+  move(from_above, pressed, pressed, 500);
+  const sim::Vec3 reference = from_above.contact().force_on_tool;
+  ASSERT_GT(reference.z(), 0.05);
+
+  SimEngine held_in(test::palpation_scene(), kTickS);
+  move(held_in, pressed, pressed, 250);
+  EXPECT_EQ(held_in.contact().force_on_tool, sim::Vec3::Zero());
+  EXPECT_EQ(held_in.contact().nodes_in_contact, 0);
+  move(held_in, pressed, above, 500);
+  move(held_in, above, above, 50);
+  EXPECT_EQ(held_in.contact().nodes_in_contact, 0);
+  EXPECT_LT(held_in.contact().force_on_tool.norm(), 1e-9);
+  EXPECT_LT(held_in.metrics().peak_force_n, 2 * reference.norm());
+  move(held_in, above, pressed, 500);
+  move(held_in, pressed, pressed, 500);
+  const sim::Vec3 felt = held_in.contact().force_on_tool;
+  EXPECT_LT((felt - reference).norm(), 0.02 * reference.norm())
+      << "felt " << felt.transpose() << ", from above " << reference.transpose();
+}
+
 // The simulation's damage (sim/tools/damage_tracker.h): a tet strained beyond kStrainThreshold is
 // damaged for good. Lowering the probe into the block's centre to a depth d and holding it
 // there: no contact, no damage; the deeper the press, the larger the peak strain and the damage;
