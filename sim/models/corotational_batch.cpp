@@ -196,22 +196,15 @@ void set_lane(M3& a, int l, const Mat3& m) {
       a.m[i][j][l] = m(i, j);
 }
 
-// Ds = [x1 - x0, x2 - x0, x3 - x0] of four tets, node[lane][tet node] into x (#nodes by 3): each
-// lane's edges as (x, y, z, 0) vectors, transposed into lanes.
+// Ds = [x1 - x0, x2 - x0, x3 - x0] of four tets, node[lane][tet node] into x (#nodes by 3), as an
+// M3 (lanes.h's edge_lanes).
 INCISE_LANES M3 edge_matrix_of(const Real* x, const int (&node)[4][4]) {
-  Lanes edge[3][4];  // [k][lane]
-  for (int l = 0; l < 4; ++l) {
-    const Lanes x0 = point_at(x + 3 * node[l][0]);
-    for (int k = 0; k < 3; ++k)
-      edge[k][l] = point_at(x + 3 * node[l][k + 1]) - x0;
-  }
+  Lanes columns[3][4];
+  edge_lanes(x, node, columns);
   M3 ds;
-  for (int k = 0; k < 3; ++k) {
-    Lanes rows[4];
-    transpose(edge[k][0], edge[k][1], edge[k][2], edge[k][3], rows);
+  for (int k = 0; k < 3; ++k)
     for (int i = 0; i < 3; ++i)
-      ds.m[i][k] = rows[i];
-  }
+      ds.m[i][k] = columns[k][i];
   return ds;
 }
 

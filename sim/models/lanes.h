@@ -81,6 +81,20 @@ INCISE_LANES void transpose(Lanes a, Lanes b, Lanes c, Lanes d, Lanes (&r)[4]) {
   r[3] = __builtin_shufflevector(ab13, cd13, 2, 3, 6, 7);
 }
 
+// The edge matrices Ds = [x1 - x0, x2 - x0, x3 - x0] of four tets: node[l] holds lane l's four
+// node indices into x (#nodes by 3, row-major), and ds[k][i] is Ds(i, k) of the four tets (row 3
+// unused). Each lane's edges are formed as (x, y, z, 0) points and transposed into lanes.
+INCISE_LANES void edge_lanes(const Real* x, const int (&node)[4][4], Lanes (&ds)[3][4]) {
+  Lanes edge[3][4];  // [k][lane]
+  for (int l = 0; l < 4; ++l) {
+    const Lanes x0 = point_at(x + 3 * node[l][0]);
+    for (int k = 0; k < 3; ++k)
+      edge[k][l] = point_at(x + 3 * node[l][k + 1]) - x0;
+  }
+  for (int k = 0; k < 3; ++k)
+    transpose(edge[k][0], edge[k][1], edge[k][2], edge[k][3], ds[k]);
+}
+
 // How many lanes of m are set.
 INCISE_LANES int count(LaneMask m) {
   return static_cast<int>(-(m[0] + m[1] + m[2] + m[3]));

@@ -107,20 +107,18 @@ Mat3 volume_stress_differential(const Mat3& f, const Mat3& df, Real k_v) {
   };
   const int whole = count_tets / kLaneWidth * kLaneWidth;
   for (int base = 0; base < whole; base += kLaneWidth) {
-    Lanes edge[3][4];  // [k][lane]: x_{k+1} - x_0
+    int node[4][4];
     LaneMask live;
     for (int l = 0; l < 4; ++l) {
       // A dead slot's nodes may no longer exist: it reads node 0 instead.
       const bool is_live = alive[base + l] != 0;
       live[l] = is_live ? -1 : 0;
       const int* n = tets + 4 * (base + l);
-      const Lanes x0 = point_at(x + 3 * (is_live ? n[0] : 0));
-      for (int k = 0; k < 3; ++k)
-        edge[k][l] = point_at(x + 3 * (is_live ? n[k + 1] : 0)) - x0;
+      for (int c = 0; c < 4; ++c)
+        node[l][c] = is_live ? n[c] : 0;
     }
     Lanes ds[3][4];  // [k][i]: Ds(i, k) of the four tets
-    for (int k = 0; k < 3; ++k)
-      transpose(edge[k][0], edge[k][1], edge[k][2], edge[k][3], ds[k]);
+    edge_lanes(x, node, ds);
     const Lanes det = determinant(ds);
     const Lanes abs_det = select(det < 0, -det, det);
     health.inverted_elements += count(live & (det <= 0));
