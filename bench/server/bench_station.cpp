@@ -23,10 +23,12 @@
 // same measures between a mesh of 1.25 times the cell and the reference are printed beside them:
 // the reference's own spread.
 //
-// Usage: bench_station --scene liver [--json] [--quick] [--reference-cell m]
+// Usage: bench_station --scene liver [--json] [--quick] [--phases-only] [--reference-cell m]
 //                      [--patch '{json merge patch of the scene file}']
 //   --json   one JSON object on stdout (keys in docs/benchmarks.md, "Station"); otherwise a table.
 //   --quick  phases and holds at half length, the reference at 6 mm (a smoke run).
+//   --phases-only  the four phases' figures alone, without the reference runs or the errors (to
+//            profile the station's ticks).
 //   --patch  an RFC 7386 merge patch applied to the scene file (to try settings).
 // Exit 0 with a result, 2 for bad arguments (a line on stderr), 1 if the scene failed to load.
 #include <algorithm>
@@ -66,6 +68,7 @@ constexpr int kEdgeSampleEvery = 5;   // ticks
 struct Options {
   bool json = false;
   bool quick = false;
+  bool phases_only = false;  // no reference runs (to profile the station's ticks)
   double reference_cell = 0.004;
   Json patch = Json::object();
 };
@@ -325,9 +328,10 @@ Json stats_json(const Phase& p) {
 
 int bad_usage(const std::string& why) {
   std::fprintf(stderr, "bench_station: %s\n", why.c_str());
-  std::fprintf(stderr,
-               "usage: bench_station --scene liver [--json] [--quick] [--reference-cell m] "
-               "[--patch json]\n");
+  std::fprintf(
+      stderr,
+      "usage: bench_station --scene liver [--json] [--quick] [--phases-only] [--reference-cell m] "
+      "[--patch json]\n");
   return 2;
 }
 
@@ -358,6 +362,18 @@ int run_liver(const Options& options) {
   Run probing(source->id, with_probe(scene), true);
   probing.move(probe_above(s), probe_above(s), parked(), parked(), settle_s);
   const Equilibrium probed = probe_phase(probing, s, phases[1]);
+
+  const char* names[4] = {"idle", "probe", "grasp", "cut"};
+  if (options.phases_only) {
+    Json out = {{"scene", "liver"},
+                {"tets_at_rest", tets_at_rest},
+                {"tick_us", static_cast<int>(std::lround(kTickS * 1e6))},
+                {"phases", Json::object()}};
+    for (int k = 0; k < 4; ++k)
+      out["phases"][names[k]] = stats_json(phases[static_cast<std::size_t>(k)]);
+    std::printf("%s\n", out.dump(options.json ? -1 : 2).c_str());
+    return 0;
+  }
 
   // The reference: the same scripts on the uniformly fine mesh without adaptivity, and on one 1.25
   // times coarser for the reference's spread.
@@ -393,7 +409,6 @@ int run_liver(const Options& options) {
   const Errors probe_errors = compare(probed, probed_ref);
   const Errors grasp_errors = compare(grasped, grasped_ref);
 
-  const char* names[4] = {"idle", "probe", "grasp", "cut"};
   Json out;
   out["scene"] = "liver";
   out["tets_at_rest"] = tets_at_rest;
@@ -486,6 +501,8 @@ int main(int argc, char** argv) {
       options.json = true;
     } else if (arg == "--quick") {
       options.quick = true;
+    } else if (arg == "--phases-only") {
+      options.phases_only = true;
     } else if (arg == "--scene" && has_value) {
       scene = argv[++i];
     } else if (arg == "--reference-cell" && has_value) {

@@ -33,4 +33,11 @@ Real largest_symmetric_eigenvalue(const Mat3& a);
 Real max_principal_green_strain(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
                                 const Mat3& rest_inverse);
 
+// max_principal_green_strain of tet slots 0 .. count - 1, four at a time in SIMD lanes (equal to
+// the scalar function to round-off): slot s's nodes are tets[4 s .. 4 s + 3] into x (#nodes by 3,
+// row-major), its Dm^-1 rest_inverse[s]. A slot with tracked[s] == 0 reads no node and gets 0.
+// NaN where a tracked slot's positions are not finite. Allocates nothing.
+void max_principal_green_strains(int count, const int* tets, const Real* x,
+                                 const Mat3* rest_inverse, const char* tracked, Real* strain);
+
 }  // namespace incise::sim::tools

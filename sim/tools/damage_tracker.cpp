@@ -103,8 +103,10 @@ void DamageTracker::recompute_volumes() {
     l.volume = l.damaged_volume = 0;
   totals_.damaged_elements = 0;
   min_rows_ = 0;
+  tracked_.assign(static_cast<std::size_t>(num_slots()), 0);
   for (int s = 0; s < num_slots(); ++s) {
     const auto i = static_cast<std::size_t>(s);
+    tracked_[i] = alive_[i] && label_index_[i] >= 0 ? 1 : 0;
     if (!alive_[i]) continue;
     min_rows_ = std::max(min_rows_, tets_.row(s).maxCoeff() + 1);
     if (label_index_[i] < 0) continue;
@@ -125,15 +127,9 @@ void DamageTracker::record_strain(const Points& x, Real dt) {
     fail("::record_strain", "x has " + std::to_string(x.rows()) + " rows, the tets use " +
                                 std::to_string(min_rows_) + " nodes");
   // Two passes, so that a NaN found in the first leaves the damage state as it was.
+  max_principal_green_strains(num_slots(), tets_.data(), x.data(), rest_inverse_.data(),
+                              tracked_.data(), strain_.data());
   for (int s = 0; s < num_slots(); ++s) {
-    const auto i = static_cast<std::size_t>(s);
-    if (!alive_[i] || label_index_[i] < 0) {
-      strain_(s) = 0;
-      continue;
-    }
-    strain_(s) =
-        max_principal_green_strain(row3(x, tets_(s, 0)), row3(x, tets_(s, 1)), row3(x, tets_(s, 2)),
-                                   row3(x, tets_(s, 3)), rest_inverse_[i]);
     if (!std::isfinite(strain_(s)))
       fail("::record_strain", "the strain of tet slot " + std::to_string(s) +
                                   " is not finite (x holds NaN or infinity)");

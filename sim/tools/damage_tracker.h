@@ -140,6 +140,7 @@ class DamageTracker {
   std::vector<char> alive_;         // #slots
   std::vector<int> label_;          // #slots tissue label
   std::vector<int> label_index_;    // #slots: index into labels_, -1 untracked
+  std::vector<char> tracked_;       // #slots: alive with a tracked label (the strain is taken)
   std::vector<Mat3> rest_inverse_;  // #slots Dm^-1
   VecX rest_volume_;                // #slots [m^3]
   VecX strain_;                     // #slots [-] at the last step

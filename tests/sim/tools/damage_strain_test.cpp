@@ -126,5 +126,62 @@ TEST(DamageStrain, NanPositionsGiveNan) {
   EXPECT_TRUE(std::isnan(max_principal_green_strain(bad, kRest[1], kRest[2], kRest[3], inverse)));
 }
 
+// The four-lane kernel against the scalar one, slot by slot: random rest tets under random
+// deformations (rotations, stretches up to 3, inversions, a flattened tet, a multiple of I),
+// untracked slots (0, reading no node: theirs lie past the end of x), a count that is not a
+// multiple of four, and a NaN position (NaN in its own slots only).
+TEST(DamageStrain, FourLaneKernelEqualsTheScalarOneSlotBySlot) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<Real> unit(-1, 1);
+  const int nodes = 60, slots = 47;
+  Points rest(nodes, 3), x(nodes, 3);
+  for (int n = 0; n < nodes; ++n)
+    rest.row(n) = 0.02 * Vec3(unit(random), unit(random), unit(random)).transpose();
+  Tets tets(slots, 4);
+  std::vector<Mat3> inverse(slots);
+  std::vector<char> tracked(slots, 1);
+  for (int s = 0; s < slots; ++s) {
+    for (;;) {
+      for (int k = 0; k < 4; ++k)
+        tets(s, k) = static_cast<int>(random() % nodes);
+      if (rest_edge_inverse(row3(rest, tets(s, 0)), row3(rest, tets(s, 1)), row3(rest, tets(s, 2)),
+                            row3(rest, tets(s, 3)), inverse[static_cast<std::size_t>(s)]) > 1e-9)
+        break;
+    }
+  }
+  for (int n = 0; n < nodes; ++n) {
+    Mat3 f = Mat3::Identity() + 0.8 * Mat3::Random();
+    if (n % 7 == 0) f.col(2) *= -1;       // inverted
+    if (n % 11 == 0) f.row(1).setZero();  // flattened
+    if (n % 13 == 0) f = 2.5 * Mat3::Identity();
+    x.row(n) = (f * row3(rest, n)).transpose();
+  }
+  tracked[3] = tracked[20] = tracked[46] = 0;
+  tets(20, 0) = tets(46, 3) = 1000000;  // untracked: never read
+  std::vector<Real> strain(slots, -1);
+  max_principal_green_strains(slots, tets.data(), x.data(), inverse.data(), tracked.data(),
+                              strain.data());
+  for (int s = 0; s < slots; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    if (!tracked[i]) {
+      EXPECT_EQ(strain[i], 0) << "slot " << s;
+      continue;
+    }
+    const Real expected =
+        max_principal_green_strain(row3(x, tets(s, 0)), row3(x, tets(s, 1)), row3(x, tets(s, 2)),
+                                   row3(x, tets(s, 3)), inverse[i]);
+    EXPECT_NEAR(strain[i], expected, 1e-12 * (1 + std::abs(expected))) << "slot " << s;
+  }
+  const int bad = tets(5, 2);
+  x(bad, 0) = std::nan("");
+  max_principal_green_strains(slots, tets.data(), x.data(), inverse.data(), tracked.data(),
+                              strain.data());
+  for (int s = 0; s < slots; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    const bool uses_bad = tracked[i] && (tets.row(s).array() == bad).any();
+    EXPECT_EQ(std::isnan(strain[i]), uses_bad) << "slot " << s;
+  }
+}
+
 }  // namespace
 }  // namespace incise::sim::tools
