@@ -59,11 +59,20 @@ void SimEngine::tick(const devices::DeviceState& input) {
 void SimEngine::tick(std::span<const devices::DeviceState> inputs) {
   const int n = std::min(hands_, static_cast<int>(inputs.size()));
   const auto count = static_cast<std::size_t>(n);
+  const sim::Vec3 parked(0, 0, kParkedToolHeight);
   std::array<devices::DeviceState, kMaxHands> from;
   for (std::size_t i = 0; i < count; ++i)
     from[i] = hand_[i].has_input ? hand_[i].last_input : inputs[i];
-  world_->tick(std::span<const devices::DeviceState>(from.data(), count), inputs.first(count));
-  const sim::Vec3 parked(0, 0, kParkedToolHeight);
+  // A later hand that has not reported yet (parked, never moved) stays out of the scene: a tool
+  // made at the park would sweep in from there onto the first surface on the way when the hand's
+  // first state arrives, instead of entering where the hand is (surgical_scene_tool.h).
+  std::size_t in_scene = count;
+  while (in_scene > 1 && !hand_[in_scene - 1].has_input &&
+         to_vec(inputs[in_scene - 1].position) == parked) {
+    --in_scene;
+  }
+  world_->tick(std::span<const devices::DeviceState>(from.data(), in_scene),
+               inputs.first(in_scene));
   for (std::size_t i = 0; i < count; ++i) {
     Hand& hand = hand_[i];
     hand.contact = world_->contact(static_cast<int>(i));

@@ -1,8 +1,8 @@
 #pragma once
 // Four doubles as one value, and the moves between lanes and points that the vectorised per-element
-// kernels share (corotational_batch.cpp, mass_spring_model.cpp). For kernels' .cpp files only:
-// the helpers are always inlined into their callers, which are compiled once per instruction set
-// (GCC's target_clones), so each copy uses that set's registers.
+// kernels share (corotational_batch.cpp, mass_spring_model.cpp, sim/tools/damage_strain.cpp). For
+// kernels' .cpp files only: the helpers are always inlined into their callers, which are compiled
+// once per instruction set (GCC's target_clones), so each copy uses that set's registers.
 #include <cstdint>
 #include <cstring>
 

@@ -24,11 +24,12 @@ struct SurgicalScene::Tool {
   Real blade_velocity_time = 0;
   Mat3 rotation = Mat3::Identity();
   Vec3 direction = Vec3::UnitZ();
-  // Probe and scope: made at the first input with the tip clear of the tissue. A tip that first
-  // appears inside it or touching it (an instrument held in the tissue as the session starts)
-  // waits until it comes out: a proxy made inside would be engulfed, its contacts found from
-  // behind, and it would hold the hand at up to the coupling's full force once the hand drew
-  // back; one made touching would be thrown out onto the surface, a kick in the hand.
+  // Probe and scope: made at the first input with the tip clear of the tissue, its centre outside
+  // it and no deeper in it than allowed_penetration (touching is clear). A tip that first appears
+  // deeper (an instrument held in the tissue as the session starts) waits until it comes out: a
+  // proxy made inside would be engulfed, its contacts found from behind, and it would hold the
+  // hand at up to the coupling's full force once the hand drew back; one made half in would be
+  // thrown out onto the surface, a kick in the hand.
   std::optional<tools::Probe> probe;
   std::vector<int> ray_triangles;  // scratch of the entry check
   std::optional<tools::Grasper> grasper;

@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "sim/tools/probe.h"
+
 namespace incise::sim::surgery {
 
 void require(bool ok, const std::string& what) {
@@ -70,6 +72,17 @@ void validate(const SurgicalSceneSpec& spec) {
             field(k, "view_angle_degrees") + " must be in [0, 90)");
     require(t.field_of_view_degrees > 0 && t.field_of_view_degrees < 180,
             field(k, "field_of_view_degrees") + " must be in (0, 180)");
+    if (t.kind == ToolKind::probe || t.kind == ToolKind::scope) {
+      // The tip's settings now, not when the tool first comes clear of the tissue (its probe is
+      // made then: surgical_scene_tool.h).
+      tools::ProbeSettings settings = t.probe;
+      settings.contact.time_step = spec.dt;  // the scene's step, as the scene sets it
+      try {
+        const tools::Probe probe(settings, Vec3::Zero());
+      } catch (const std::invalid_argument& e) {
+        require(false, field(k, "probe") + ": " + e.what());
+      }
+    }
   }
 }
 

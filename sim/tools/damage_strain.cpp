@@ -98,17 +98,19 @@ INCISE_LANES Lanes largest_eigenvalues(Lanes c00, Lanes c01, Lanes c02, Lanes c1
   return select(spread, mean + 2 * p * t, mean);
 }
 
-// Entry (i, j) of the four lanes' Dm^-1 (Eigen stores a Mat3 by columns).
+// Entry (i, j) of the four lanes' Dm^-1.
 INCISE_LANES Lanes rest_entry(const Mat3* const (&m)[4], int i, int j) {
   return Lanes{(*m[0])(i, j), (*m[1])(i, j), (*m[2])(i, j), (*m[3])(i, j)};
 }
+
+// What a lane without a tracked slot reads for Dm^-1.
+const Mat3 kUnusedInverse = Mat3::Identity();
 
 }  // namespace
 
 [[gnu::target_clones("arch=x86-64-v3", "default")]] void max_principal_green_strains(
     int count, const int* tets, const Real* x, const Mat3* rest_inverse, const char* tracked,
     Real* strain) {
-  static const Mat3 kUnused = Mat3::Identity();
   for (int base = 0; base < count; base += kLaneWidth) {
     int node[4][4];
     const Mat3* inverse[4];
@@ -120,7 +122,13 @@ INCISE_LANES Lanes rest_entry(const Mat3* const (&m)[4], int i, int j) {
       live[l] = is_live ? -1 : 0;
       for (int c = 0; c < 4; ++c)
         node[l][c] = is_live ? tets[4 * s + c] : 0;
-      inverse[l] = is_live ? &rest_inverse[s] : &kUnused;
+      inverse[l] = is_live ? &rest_inverse[s] : &kUnusedInverse;
+    }
+    const int filled = std::min(kLaneWidth, count - base);
+    if (!any(live)) {  // nothing tracked (the dead tail of a cut or refined mesh): read nothing
+      for (int l = 0; l < filled; ++l)
+        strain[base + l] = 0;
+      continue;
     }
     Lanes ds[3][4];  // [k][i]: Ds(i, k)
     edge_lanes(x, node, ds);
@@ -141,8 +149,7 @@ INCISE_LANES Lanes rest_entry(const Mat3* const (&m)[4], int i, int j) {
     const Lanes e = (largest_eigenvalues(c00, c01, c02, c11, c12, c22) - 1) / 2;
     const Lanes result =
         select(live, select(finite, e, splat(std::numeric_limits<Real>::quiet_NaN())), splat(0));
-    const int lanes = std::min(kLaneWidth, count - base);
-    for (int l = 0; l < lanes; ++l)
+    for (int l = 0; l < filled; ++l)
       strain[base + l] = result[l];
   }
 }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -180,11 +181,12 @@ TEST(SimEngine, PressingTheTopFacePushesTheToolUp) {
 }
 
 // An instrument held in the tissue as the session starts (a station's agent plays its script
-// from wherever it is when the session begins): the probe enters the scene only once it is outside
-// the tissue. Made inside, its proxy was engulfed, and when the hand drew back it held it at up
+// from wherever it is when the session begins): the probe enters the scene only once it is clear
+// of the tissue. Made inside, its proxy was engulfed, and when the hand drew back it held it at up
 // to the coupling's full force (10 to 15 N on the palpation block, where a press carries 0.2 N).
-// Started pressed 8 mm in (the tip's centre 3 mm under the top face, deeper than the block sags
-// under gravity), the hand feels nothing until it comes out, feels nothing above the block, and
+// Started pressed 8 mm in (the tip's sphere through the top face, its centre 3 mm under it,
+// deeper than the block sags under gravity) or 15 mm in (the whole sphere inside: only the ray's
+// parity tells), the hand feels nothing until it comes out, feels nothing above the block, and
 // then feels what a hand that started above feels pressing as deep.
 TEST(SimEngine, AProbeHeldInTheTissueAsTheSessionStartsEntersItFromOutside) {
   const double z_touch = kTopZ + kToolRadius;
@@ -200,20 +202,44 @@ TEST(SimEngine, AProbeHeldInTheTissueAsTheSessionStartsEntersItFromOutside) {
   const sim::Vec3 reference = from_above.contact().force_on_tool;
   ASSERT_GT(reference.z(), 0.05);
 
-  SimEngine held_in(test::palpation_scene(), kTickS);
-  move(held_in, pressed, pressed, 250);
-  EXPECT_EQ(held_in.contact().force_on_tool, sim::Vec3::Zero());
-  EXPECT_EQ(held_in.contact().nodes_in_contact, 0);
-  move(held_in, pressed, above, 500);
-  move(held_in, above, above, 50);
-  EXPECT_EQ(held_in.contact().nodes_in_contact, 0);
-  EXPECT_LT(held_in.contact().force_on_tool.norm(), 1e-9);
-  EXPECT_LT(held_in.metrics().peak_force_n, 2 * reference.norm());
-  move(held_in, above, pressed, 500);
-  move(held_in, pressed, pressed, 500);
-  const sim::Vec3 felt = held_in.contact().force_on_tool;
-  EXPECT_LT((felt - reference).norm(), 0.02 * reference.norm())
-      << "felt " << felt.transpose() << ", from above " << reference.transpose();
+  for (const double start : {pressed, kTopZ - 0.015}) {
+    SimEngine held_in(test::palpation_scene(), kTickS);
+    move(held_in, start, start, 250);
+    EXPECT_EQ(held_in.contact().force_on_tool, sim::Vec3::Zero()) << start;
+    EXPECT_EQ(held_in.contact().nodes_in_contact, 0) << start;
+    move(held_in, start, above, 500);
+    move(held_in, above, above, 50);
+    EXPECT_EQ(held_in.contact().nodes_in_contact, 0) << start;
+    EXPECT_LT(held_in.contact().force_on_tool.norm(), 1e-9) << start;
+    EXPECT_LT(held_in.metrics().peak_force_n, 2 * reference.norm()) << start;
+    move(held_in, above, pressed, 500);
+    move(held_in, pressed, pressed, 500);
+    const sim::Vec3 felt = held_in.contact().force_on_tool;
+    EXPECT_LT((felt - reference).norm(), 0.02 * reference.norm())
+        << "started at " << start << ": felt " << felt.transpose() << ", from above "
+        << reference.transpose();
+  }
+}
+
+// A two-handed session's second device reports late: until then the session gives it the park,
+// and the scene leaves that hand out. Its first state, pressed into the block, then waits like a
+// first hand's would; before, its probe was made at the park and swept in from a metre up onto
+// the top face, pushing the hand out with the coupling's force.
+TEST(SimEngine, ASecondHandThatFirstReportsInTheTissueEntersItFromOutside) {
+  const double z_touch = kTopZ + kToolRadius;
+  const double above = z_touch + 0.02, pressed = z_touch - 0.008;
+  const std::array<devices::DeviceState, 2> waiting = {at(0.02, 0.02, above),
+                                                       at(0, 0, kParkedToolHeight)};
+  SimEngine engine(test::palpation_scene(), kTickS, 2);
+  for (int i = 0; i < 100; ++i)
+    engine.tick(waiting);
+  const std::array<devices::DeviceState, 2> reported = {at(0.02, 0.02, above),
+                                                        at(kCentreXY, kCentreXY, pressed)};
+  for (int i = 0; i < 250; ++i)
+    engine.tick(reported);
+  EXPECT_EQ(engine.contact(1).force_on_tool, sim::Vec3::Zero());
+  EXPECT_EQ(engine.contact(1).nodes_in_contact, 0);
+  EXPECT_TRUE(engine.state_finite());
 }
 
 // The simulation's damage (sim/tools/damage_tracker.h): a tet strained beyond kStrainThreshold is
