@@ -16,37 +16,70 @@ Real rest_edge_inverse(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& 
   return volume;
 }
 
-Real largest_symmetric_eigenvalue(const Mat3& a) {
-  const Real mean = (a(0, 0) + a(1, 1) + a(2, 2)) / 3;
-  const Real d00 = a(0, 0) - mean, d11 = a(1, 1) - mean, d22 = a(2, 2) - mean;
-  const Real d01 = a(0, 1), d02 = a(0, 2), d12 = a(1, 2);
-  const Real p2 = (d00 * d00 + d11 * d11 + d22 * d22 + 2 * (d01 * d01 + d02 * d02 + d12 * d12)) / 6;
-  if (std::isnan(p2)) return std::numeric_limits<Real>::quiet_NaN();
-  if (!(p2 > 0)) return mean;  // a multiple of I
+namespace {
+
+using namespace lanes;
+
+// One matrix or four in lanes alike, for the steps below.
+inline Real pick(bool m, Real a, Real b) {
+  return m ? a : b;
+}
+INCISE_LANES Lanes pick(LaneMask m, Lanes a, Lanes b) {
+  return select(m, a, b);
+}
+inline Real root(Real a) {
+  return std::sqrt(a);
+}
+INCISE_LANES Lanes root(Lanes a) {
+  return lanes_sqrt(a);
+}
+
+// largest_symmetric_eigenvalue's steps on the upper triangle (c00, c01, c02, c11, c12, c22), for
+// one matrix (T = Real) or four (T = Lanes; max_principal_green_strains); its branches are picks.
+// A NaN in gives the mean (the callers check first).
+template <class T>
+INCISE_LANES T largest_eigenvalue(T c00, T c01, T c02, T c11, T c12, T c22) {
+  const T zero{};
+  const T one = zero + 1;
+  const T mean = (c00 + c11 + c22) / 3;
+  const T d00 = c00 - mean, d11 = c11 - mean, d22 = c22 - mean;
+  const T p2 = (d00 * d00 + d11 * d11 + d22 * d22 + 2 * (c01 * c01 + c02 * c02 + c12 * c12)) / 6;
+  const auto spread = p2 > 0;  // else a multiple of I: the mean
   // r = det(D / p) / 2, with D scaled before its cubes are formed: p^3 underflows for p below
   // about 1e-103 (and overflows above 1e102) where p itself is fine.
-  const Real p = std::sqrt(p2);
-  const Real inverse_p = 1 / p;
-  const Real b00 = d00 * inverse_p, b11 = d11 * inverse_p, b22 = d22 * inverse_p;
-  const Real b01 = d01 * inverse_p, b02 = d02 * inverse_p, b12 = d12 * inverse_p;
-  const Real det =
+  const T p = root(pick(spread, p2, one));
+  const T inverse_p = 1 / p;
+  const T b00 = d00 * inverse_p, b11 = d11 * inverse_p, b22 = d22 * inverse_p;
+  const T b01 = c01 * inverse_p, b02 = c02 * inverse_p, b12 = c12 * inverse_p;
+  const T det =
       b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02) + b02 * (b01 * b12 - b11 * b02);
-  const Real r = std::clamp(det / 2, Real(-1), Real(1));
+  T r = det / 2;
+  r = pick(r < -1, zero - 1, pick(r > 1, one, r));
   // t = 1/2 + delta with 6 delta^2 + 4 delta^3 = 1 + r: delta is s - s^2/3 + ... in s =
   // sqrt((1 + r) / 6); the cubic below is a least-squares fit of it on [0, sqrt(1/3)] (within
   // 4e-5), and two Halley steps (cubic convergence) take it to round-off. Branch-free but for
-  // the double root (s = 0), where t = 1/2 is exact and the step would be 0 / 0.
-  const Real s = std::sqrt((1 + r) / 6);
-  Real t =
-      Real(0.5) + s * (1 + s * (Real(-0.3275065811320345) +
-                                s * (Real(0.2214314501936702) - s * Real(0.09749196520142875))));
+  // the double root (s = 0), where t = 1/2 is exact and the step would be 0 / 0: no step there.
+  const T s = root((1 + r) / 6);
+  T t = Real(0.5) + s * (1 + s * (Real(-0.3275065811320345) +
+                                  s * (Real(0.2214314501936702) - s * Real(0.09749196520142875))));
   for (int step = 0; step < 2; ++step) {
-    const Real g = (4 * t * t - 3) * t - r;
-    const Real slope = 12 * t * t - 3;
-    const Real denominator = 2 * slope * slope - 24 * t * g;
-    if (denominator > 0) t -= 2 * g * slope / denominator;
+    const T g = (4 * t * t - 3) * t - r;
+    const T slope = 12 * t * t - 3;
+    const T denominator = 2 * slope * slope - 24 * t * g;
+    const auto taken = denominator > 0;
+    t -= pick(taken, 2 * g * slope / pick(taken, denominator, one), zero);
   }
-  return mean + 2 * p * t;
+  return pick(spread, mean + 2 * p * t, mean);
+}
+
+}  // namespace
+
+Real largest_symmetric_eigenvalue(const Mat3& a) {
+  const Real upper[6] = {a(0, 0), a(0, 1), a(0, 2), a(1, 1), a(1, 2), a(2, 2)};
+  for (const Real entry : upper) {
+    if (!std::isfinite(entry)) return std::numeric_limits<Real>::quiet_NaN();
+  }
+  return largest_eigenvalue(upper[0], upper[1], upper[2], upper[3], upper[4], upper[5]);
 }
 
 Real max_principal_green_strain(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
@@ -64,39 +97,6 @@ Real max_principal_green_strain(const Vec3& a, const Vec3& b, const Vec3& c, con
 }
 
 namespace {
-
-using namespace lanes;
-
-// largest_symmetric_eigenvalue of four matrices, in lanes: the same steps, branches as selects.
-// c00 .. c22 are the upper triangle.
-INCISE_LANES Lanes largest_eigenvalues(Lanes c00, Lanes c01, Lanes c02, Lanes c11, Lanes c12,
-                                       Lanes c22) {
-  const Lanes mean = (c00 + c11 + c22) / 3;
-  const Lanes d00 = c00 - mean, d11 = c11 - mean, d22 = c22 - mean;
-  const Lanes p2 =
-      (d00 * d00 + d11 * d11 + d22 * d22 + 2 * (c01 * c01 + c02 * c02 + c12 * c12)) / 6;
-  const LaneMask spread = p2 > 0;  // else a multiple of I (or NaN, which the caller handles)
-  const Lanes p = lanes_sqrt(select(spread, p2, splat(1)));
-  const Lanes inverse_p = 1 / p;
-  const Lanes b00 = d00 * inverse_p, b11 = d11 * inverse_p, b22 = d22 * inverse_p;
-  const Lanes b01 = c01 * inverse_p, b02 = c02 * inverse_p, b12 = c12 * inverse_p;
-  const Lanes det =
-      b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02) + b02 * (b01 * b12 - b11 * b02);
-  Lanes r = det / 2;
-  r = select(r < -1, splat(-1), select(r > 1, splat(1), r));
-  const Lanes s = lanes_sqrt((1 + r) / 6);
-  Lanes t =
-      Real(0.5) + s * (1 + s * (Real(-0.3275065811320345) +
-                                s * (Real(0.2214314501936702) - s * Real(0.09749196520142875))));
-  for (int step = 0; step < 2; ++step) {
-    const Lanes g = (4 * t * t - 3) * t - r;
-    const Lanes slope = 12 * t * t - 3;
-    const Lanes denominator = 2 * slope * slope - 24 * t * g;
-    const LaneMask taken = denominator > 0;
-    t -= select(taken, 2 * g * slope / select(taken, denominator, splat(1)), splat(0));
-  }
-  return select(spread, mean + 2 * p * t, mean);
-}
 
 // Entry (i, j) of the four lanes' Dm^-1.
 INCISE_LANES Lanes rest_entry(const Mat3* const (&m)[4], int i, int j) {
@@ -146,7 +146,7 @@ const Mat3 kUnusedInverse = Mat3::Identity();
     // Finite entries: x * 0 is 0 exactly for finite x, NaN for infinities and NaN.
     const LaneMask finite = (c00 * 0 == 0) & (c01 * 0 == 0) & (c02 * 0 == 0) & (c11 * 0 == 0) &
                             (c12 * 0 == 0) & (c22 * 0 == 0);
-    const Lanes e = (largest_eigenvalues(c00, c01, c02, c11, c12, c22) - 1) / 2;
+    const Lanes e = (largest_eigenvalue(c00, c01, c02, c11, c12, c22) - 1) / 2;
     const Lanes result =
         select(live, select(finite, e, splat(std::numeric_limits<Real>::quiet_NaN())), splat(0));
     for (int l = 0; l < filled; ++l)

@@ -25,7 +25,7 @@ Real rest_edge_inverse(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& 
 // det(D) / (2 p^3) in [-1, 1], it is m + 2 p t with t = cos(acos(r) / 3), the largest root of
 // 4 t^3 - 3 t = r, from a fitted start and two Halley steps (no loop to converge, no trigonometry:
 // about a third of Eigen's computeDirect). Near two equal largest eigenvalues it keeps half the
-// digits, as every closed form from the invariants does. NaN in, NaN out.
+// digits, as every closed form from the invariants does. NaN or an infinity in, NaN out.
 Real largest_symmetric_eigenvalue(const Mat3& a);
 
 // The largest principal Green strain [-] of the tet whose current positions are (a, b, c, d),
