@@ -13,6 +13,12 @@ struct Camera {
   double fov_y_deg = 45.0;  // full vertical field of view, in (0, 180)
   double near_m = 0.01;     // clip distances along the view direction, 0 < near_m < far_m
   double far_m = 10.0;
+  // An endoscope's camera carries its light: a point light at the eye (the "headlight") whose
+  // diffuse and specular terms fall off as 1 / (1 + (d / light_falloff_m)^2), d the distance from
+  // the eye; the scene is then drawn without a floor, on the cavity's dark backdrop
+  // (SceneRenderer). Without it, the scene's directional light and floor.
+  bool headlight = false;
+  double light_falloff_m = 0.08;  // > 0 when headlight
 };
 
 // World -> eye transform as gluLookAt builds it: right-handed, the camera looks down -z.

@@ -1,5 +1,8 @@
 #include "sim/render/gl_mesh.h"
 
+#include <algorithm>
+#include <cstdint>
+
 #include "sim/render/gl_api.h"
 
 namespace incise::render {
@@ -59,6 +62,17 @@ void GlMesh::draw() const {
   if (index_count_ == 0) return;
   glBindVertexArray(vertex_array_);
   glDrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
+  glBindVertexArray(0);
+}
+
+void GlMesh::draw(int first_triangle, int triangle_count) const {
+  const int first = std::clamp(3 * first_triangle, 0, index_count_);
+  const int count = std::clamp(3 * triangle_count, 0, index_count_ - first);
+  if (count == 0) return;
+  glBindVertexArray(vertex_array_);
+  glDrawElements(
+      GL_TRIANGLES, count, GL_UNSIGNED_INT,
+      reinterpret_cast<const void*>(static_cast<std::uintptr_t>(first) * sizeof(std::uint32_t)));
   glBindVertexArray(0);
 }
 

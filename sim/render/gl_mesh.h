@@ -27,6 +27,8 @@ class GlMesh {
 
   // Draws the triangles with whatever program is in use; nothing when there are no indices.
   void draw() const;
+  // Draws triangles [first, first + count) of the index list (clamped to it).
+  void draw(int first_triangle, int triangle_count) const;
 
   int index_count() const { return index_count_; }
 

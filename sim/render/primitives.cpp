@@ -112,4 +112,36 @@ ShapeMesh unit_square() {
   return mesh;
 }
 
+ShapeMesh unit_box() {
+  ShapeMesh mesh;
+  // Face k of the six: normal +-e_axis; (u, v) the other two axes in right-handed order, so that
+  // the corners (-u -v), (+u -v), (+u +v), (-u +v) turn counter-clockwise about +e_axis (and are
+  // taken in the opposite order on the minus face).
+  for (int axis = 0; axis < 3; ++axis) {
+    for (const double sign : {1.0, -1.0}) {
+      const int u = (axis + 1) % 3;
+      const int v = (axis + 2) % 3;
+      const auto first = static_cast<std::uint32_t>(mesh.vertex_count());
+      constexpr double corner[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+      for (const auto& c : corner) {
+        double p[3];
+        double n[3] = {0, 0, 0};
+        p[axis] = sign;
+        p[u] = c[0];
+        p[v] = c[1];
+        n[axis] = sign;
+        add_vertex(mesh, p[0], p[1], p[2], n[0], n[1], n[2]);
+      }
+      if (sign > 0) {
+        add_triangle(mesh, first, first + 1, first + 2);
+        add_triangle(mesh, first, first + 2, first + 3);
+      } else {
+        add_triangle(mesh, first, first + 2, first + 1);
+        add_triangle(mesh, first, first + 3, first + 2);
+      }
+    }
+  }
+  return mesh;
+}
+
 }  // namespace incise::render

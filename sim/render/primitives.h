@@ -31,4 +31,8 @@ ShapeMesh unit_cylinder(int slices);
 // The square [-1, 1] x [-1, 1] in the plane z = 0, normal +z: two triangles.
 ShapeMesh unit_square();
 
+// The cube [-1, 1]^3 with flat faces: each face its own four vertices with the face's outward
+// normal, so that edges stay sharp (a blade, a jaw). 12 triangles.
+ShapeMesh unit_box();
+
 }  // namespace incise::render

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -65,18 +66,28 @@ uniform float diffuse;
 uniform vec3 albedo;
 uniform float specular;
 uniform float shininess;
+uniform int headlight;
+uniform float falloff;
 out vec4 colour;
 void main() {
-  vec3 v = normalize(eye - world_position);
+  vec3 to_eye = eye - world_position;
+  vec3 v = normalize(to_eye);
   vec3 face = cross(dFdx(world_position), dFdy(world_position));
   if (dot(face, v) < 0.0) face = -face;
   vec3 n = normalize(world_normal);
   if (dot(n, face) < 0.0) n = -n;
-  float lambert = max(dot(n, to_light), 0.0);
+  vec3 l = to_light;
+  float reach = 1.0;
+  if (headlight != 0) {
+    l = v;
+    float d = length(to_eye) / falloff;
+    reach = 1.0 / (1.0 + d * d);
+  }
+  float lambert = max(dot(n, l), 0.0);
   float highlight = 0.0;
-  if (lambert > 0.0) highlight = pow(max(dot(n, normalize(to_light + v)), 0.0), shininess);
-  colour = vec4(clamp(albedo * (ambient + diffuse * lambert) + specular * highlight, 0.0, 1.0),
-                1.0);
+  if (lambert > 0.0) highlight = pow(max(dot(n, normalize(l + v)), 0.0), shininess);
+  colour = vec4(clamp(albedo * (ambient + reach * diffuse * lambert) + reach * specular * highlight,
+                      0.0, 1.0), 1.0);
 }
 )";
 
@@ -119,6 +130,8 @@ SceneStyle normalised(SceneStyle style) {
   validate_look(style.tool_in_contact, "tool_in_contact");
   validate_look(style.floor, "floor");
   validate_look(style.marker, "marker");
+  validate_look(style.steel, "steel");
+  validate_look(style.cut_wall, "cut_wall");
   style.up.normalize();
   style.to_light.normalize();
   return style;
@@ -132,6 +145,35 @@ void validate_tool(const ToolView& tool) {
   if (!(tool.shaft_direction.norm() > 0.0) || !tool.shaft_direction.allFinite()) {
     throw std::invalid_argument("tool shaft_direction must be non-zero and finite");
   }
+  if (tool.shape == ToolShape::probe) return;
+  const Eigen::Vector3d along = tool.shaft_direction.normalized();
+  const Eigen::Vector3d across = tool.side - tool.side.dot(along) * along;
+  if (!tool.side.allFinite() || !(across.norm() > 1e-9 * std::max(tool.side.norm(), 1.0))) {
+    throw std::invalid_argument("tool side must be finite and not along the shaft");
+  }
+  if (tool.shape == ToolShape::scalpel && !(tool.blade_length > 0.0)) {
+    throw std::invalid_argument("scalpel blade_length must be positive");
+  }
+  if (tool.shape == ToolShape::grasper) {
+    if (!(tool.jaw_length > 0.0))
+      throw std::invalid_argument("grasper jaw_length must be positive");
+    if (!(tool.jaw_angle >= 0.0 && tool.jaw_angle < std::numbers::pi)) {
+      throw std::invalid_argument("grasper jaw_angle must be in [0, pi)");
+    }
+  }
+}
+
+// The tool's frame: along (tip back along the shaft), across (side made orthogonal to it) and
+// their cross product; validate_tool has checked that across does not vanish.
+struct ToolFrame {
+  Eigen::Vector3d along, across, third;
+};
+ToolFrame tool_frame(const ToolView& tool) {
+  ToolFrame f;
+  f.along = tool.shaft_direction.normalized();
+  f.across = (tool.side - tool.side.dot(f.along) * f.along).normalized();
+  f.third = f.along.cross(f.across);
+  return f;
 }
 
 }  // namespace
@@ -151,11 +193,14 @@ SceneRenderer::SceneRenderer(const SceneStyle& style)
       diffuse_location_(lit_program_.uniform_location("diffuse")),
       albedo_location_(lit_program_.uniform_location("albedo")),
       specular_location_(lit_program_.uniform_location("specular")),
-      shininess_location_(lit_program_.uniform_location("shininess")) {
+      shininess_location_(lit_program_.uniform_location("shininess")),
+      headlight_location_(lit_program_.uniform_location("headlight")),
+      falloff_location_(lit_program_.uniform_location("falloff")) {
   glGenVertexArrays(1, &empty_vertex_array_);
   upload(sphere_, unit_sphere(sphere_slices, sphere_stacks));
   upload(cylinder_, unit_cylinder(cylinder_slices));
   upload(square_, unit_square());
+  upload(box_, unit_box());
 }
 
 SceneRenderer::~SceneRenderer() {
@@ -173,12 +218,17 @@ bool SceneRenderer::upload_tissue(const TissueView& tissue) {
     throw std::invalid_argument("tissue has " + std::to_string(V.rows()) + " vertices but " +
                                 std::to_string(N.rows()) + " normals");
   }
+  const std::vector<std::uint8_t>* cut = tissue.cut_faces;
+  if (cut != nullptr && cut->empty()) cut = nullptr;
+  if (cut != nullptr && static_cast<Eigen::Index>(cut->size()) != F.rows()) {
+    throw std::invalid_argument("tissue has " + std::to_string(F.rows()) + " faces but " +
+                                std::to_string(cut->size()) + " cut-face flags");
+  }
   if (V.rows() == 0) return false;
 
   // Validate all faces before touching the cached ones, so that a rejected frame leaves the
   // cache equal to what the GPU holds.
   const auto vertex_count = static_cast<std::uint32_t>(V.rows());
-  bool faces_changed = static_cast<std::size_t>(F.size()) != tissue_indices_.size();
   const int* face_data = F.data();
   for (Eigen::Index i = 0; i < F.size(); ++i) {
     const int index = face_data[i];
@@ -187,8 +237,21 @@ bool SceneRenderer::upload_tissue(const TissueView& tissue) {
                                   std::to_string(index) + " outside [0, " +
                                   std::to_string(vertex_count) + ")");
     }
-    if (!faces_changed && tissue_indices_[i] != static_cast<std::uint32_t>(index)) {
-      faces_changed = true;
+  }
+  // The capsule's faces first, then the cut walls (two draws, two looks), each in F's order.
+  int capsule = static_cast<int>(F.rows());
+  if (cut != nullptr)
+    capsule -=
+        static_cast<int>(std::count_if(cut->begin(), cut->end(), [](std::uint8_t c) { return c; }));
+  bool faces_changed =
+      static_cast<std::size_t>(F.size()) != tissue_indices_.size() || capsule != capsule_triangles_;
+  std::size_t next[2] = {0, 3 * static_cast<std::size_t>(capsule)};
+  for (Eigen::Index f = 0; f < F.rows() && !faces_changed; ++f) {
+    std::size_t& at = next[cut != nullptr && (*cut)[static_cast<std::size_t>(f)] ? 1 : 0];
+    for (int k = 0; k < 3; ++k, ++at) {
+      if (tissue_indices_[at] != static_cast<std::uint32_t>(face_data[3 * f + k])) {
+        faces_changed = true;
+      }
     }
   }
 
@@ -218,14 +281,22 @@ bool SceneRenderer::upload_tissue(const TissueView& tissue) {
 
   tissue_.set_vertices(tissue_vertices_);
   if (faces_changed) {
-    tissue_indices_.assign(face_data, face_data + F.size());
+    tissue_indices_.resize(static_cast<std::size_t>(F.size()));
+    std::size_t at[2] = {0, 3 * static_cast<std::size_t>(capsule)};
+    for (Eigen::Index f = 0; f < F.rows(); ++f) {
+      std::size_t& a = at[cut != nullptr && (*cut)[static_cast<std::size_t>(f)] ? 1 : 0];
+      for (int k = 0; k < 3; ++k)
+        tissue_indices_[a++] = static_cast<std::uint32_t>(face_data[3 * f + k]);
+    }
+    capsule_triangles_ = capsule;
     tissue_.set_indices(tissue_indices_);
   }
   return true;
 }
 
 void SceneRenderer::draw_lit(const GlMesh& mesh, const Eigen::Affine3d& model,
-                             const SurfaceLook& look) const {
+                             const SurfaceLook& look, int first_triangle,
+                             int triangle_count) const {
   const Eigen::Matrix4f model_matrix = model.matrix().cast<float>();
   // Normals transform with the inverse transpose, which differs from the rotation when the
   // model scales unevenly (the shaft: radius across, length along).
@@ -235,7 +306,11 @@ void SceneRenderer::draw_lit(const GlMesh& mesh, const Eigen::Affine3d& model,
   glUniform3fv(albedo_location_, 1, look.albedo.data());
   glUniform1f(specular_location_, look.specular);
   glUniform1f(shininess_location_, look.shininess);
-  mesh.draw();
+  if (triangle_count < 0) {
+    mesh.draw();
+  } else {
+    mesh.draw(first_triangle, triangle_count);
+  }
 }
 
 void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
@@ -243,20 +318,71 @@ void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
   render(target, camera, tissue, std::span<const ToolView>(&tool, 1));
 }
 
+void SceneRenderer::draw_box(const Eigen::Vector3d& centre, const Eigen::Vector3d& a,
+                             const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                             const Eigen::Vector3d& half, const SurfaceLook& look) const {
+  Eigen::Affine3d box = Eigen::Affine3d::Identity();
+  box.translate(centre);
+  box.linear() << a * half.x(), b * half.y(), c * half.z();
+  draw_lit(box_, box, look);
+}
+
 void SceneRenderer::draw_tool(const ToolView& tool) const {
   const SurfaceLook& tool_look = tool.in_contact ? style_.tool_in_contact : style_.tool;
-  Eigen::Affine3d sphere = Eigen::Affine3d::Identity();
-  sphere.translate(tool.tip).scale(tool.radius);
-  draw_lit(sphere_, sphere, tool_look);
-  if (tool.shaft_length > 0.0) {
-    // The unit cylinder's z axis becomes the shaft, starting at the tip's centre.
+  const Eigen::Vector3d along = tool.shaft_direction.normalized();
+  // Where the shaft starts: behind the blade for a scalpel, at the tip otherwise.
+  Eigen::Vector3d shaft_start = tool.tip;
+  double shaft_length = tool.shaft_length;
+  switch (tool.shape) {
+    case ToolShape::probe: {
+      Eigen::Affine3d sphere = Eigen::Affine3d::Identity();
+      sphere.translate(tool.tip).scale(tool.radius);
+      draw_lit(sphere_, sphere, tool_look);
+      break;
+    }
+    case ToolShape::scalpel: {
+      // A plate: blade_length along the shaft, a third of that high, a fraction of a millimetre
+      // thick; the edge on the tip's line.
+      const ToolFrame f = tool_frame(tool);
+      const double height = tool.blade_length / 3;
+      const double thickness = std::min(0.0004, 0.1 * tool.shaft_radius);
+      draw_box(tool.tip + 0.5 * tool.blade_length * f.along + 0.5 * height * f.third, f.along,
+               f.third, f.across,
+               Eigen::Vector3d(0.5 * tool.blade_length, 0.5 * height, 0.5 * thickness),
+               tool.in_contact ? style_.tool_in_contact : style_.steel);
+      shaft_start = tool.tip + tool.blade_length * along;
+      shaft_length = std::max(0.0, tool.shaft_length - tool.blade_length);
+      break;
+    }
+    case ToolShape::grasper: {
+      // Jaw k runs from the hinge along cos(a / 2) d +- sin(a / 2) across (d = -along), a flat
+      // bar as wide as the shaft and a third of it thick, its inner face on that line: closed,
+      // the jaws meet on the axis.
+      const ToolFrame f = tool_frame(tool);
+      const double half_angle = 0.5 * tool.jaw_angle;
+      const double width = 1.4 * tool.shaft_radius;
+      const double thickness = 0.7 * tool.shaft_radius;
+      for (const double sign : {1.0, -1.0}) {
+        const Eigen::Vector3d jaw =
+            -std::cos(half_angle) * f.along + sign * std::sin(half_angle) * f.across;
+        // Away from the other jaw, in the opening plane.
+        const Eigen::Vector3d outward =
+            std::sin(half_angle) * f.along + sign * std::cos(half_angle) * f.across;
+        draw_box(tool.tip + 0.5 * tool.jaw_length * jaw + 0.5 * thickness * outward, jaw, outward,
+                 f.third, Eigen::Vector3d(0.5 * tool.jaw_length, 0.5 * thickness, 0.5 * width),
+                 tool.in_contact ? style_.tool_in_contact : style_.steel);
+      }
+      break;
+    }
+  }
+  if (shaft_length > 0.0) {
+    // The unit cylinder's z axis becomes the shaft.
     Eigen::Matrix3d axes;
     Eigen::Vector3d across_1, across_2;
-    const Eigen::Vector3d along = tool.shaft_direction.normalized();
     complete_basis(along, across_1, across_2);
-    axes << across_1 * tool.shaft_radius, across_2 * tool.shaft_radius, along * tool.shaft_length;
+    axes << across_1 * tool.shaft_radius, across_2 * tool.shaft_radius, along * shaft_length;
     Eigen::Affine3d shaft = Eigen::Affine3d::Identity();
-    shaft.translate(tool.tip);
+    shaft.translate(shaft_start);
     shaft.linear() = axes;
     draw_lit(cylinder_, shaft, tool_look);
   }
@@ -269,6 +395,9 @@ void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
   // Eigen stores column-major, as GL expects without transposing.
   const Eigen::Matrix4f view_projection =
       (projection_matrix(camera, aspect) * view_matrix(camera)).cast<float>();
+  if (camera.headlight && !(camera.light_falloff_m > 0.0)) {
+    throw std::invalid_argument("a headlight camera needs a positive light_falloff_m");
+  }
   for (const ToolView& tool : tools)
     validate_tool(tool);
   for (const MarkView& mark : marks) {
@@ -295,6 +424,8 @@ void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
   glUniform3fv(to_light_location_, 1, to_light.data());
   glUniform1f(ambient_location_, style_.ambient);
   glUniform1f(diffuse_location_, style_.diffuse);
+  glUniform1i(headlight_location_, camera.headlight ? 1 : 0);
+  glUniform1f(falloff_location_, static_cast<float>(camera.light_falloff_m));
 
   // Nearest first, so that the depth test spares shading hidden pixels of the larger shapes.
   for (const ToolView& tool : tools)
@@ -306,8 +437,14 @@ void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
   }
 
   if (has_tissue) {
-    draw_lit(tissue_, Eigen::Affine3d::Identity(), style_.tissue);
-
+    const int faces = tissue_.index_count() / 3;
+    draw_lit(tissue_, Eigen::Affine3d::Identity(), style_.tissue, 0, capsule_triangles_);
+    if (capsule_triangles_ < faces) {
+      draw_lit(tissue_, Eigen::Affine3d::Identity(), style_.cut_wall, capsule_triangles_,
+               faces - capsule_triangles_);
+    }
+  }
+  if (has_tissue && !camera.headlight) {
     // The unit square's plane z = 0 becomes the floor plane, its normal +z becomes up.
     const Eigen::Vector3d& up = style_.up;
     Eigen::Vector3d across_1, across_2;
@@ -326,8 +463,10 @@ void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
   glDepthFunc(GL_LEQUAL);
   glDepthMask(GL_FALSE);
   backdrop_program_.use();
-  glUniform3fv(backdrop_top_location_, 1, style_.backdrop_top.data());
-  glUniform3fv(backdrop_bottom_location_, 1, style_.backdrop_bottom.data());
+  glUniform3fv(backdrop_top_location_, 1,
+               (camera.headlight ? style_.cavity : style_.backdrop_top).data());
+  glUniform3fv(backdrop_bottom_location_, 1,
+               (camera.headlight ? style_.cavity : style_.backdrop_bottom).data());
   glBindVertexArray(empty_vertex_array_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);

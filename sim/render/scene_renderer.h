@@ -24,16 +24,37 @@ struct TissueView {
       nullptr;  // #V by 3 unit normals
   const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>* F =
       nullptr;  // #F by 3 indices into V
+  // Per face, non-zero for a wall a cut opened (drawn in SceneStyle::cut_wall); null or empty:
+  // none. Its size must be #F otherwise.
+  const std::vector<std::uint8_t>* cut_faces = nullptr;
 };
 
-// The tool: a sphere at the tip and a cylindrical shaft leaving it.
+// A tool's working end. The pose drawn is the pose simulated (sim/surgery/surgical_scene.h's tool
+// frame): the tool points along d = -shaft_direction, and side is R e_x.
+enum class ToolShape {
+  probe,    // a sphere of `radius` centred at the tip
+  scalpel,  // a blade: its edge runs from the tip back along the shaft for blade_length, its flat
+            // faces +-side, its body rises from the edge along shaft_direction x side
+  grasper,  // two jaws from the hinge at the tip, jaw_angle apart, opening symmetrically about d
+            // in the plane of d and side
+};
+
+// A tool: its working end at the tip and a cylindrical shaft leaving it (behind the blade, for a
+// scalpel).
 struct ToolView {
-  Eigen::Vector3d tip{0, 0, 0};              // sphere centre [m]
-  double radius = 0.005;                     // [m], > 0
+  Eigen::Vector3d tip{0, 0, 0};              // [m]: a probe's sphere centre, a grasper's hinge
+  double radius = 0.005;                     // the probe's sphere [m], > 0
   Eigen::Vector3d shaft_direction{0, 0, 1};  // from the tip back along the shaft, non-zero
   double shaft_length = 0.15;                // [m], >= 0 (0: no shaft)
   double shaft_radius = 0.0025;              // [m], > 0
   bool in_contact = false;                   // drawn in SceneStyle::tool_in_contact when true
+  ToolShape shape = ToolShape::probe;
+  // R e_x: the grasper's opening plane and the blade's flat; only its part orthogonal to the
+  // shaft is used, which must not vanish for a scalpel or grasper.
+  Eigen::Vector3d side{1, 0, 0};
+  double jaw_angle = 0;        // grasper: the angle between the jaws [rad], in [0, pi)
+  double jaw_length = 0.01;    // grasper: hinge to jaw tip [m], > 0
+  double blade_length = 0.01;  // scalpel [m], > 0
 };
 
 // A mark drawn on the tissue, e.g. a dot of the line a surgeon marks to cut along: a small sphere
@@ -51,9 +72,11 @@ struct SurfaceLook {
 };
 
 // Colours, light and floor placement of a scene. Every lit pixel is
-//   colour = clamp(albedo * (ambient + diffuse * max(0, n.l)) + specular * s, 0, 1),
+//   colour = clamp(albedo * (ambient + a diffuse * max(0, n.l)) + a specular * s, 0, 1),
 //   s = max(0, n.h)^shininess if n.l > 0, else 0,
-// with l = to_light / |to_light|, v the unit direction from the surface point to the camera,
+// with l = to_light / |to_light| and a = 1 (or, under a Camera::headlight, l the unit direction
+// from the surface point to the eye and a = 1 / (1 + (d / light_falloff_m)^2), d the distance
+// from the eye), v the unit direction from the surface point to the camera,
 // h = (l + v) / |l + v| and n the interpolated, renormalised vertex normal, turned round if it
 // points away from the side of the triangle the camera sees (so that both sides of the tissue
 // and of cut surfaces are lit alike). No gamma curve: values go to the 8-bit target as they are.
@@ -65,18 +88,25 @@ struct SceneStyle {
   // Backdrop: a vertical gradient from the top row of the image to the bottom row.
   Eigen::Vector3f backdrop_top{0.30f, 0.34f, 0.40f};
   Eigen::Vector3f backdrop_bottom{0.08f, 0.09f, 0.11f};
-  SurfaceLook tissue{{0.80f, 0.45f, 0.40f}, 0.15f, 24.0f};
+  SurfaceLook tissue{{0.80f, 0.45f, 0.40f}, 0.25f, 40.0f};  // wet: a tight highlight
   SurfaceLook tool{{0.62f, 0.65f, 0.70f}, 0.45f, 48.0f};
   SurfaceLook tool_in_contact{{0.95f, 0.72f, 0.15f}, 0.45f, 48.0f};
   SurfaceLook floor{{0.30f, 0.31f, 0.30f}, 0.0f, 1.0f};
   SurfaceLook marker{{0.30f, 0.12f, 0.55f}, 0.0f, 1.0f};  // a surgical skin marker's violet
+  // A blade's and the jaws' polished steel.
+  SurfaceLook steel{{0.78f, 0.80f, 0.84f}, 0.70f, 64.0f};
+  // The walls a cut opened: the organ's interior, deeper red and wetter than its capsule.
+  SurfaceLook cut_wall{{0.62f, 0.10f, 0.10f}, 0.35f, 32.0f};
+  // Behind everything an endoscope sees (Camera::headlight): the unlit cavity.
+  Eigen::Vector3f cavity{0.035f, 0.012f, 0.010f};
   // The floor is a square perpendicular to up, floor_gap below the tissue's lowest point (along
   // up) and centred under the tissue's bounding box, floor_half_size from centre to each edge.
   double floor_gap = 0.001;      // [m], >= 0
   double floor_half_size = 0.5;  // [m], > 0
 };
 
-// Draws a live scene: backdrop, floor, tissue and tool. One per render thread; needs a current
+// Draws a live scene: backdrop, floor, tissue and tools (without the floor, on the cavity's colour,
+// under a Camera::headlight). One per render thread; needs a current
 // EglContext for its whole life and must be destroyed before it.
 //
 // The tissue's positions and normals are uploaded every frame into buffers that are reallocated
@@ -97,10 +127,12 @@ class SceneRenderer {
   // Draws backdrop, floor, tissue and tool seen from camera into target (aspect from the
   // target's size), overwriting all of it. Returns once the commands are issued; reading the
   // target back waits for them.
-  // Throws std::invalid_argument, before drawing anything, for an invalid camera, tissue (only
-  // some of V, N, F given, N's rows differing from V's, a face index outside [0, #V), a
-  // non-finite position) or tool (non-positive radius or shaft radius, negative shaft length,
-  // zero shaft direction, non-finite tip).
+  // Throws std::invalid_argument, before drawing anything, for an invalid camera (a headlight
+  // with a non-positive falloff), tissue (only some of V, N, F given, N's rows differing from
+  // V's, a face index outside [0, #V), a non-finite position, cut_faces of the wrong size) or tool
+  // (non-positive radius or shaft radius, negative shaft length, zero shaft direction,
+  // non-finite tip; for a scalpel or grasper a side along the shaft, a non-positive length, a jaw
+  // angle outside [0, pi)).
   void render(const Framebuffer& target, const Camera& camera, const TissueView& tissue,
               const ToolView& tool);
   // The same with any number of tools (a two-handed station's) and marks on the tissue; every
@@ -111,8 +143,14 @@ class SceneRenderer {
  private:
   // Validates and uploads the tissue; returns false when there is none.
   bool upload_tissue(const TissueView& tissue);
-  void draw_lit(const GlMesh& mesh, const Eigen::Affine3d& model, const SurfaceLook& look) const;
+  // Draws mesh (triangles [first, first + count) of it, or all for a negative count).
+  void draw_lit(const GlMesh& mesh, const Eigen::Affine3d& model, const SurfaceLook& look,
+                int first_triangle = 0, int triangle_count = -1) const;
   void draw_tool(const ToolView& tool) const;
+  // The unit box scaled to half-extents along the orthonormal axes a, b, c, centred at centre.
+  void draw_box(const Eigen::Vector3d& centre, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                const Eigen::Vector3d& c, const Eigen::Vector3d& half,
+                const SurfaceLook& look) const;
 
   SceneStyle style_;
   ShaderProgram backdrop_program_;
@@ -129,16 +167,20 @@ class SceneRenderer {
   int albedo_location_;
   int specular_location_;
   int shininess_location_;
+  int headlight_location_;
+  int falloff_location_;
 
   unsigned int empty_vertex_array_ = 0;  // the backdrop's triangle comes from gl_VertexID alone
   GlMesh sphere_;
   GlMesh cylinder_;
   GlMesh square_;
+  GlMesh box_;
   GlMesh tissue_;
   // The tissue as last uploaded, kept so that frames reuse memory and unchanged faces are not
   // sent again.
   std::vector<float> tissue_vertices_;
-  std::vector<std::uint32_t> tissue_indices_;
+  std::vector<std::uint32_t> tissue_indices_;  // the capsule's faces first, then the cut walls
+  int capsule_triangles_ = 0;                  // how many of tissue_indices_' faces are capsule
   Eigen::Vector3d tissue_min_ = Eigen::Vector3d::Zero();  // bounding box of the last tissue
   Eigen::Vector3d tissue_max_ = Eigen::Vector3d::Zero();
   double tissue_lowest_ = 0.0;  // min over vertices of up . position [m]

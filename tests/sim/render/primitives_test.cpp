@@ -105,6 +105,21 @@ TEST(Primitives, SquareSpansMinusOneToOneFacingUp) {
   expect_consistent_winding(square);
 }
 
+TEST(Primitives, BoxIsTheCubeOfSideTwoWithFlatOutwardFaces) {
+  const ShapeMesh box = unit_box();
+  EXPECT_EQ(box.triangle_count(), 12);
+  EXPECT_NEAR(enclosed_volume(box), 8.0, 1e-6);
+  expect_consistent_winding(box);
+  for (int v = 0; v < box.vertex_count(); ++v) {
+    const Eigen::Vector3d p = position(box, v);
+    const Eigen::Vector3d n = normal(box, v);
+    EXPECT_DOUBLE_EQ(p.cwiseAbs().maxCoeff(), 1.0);
+    // A face normal: one axis, and the vertex lies on that face.
+    EXPECT_DOUBLE_EQ(n.cwiseAbs().sum(), 1.0);
+    EXPECT_DOUBLE_EQ(n.dot(p), 1.0);
+  }
+}
+
 TEST(Primitives, RejectsTooFewSegments) {
   EXPECT_THROW(unit_sphere(2, 4), std::invalid_argument);
   EXPECT_THROW(unit_sphere(8, 1), std::invalid_argument);
