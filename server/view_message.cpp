@@ -87,6 +87,15 @@ ViewMessageResult parse_view_message(std::string_view text, std::int64_t frames_
     m.fps = fields.small_integer("fps", 1, 60);
     m.width = fields.small_integer("width", 160, 1280);
     m.height = fields.small_integer("height", 120, 960);
+    if (const auto view = object.find("view"); view != object.end()) {
+      if (view->is_string() && *view == "scope") {
+        m.outside = false;
+      } else if (view->is_string() && *view == "outside") {
+        m.outside = true;
+      } else {
+        return fail("configure: \"view\" must be \"scope\" or \"outside\"");
+      }
+    }
   } else if (replay && type == "play") {
     m.type = ViewMessage::Type::play;
   } else if (replay && type == "pause") {

@@ -15,6 +15,8 @@ struct ViewMessage {
   std::int64_t frame = 0;  // ack: the frame acknowledged, 1..frames issued
   // configure: each within the documented limits (fps 1..60, width 160..1280, height 120..960)
   std::optional<int> fps, width, height;
+  // configure: "view": "scope" (false) or "outside" (true), the picture's camera
+  std::optional<bool> outside;
   double value = 0;  // speed: the factor as sent (the replay clamps it); seek: the time [s]
 };
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "server/view_message.h"
 #include "server/wire_text.h"
@@ -18,22 +19,26 @@ namespace {
 
 constexpr auto kMetricsPeriod = std::chrono::milliseconds(100);
 
-int query_int(std::string_view query, std::string_view key, int fallback, int lo, int hi) {
+// The value of the first key=value pair with this key, if any.
+std::optional<std::string_view> query_value(std::string_view query, std::string_view key) {
   std::size_t at = 0;
   while (at < query.size()) {
     auto end = query.find('&', at);
     if (end == std::string_view::npos) end = query.size();
     const auto pair = query.substr(at, end - at);
     const auto eq = pair.find('=');
-    if (eq != std::string_view::npos && pair.substr(0, eq) == key) {
-      int value = 0;
-      const auto text = pair.substr(eq + 1);
-      const auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-      if (ec == std::errc{} && p == text.data() + text.size()) return std::clamp(value, lo, hi);
-      return fallback;
-    }
+    if (eq != std::string_view::npos && pair.substr(0, eq) == key) return pair.substr(eq + 1);
     at = end + 1;
   }
+  return std::nullopt;
+}
+
+int query_int(std::string_view query, std::string_view key, int fallback, int lo, int hi) {
+  const auto text = query_value(query, key);
+  if (!text) return fallback;
+  int value = 0;
+  const auto [p, ec] = std::from_chars(text->data(), text->data() + text->size(), value);
+  if (ec == std::errc{} && p == text->data() + text->size()) return std::clamp(value, lo, hi);
   return fallback;
 }
 
@@ -46,6 +51,7 @@ ViewRequest parse_view_query(std::string_view target) {
   r.fps = query_int(query, "fps", r.fps, 1, 60);
   r.width = query_int(query, "width", r.width, 160, 1280);
   r.height = query_int(query, "height", r.height, 120, 960);
+  r.outside = query_value(query, "view") == "outside";
   return r;
 }
 
@@ -56,13 +62,16 @@ class ViewSession::Sink final : public live::FrameSink {
  public:
   Sink(net::any_io_executor executor, std::weak_ptr<ViewSession> view, ViewRequest request)
       : executor_(std::move(executor)), view_(std::move(view)) {
-    configure(request.fps, request.width, request.height);
+    configure(request.fps, request.width, request.height, request.outside);
   }
 
-  void configure(std::optional<int> fps, std::optional<int> width, std::optional<int> height) {
+  void configure(std::optional<int> fps, std::optional<int> width, std::optional<int> height,
+                 std::optional<bool> outside) {
+    if (outside) outside_ = *outside;
     if (fps) period_ns_ = 1'000'000'000 / std::clamp(*fps, 1, 60);
     if (width) width_ = std::clamp(*width, 160, 1280);
     if (height) height_ = std::clamp(*height, 120, 960);
+    if (outside || width || height) ++version_;
   }
   void acknowledge(std::int64_t frame) {
     std::int64_t seen = acked_.load();
@@ -71,12 +80,14 @@ class ViewSession::Sink final : public live::FrameSink {
   }
   std::int64_t issued() const { return issued_.load(); }
 
+  std::uint64_t settings_version() const override { return version_.load(); }
+
   std::optional<Request> frame_wanted(SteadyClock::time_point now) override {
     if (issued_.load() - acked_.load() >= kMaxFramesInFlight) return std::nullopt;
     const auto t = now.time_since_epoch().count();
     if (t < next_due_ns_) return std::nullopt;
     next_due_ns_ = t + period_ns_.load();
-    return Request{width_.load(), height_.load()};
+    return Request{width_.load(), height_.load(), outside_.load()};
   }
 
   void deliver(std::uint32_t frame_number, std::shared_ptr<const std::vector<std::uint8_t>> message,
@@ -94,16 +105,26 @@ class ViewSession::Sink final : public live::FrameSink {
   std::atomic<std::int64_t> period_ns_{0};
   std::atomic<int> width_{640};
   std::atomic<int> height_{480};
+  std::atomic<bool> outside_{false};
+  std::atomic<std::uint64_t> version_{0};
   std::atomic<std::int64_t> issued_{0};
   std::atomic<std::int64_t> acked_{0};
   std::int64_t next_due_ns_ = 0;  // render thread only
 };
 
-ViewSession::ViewSession(net::ip::tcp::socket&& socket, std::shared_ptr<live::LiveSession> session)
-    : ws_(std::move(socket)), metrics_timer_(ws_.get_executor()), live_(std::move(session)) {}
+ViewSession::ViewSession(net::ip::tcp::socket&& socket, std::shared_ptr<live::LiveSession> session,
+                         bool outside_view_allowed)
+    : ws_(std::move(socket)),
+      metrics_timer_(ws_.get_executor()),
+      live_(std::move(session)),
+      outside_view_allowed_(outside_view_allowed) {}
 
-ViewSession::ViewSession(net::ip::tcp::socket&& socket, std::unique_ptr<live::ReplaySession> replay)
-    : ws_(std::move(socket)), metrics_timer_(ws_.get_executor()), replay_(std::move(replay)) {}
+ViewSession::ViewSession(net::ip::tcp::socket&& socket, std::unique_ptr<live::ReplaySession> replay,
+                         bool outside_view_allowed)
+    : ws_(std::move(socket)),
+      metrics_timer_(ws_.get_executor()),
+      replay_(std::move(replay)),
+      outside_view_allowed_(outside_view_allowed) {}
 
 ViewSession::~ViewSession() {
   sink_.reset();
@@ -122,7 +143,8 @@ live::FrameStreamer& ViewSession::streamer() const {
 
 void ViewSession::run(beast::http::request<beast::http::string_body> upgrade) {
   // The sink needs a weak pointer to this, which exists only now.
-  const auto request = parse_view_query(upgrade.target());
+  auto request = parse_view_query(upgrade.target());
+  request.outside = request.outside && outside_view_allowed_;
   sink_ = std::make_shared<Sink>(ws_.get_executor(), weak_from_this(), request);
   ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
   ws_.read_message_max(kMaxClientMessage);
@@ -154,7 +176,13 @@ void ViewSession::on_read(beast::error_code ec, std::size_t) {
   if (!ws_.got_text()) {
     return do_close(websocket::close_code::bad_payload, "binary messages are not accepted here");
   }
-  const auto reason = handle_message(beast::buffers_to_string(buffer_.data()));
+  const std::string text = beast::buffers_to_string(buffer_.data());
+  const auto parsed = parse_view_message(text, sink_->issued(), replay_ != nullptr);
+  if (parsed.message && parsed.message->outside.value_or(false) && !outside_view_allowed_) {
+    return do_close(websocket::close_code::policy_error,
+                    "only instructors and admins may switch to the outside view");
+  }
+  const auto reason = handle_message(text);
   if (!reason.empty()) return do_close(websocket::close_code::bad_payload, reason);
   do_read();
 }
@@ -169,7 +197,8 @@ std::string ViewSession::handle_message(std::string_view text) {
       streamer().poke();
       break;
     case ViewMessage::Type::configure:
-      sink_->configure(m.fps, m.width, m.height);
+      sink_->configure(m.fps, m.width, m.height, m.outside);
+      streamer().poke();
       break;
     case ViewMessage::Type::play:
       replay_->play();
@@ -228,6 +257,8 @@ void ViewSession::send_metrics() {
     }
   }
   m["frames_sent"] = frames_sent_;
+  // This viewer's: whether it may switch to the outside view (api::may_look_outside).
+  m["outside_view_allowed"] = outside_view_allowed_;
   if (live_ && live_->state() == live::LiveState::finished) {
     ended_sent_ = true;
     pending_text_ = dump_json(m);

@@ -26,6 +26,7 @@ struct ViewRequest {
   int fps = 30;
   int width = 640;
   int height = 480;
+  bool outside = false;  // view=outside: the camera outside the body
 };
 ViewRequest parse_view_query(std::string_view target);
 
@@ -34,10 +35,13 @@ class ViewSession : public std::enable_shared_from_this<ViewSession> {
   static constexpr int kMaxFramesInFlight = 2;
   static constexpr std::size_t kMaxClientMessage = 1024;
 
-  // Watches a live session.
-  ViewSession(boost::asio::ip::tcp::socket&& socket, std::shared_ptr<live::LiveSession> session);
+  // Watches a live session. outside_view_allowed: whether the viewer may ask for the outside view
+  // (api::may_look_outside); a request for it otherwise closes with 1008.
+  ViewSession(boost::asio::ip::tcp::socket&& socket, std::shared_ptr<live::LiveSession> session,
+              bool outside_view_allowed);
   // Owns and drives a replay.
-  ViewSession(boost::asio::ip::tcp::socket&& socket, std::unique_ptr<live::ReplaySession> replay);
+  ViewSession(boost::asio::ip::tcp::socket&& socket, std::unique_ptr<live::ReplaySession> replay,
+              bool outside_view_allowed);
   ~ViewSession();
 
   void run(boost::beast::http::request<boost::beast::http::string_body> upgrade);
@@ -65,6 +69,7 @@ class ViewSession : public std::enable_shared_from_this<ViewSession> {
   std::shared_ptr<live::LiveSession> live_;
   std::unique_ptr<live::ReplaySession> replay_;
   std::shared_ptr<Sink> sink_;
+  bool outside_view_allowed_ = false;
 
   bool writing_ = false;
   bool closing_ = false;

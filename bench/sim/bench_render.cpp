@@ -1,20 +1,32 @@
 // Render benchmark (measures, asserts nothing; not a ctest test): the live view of a scene at
-// 640x480, 300 frames while the tool circles over the tissue and presses a dent into it, through
-// the streaming path (SceneRenderer + FrameEncoder). Prints one line for the scene as given and
-// one for the same box meshed finer, to at least 8000 surface triangles (the size at which a frame
-// should take 5-8 ms; docs/benchmarks.md).
-//   bench_render [SCENE.json]     default: sim/scenes/palpation.json
+// 640x480, 300 frames, through the streaming path (SceneRenderer + FrameEncoder). For a block
+// scene, while the tool circles over the tissue and presses a dent into it: one line for the scene
+// as given and one for the same box meshed finer, to at least 8000 surface triangles (the size at
+// which a frame should take 5-8 ms; docs/benchmarks.md). Without an argument, also the liver
+// station as its trainee sees it (server/live: the held laparoscope, the scalpel's blade and the
+// grasper's jaws, the marked line, the cut walls), the session ticking between frames while the
+// blade cuts along the line.
+//   bench_render [SCENE.json]     default: sim/scenes/palpation.json and the liver station
+//   bench_render --save DIR       also writes the liver station's frames 0, 100, 200 and 299 and
+//                                 the last one from outside, as DIR/liver_station_*.jpg
 // The tissue's positions change every frame (a smooth synthetic dent follows the tool), so the
 // per-frame upload is measured too; the dent is computed outside the timed part.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "bench/server/station_poses.h"
+#include "server/live/frame_streamer.h"
+#include "server/live/scene_library.h"
+#include "server/live/session_scene.h"
+#include "server/live/sim_engine.h"
 #include "sim/io/scene_json.h"
 #include "sim/mesh/boundary_surface.h"
 #include "sim/mesh/box_mesher.h"
@@ -109,11 +121,91 @@ void run(const incise::sim::Scene& scene, const Eigen::Vector3i& cells, const st
               percentile(total_ms, 0.95), percentile(jpeg_kib, 0.5));
 }
 
+void save(const std::string& path, const std::vector<std::uint8_t>& jpeg) {
+  std::FILE* file = std::fopen(path.c_str(), "wb");
+  if (file == nullptr) throw std::runtime_error("cannot write " + path);
+  const std::size_t written = std::fwrite(jpeg.data(), 1, jpeg.size(), file);
+  std::fclose(file);
+  if (written != jpeg.size()) throw std::runtime_error("cannot write " + path);
+}
+
+// The liver station's picture while the scalpel cuts 6 mm deep along the marked line and the
+// grasper holds the lobe open beside it; 10 ms of simulation between frames (not timed).
+void run_liver_station(const std::string& save_dir) {
+  using namespace incise;
+  const auto source = server::live::find_scene("scenes/surgery/liver_station.json");
+  if (!source) throw std::runtime_error("the liver station's scene is not in the library");
+  const auto scene = server::live::load_session_scene(source->id, source->text);
+  server::live::SimEngine engine(scene, 0.002, 2);
+  const auto& line = scene.setup().cut_target;
+  const Vec3 start = line.front(), end = line.back();
+  const Vec3 depth(0, 0, 0.006), above(0, 0, 0.01);
+  const Vec3 lobe = 0.5 * (start + end) + Vec3(-0.005, 0.012, 0.0005);
+  const render::Camera camera = server::live::camera_for(scene);
+  render::SceneRenderer renderer;
+  render::FrameEncoder encoder(width, height, 80);
+  server::live::SnapshotPicture picture;
+  std::vector<std::uint8_t> jpeg;
+  std::vector<double> render_ms, readback_ms, encode_ms, total_ms, jpeg_kib;
+  int triangles = 0;
+  for (int frame = -warm_up_frames; frame < frames; ++frame) {
+    // Into the tissue over the first tenth, along the line over six, out over one (the cut is
+    // made as the blade leaves), and the opened cut seen for the last fifth; the grasper's jaws
+    // close on the lobe over the first tenth.
+    const double in = std::clamp((frame + warm_up_frames) / (0.1 * frames), 0.0, 1.0);
+    const double along = std::clamp((frame - 0.1 * frames) / (0.6 * frames), 0.0, 1.0);
+    const double out = std::clamp((frame - 0.7 * frames) / (0.1 * frames), 0.0, 1.0);
+    const double s = in - out;  // how deep the blade is, 0 above .. 1 at depth
+    const Vec3 blade = (1 - along) * start + along * end - s * depth + (1 - s) * above;
+    const std::array<devices::DeviceState, 2> inputs = {
+        bench::down(blade), bench::along_x(lobe, static_cast<float>(1 - in))};
+    // 10 ms of simulation a frame (not timed): the stroke takes 3 s, at the demo agent's pace.
+    for (int tick = 0; tick < 5; ++tick)
+      engine.tick(inputs);
+    const auto snapshot = server::live::make_snapshot(engine);
+    picture.prepare(*snapshot);
+    picture.encode(renderer, encoder, camera, jpeg);
+    triangles = static_cast<int>(snapshot->surface->faces.rows());
+    if (!save_dir.empty() && (frame == 0 || frame == 100 || frame == 200 || frame == frames - 1)) {
+      save(save_dir + "/liver_station_" + std::to_string(frame) + ".jpg", jpeg);
+      if (frame == frames - 1) {
+        std::vector<std::uint8_t> outside;
+        picture.encode(renderer, encoder, server::live::outside_camera_for(scene), outside);
+        save(save_dir + "/liver_station_outside.jpg", outside);
+      }
+    }
+    if (frame < 0) continue;
+    const render::FrameTimings& t = encoder.timings();
+    render_ms.push_back(t.render_ms);
+    readback_ms.push_back(t.readback_ms);
+    encode_ms.push_back(t.encode_ms);
+    total_ms.push_back(t.total_ms());
+    jpeg_kib.push_back(static_cast<double>(jpeg.size()) / 1024.0);
+  }
+  std::printf("%-34s %9d %10.2f %11.2f %10.2f %10.2f %9.2f %9.1f\n", "liver station (laparoscope)",
+              triangles, percentile(render_ms, 0.5), percentile(readback_ms, 0.5),
+              percentile(encode_ms, 0.5), percentile(total_ms, 0.5), percentile(total_ms, 0.95),
+              percentile(jpeg_kib, 0.5));
+  std::printf("  (the stroke cut %.0f mm^2; %s)\n", engine.damage().cut_area * 1e6,
+              engine.state_finite() ? "finite" : "NOT FINITE");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   try {
-    const std::string path = argc > 1 ? argv[1] : INCISE_SCENES_DIR "/palpation.json";
+    std::string save_dir;
+    std::string path = INCISE_SCENES_DIR "/palpation.json";
+    bool block_only = false;
+    for (int i = 1; i < argc; ++i) {
+      const std::string arg = argv[i];
+      if (arg == "--save" && i + 1 < argc) {
+        save_dir = argv[++i];
+      } else {
+        path = arg;
+        block_only = true;
+      }
+    }
     const incise::sim::Scene scene = incise::sim::read_scene_file(path);
     const incise::render::EglContext context;
     std::printf("%s, %s; %dx%d, %d frames (after %d warm-up), JPEG quality 80; times in ms\n",
@@ -138,6 +230,7 @@ int main(int argc, char** argv) {
       }
       run(scene, finer, label(finer));
     }
+    if (!block_only) run_liver_station(save_dir);
   } catch (const std::exception& error) {
     std::fprintf(stderr, "bench_render: %s\n", error.what());
     return 1;

@@ -23,6 +23,10 @@ bool may_see_trainee(db::Database& db, const db::User& user, std::int64_t traine
   return user.role == db::Role::instructor && db::UsersRepo(db).teaches(user.id, trainee_id);
 }
 
+bool may_look_outside(const db::User& user) {
+  return user.role != db::Role::trainee;
+}
+
 void check_session_access(db::Database& db, const db::User& user,
                           const db::SessionRecord& session) {
   if (may_see_trainee(db, user, session.trainee_id)) return;

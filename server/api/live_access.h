@@ -19,6 +19,10 @@ db::TraineeScope visible_scope(const db::User& user);
 // True if #user may see the records of user #trainee_id (see visible_scope).
 bool may_see_trainee(db::Database& db, const db::User& user, std::int64_t trainee_id);
 
+// Whether #user may switch a session's picture from the scope to the view from outside the body:
+// instructors and admins, watching or reviewing; a trainee trains with what the scope shows.
+bool may_look_outside(const db::User& user);
+
 // Throws ApiError 403 unless user may see the session.
 void check_session_access(db::Database& db, const db::User& user, const db::SessionRecord& session);
 

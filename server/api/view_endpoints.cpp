@@ -44,7 +44,7 @@ ViewTarget live_target(ApiContext& ctx, std::int64_t session_id) {
                                                " is not live (" + record->state +
                                                "); open its recording instead");
   }
-  return {std::move(session), nullptr};
+  return {std::move(session), nullptr, api::may_look_outside(user)};
 }
 
 // What a replay needs, read under the database lock; the replay itself is built after it.
@@ -104,6 +104,7 @@ std::variant<ViewTarget, Response> resolve_view(const Request& request, AppState
       throw ApiError(http::status::forbidden, "cross-origin WebSocket refused");
     }
     std::optional<ReplayInput> input;
+    bool outside_view_allowed = false;
     {
       std::lock_guard lock(app.db_mutex());
       ApiContext ctx(request, app, client);
@@ -115,11 +116,14 @@ std::variant<ViewTarget, Response> resolve_view(const Request& request, AppState
         throw ApiError(http::status::not_found, "no WebSocket endpoint at " + std::string(path));
       }
       input = replay_input(ctx, id);
+      outside_view_allowed = api::may_look_outside(ctx.user());
     }
     // Building the engine takes a moment; other requests need not wait for it.
-    return ViewTarget{nullptr, std::make_unique<live::ReplaySession>(
-                                   live::load_session_scene(input->scene_id, input->scene_text),
-                                   input->tick_s, std::move(input->ticks))};
+    return ViewTarget{nullptr,
+                      std::make_unique<live::ReplaySession>(
+                          live::load_session_scene(input->scene_id, input->scene_text),
+                          input->tick_s, std::move(input->ticks)),
+                      outside_view_allowed};
   } catch (const ApiError& e) {
     return json_error(e.status(), e.what(), request.version(), false);
   } catch (const std::exception& e) {

@@ -15,6 +15,8 @@ namespace incise::server {
 struct ViewTarget {
   std::shared_ptr<live::LiveSession> live;      // /api/sessions/{id}/view
   std::unique_ptr<live::ReplaySession> replay;  // /api/recordings/{id}/replay (not started)
+  // Whether this viewer may switch to the view from outside the body (api::may_look_outside).
+  bool outside_view_allowed = false;
 };
 
 // Whether target is one of the view paths (so that other upgrades get a 404).

@@ -87,8 +87,10 @@ void HttpSession::on_read(beast::error_code ec, std::size_t) {
       auto& view = std::get<ViewTarget>(resolved);
       auto session =
           view.replay
-              ? std::make_shared<ViewSession>(stream_.release_socket(), std::move(view.replay))
-              : std::make_shared<ViewSession>(stream_.release_socket(), std::move(view.live));
+              ? std::make_shared<ViewSession>(stream_.release_socket(), std::move(view.replay),
+                                              view.outside_view_allowed)
+              : std::make_shared<ViewSession>(stream_.release_socket(), std::move(view.live),
+                                              view.outside_view_allowed);
       return session->run(parser_->release());
     }
     return send(json_error(http::status::not_found,

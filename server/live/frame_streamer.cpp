@@ -6,7 +6,10 @@
 #include <iostream>
 #include <map>
 #include <span>
+#include <tuple>
 
+#include "server/live/session_scene.h"
+#include "sim/render/cut_opening.h"
 #include "sim/render/egl_context.h"
 #include "sim/render/frame_encoder.h"
 #include "sim/render/scene_renderer.h"
@@ -18,6 +21,9 @@ namespace {
 constexpr auto kIdleWait = std::chrono::milliseconds(2);
 // The marked cut line's ink dots [m].
 constexpr double kMarkRadius = 0.0015;
+// How far the picture opens a cut at the surface [m] (render/cut_opening.h): the gape of an
+// incision in living tissue, which the simulation (no pre-stress) does not open by itself.
+constexpr double kCutGape = 0.0025;
 
 std::shared_ptr<std::vector<std::uint8_t>> frame_message(std::uint32_t frame_number, int width,
                                                          int height, double sim_time_s,
@@ -34,10 +40,80 @@ std::shared_ptr<std::vector<std::uint8_t>> frame_message(std::uint32_t frame_num
   return message;
 }
 
+// A surgical scene's instrument as the renderer draws it: the pose simulated, its working end.
+render::ToolView drawn(const sim::surgery::ToolView& tool) {
+  render::ToolView view;
+  view.tip = tool.tip;
+  view.shaft_direction = -tool.direction;
+  view.shaft_length = tool.shaft_length;
+  view.shaft_radius = tool.shaft_radius;
+  view.in_contact = tool.touching;
+  view.side = tool.side;
+  switch (tool.kind) {
+    case sim::surgery::ToolKind::scalpel:
+      view.shape = render::ToolShape::scalpel;
+      view.blade_length = tool.blade_length;
+      break;
+    case sim::surgery::ToolKind::grasper:
+      view.shape = render::ToolShape::grasper;
+      view.jaw_angle = tool.jaw_angle;
+      view.jaw_length = tool.jaw_length;
+      break;
+    default:
+      view.shape = render::ToolShape::probe;
+      view.radius = tool.tip_radius > 0 ? tool.tip_radius : view.radius;
+      break;
+  }
+  return view;
+}
+
 }  // namespace
 
-FrameStreamer::FrameStreamer(const StreamSource& source, render::Camera camera)
-    : source_(source), camera_(std::move(camera)), thread_([this] { run(); }) {}
+void SnapshotPicture::prepare(const Snapshot& snapshot) {
+  snapshot_ = &snapshot;
+  sim::surface_vertices(*snapshot.surface, snapshot.positions, V_, N_);
+  if (snapshot.cut_faces) {
+    render::open_cut_walls(snapshot.surface->faces, *snapshot.cut_faces, kCutGape, V_, scratch_);
+  }
+  tools_.clear();
+  if (snapshot.instruments.empty()) {
+    // The palpation block's probes, upright at each hand.
+    for (int h = 0; h < snapshot.hands && h < 2; ++h) {
+      render::ToolView& t = tools_.emplace_back();
+      t.tip = h == 0 ? snapshot.tool_tip : snapshot.second_tool_tip;
+      t.radius = snapshot.tool_radius;
+      t.in_contact = h == 0 ? snapshot.contact : snapshot.second_force_n.squaredNorm() > 0;
+      t.shaft_direction = snapshot.shaft_direction[static_cast<std::size_t>(h)];
+    }
+  } else {
+    for (const sim::surgery::ToolView& instrument : snapshot.instruments)
+      tools_.push_back(drawn(instrument));
+  }
+  marks_.clear();
+  for (const sim::Vec3& p : snapshot.marks)
+    marks_.push_back({p, kMarkRadius});
+}
+
+void SnapshotPicture::encode(render::SceneRenderer& renderer, render::FrameEncoder& encoder,
+                             const render::Camera& camera, std::vector<std::uint8_t>& jpeg) const {
+  render::TissueView tissue{&V_, &N_, &snapshot_->surface->faces};
+  tissue.cut_faces = snapshot_->cut_faces.get();
+  encoder.render_jpeg(renderer, camera, tissue, tools_, jpeg, marks_);
+}
+
+render::Camera picture_camera(const Snapshot& snapshot, const render::Camera& session,
+                              const render::Camera& outside, bool outside_view, double aspect) {
+  if (outside_view) return outside;
+  if (snapshot.scope) return scope_view(*snapshot.scope, aspect);
+  return session;
+}
+
+FrameStreamer::FrameStreamer(const StreamSource& source, render::Camera camera,
+                             render::Camera outside)
+    : source_(source),
+      camera_(std::move(camera)),
+      outside_(std::move(outside)),
+      thread_([this] { run(); }) {}
 
 FrameStreamer::~FrameStreamer() {
   {
@@ -95,8 +171,7 @@ void FrameStreamer::render_loop() {
   std::map<std::pair<int, int>, Encoder> encoders;
   std::int64_t pass = 0;
   std::vector<std::uint8_t> jpeg;
-  sim::Points V, N;
-  std::vector<render::MarkView> marks;
+  SnapshotPicture picture;
   struct Job {
     std::shared_ptr<FrameSink> sink;
     FrameSink::Request request;
@@ -119,38 +194,25 @@ void FrameStreamer::render_loop() {
       std::lock_guard lock(mutex_);
       std::erase_if(sinks_, [](const Entry& e) { return e.sink.expired(); });
       for (auto& entry : sinks_) {
-        if (entry.last_tick == snapshot->tick) continue;
         auto sink = entry.sink.lock();
         if (!sink) continue;
+        const std::uint64_t version = sink->settings_version();
+        if (entry.last_tick == snapshot->tick && entry.last_version == version) continue;
         const auto request = sink->frame_wanted(now);
         if (!request) continue;
         entry.last_tick = snapshot->tick;
+        entry.last_version = version;
         jobs.push_back({std::move(sink), *request, entry.next_frame++});
       }
     }
     if (jobs.empty()) continue;
     ++pass;
-    sim::surface_vertices(*snapshot->surface, snapshot->positions, V, N);
-    const render::TissueView tissue{&V, &N, &snapshot->surface->faces};
-    std::array<render::ToolView, 2> tools;
-    tools[0].tip = snapshot->tool_tip;
-    tools[0].radius = snapshot->tool_radius;
-    tools[0].in_contact = snapshot->contact;
-    tools[1].tip = snapshot->second_tool_tip;
-    tools[1].radius = snapshot->tool_radius;
-    tools[1].in_contact = snapshot->second_force_n.squaredNorm() > 0;
-    for (std::size_t h = 0; h < tools.size(); ++h)
-      tools[h].shaft_direction = snapshot->shaft_direction[h];
-    marks.clear();
-    for (const sim::Vec3& p : snapshot->marks)
-      marks.push_back({p, kMarkRadius});
-    const std::span<const render::ToolView> tool(tools.data(),
-                                                 static_cast<std::size_t>(snapshot->hands));
+    picture.prepare(*snapshot);
     // Viewers asking for the same size share one rendering.
-    std::map<std::pair<int, int>, std::shared_ptr<const std::vector<std::uint8_t>>> rendered;
+    std::map<std::tuple<int, int, bool>, std::shared_ptr<const std::vector<std::uint8_t>>> rendered;
     for (auto& job : jobs) {
       const std::pair size{job.request.width, job.request.height};
-      auto& jpeg_of_size = rendered[size];
+      auto& jpeg_of_size = rendered[{size.first, size.second, job.request.outside}];
       if (!jpeg_of_size) {
         auto it = encoders.find(size);
         if (it == encoders.end()) {
@@ -167,7 +229,10 @@ void FrameStreamer::render_loop() {
                    .first;
         }
         it->second.last_used = pass;
-        it->second.encoder->render_jpeg(renderer, camera_, tissue, tool, jpeg, marks);
+        const render::Camera camera =
+            picture_camera(*snapshot, camera_, outside_, job.request.outside,
+                           static_cast<double>(size.first) / size.second);
+        picture.encode(renderer, *it->second.encoder, camera, jpeg);
         ++frames_rendered_;
         jpeg_of_size = std::make_shared<const std::vector<std::uint8_t>>(jpeg);
       }

@@ -16,6 +16,7 @@
 
 #include "server/live/snapshot.h"
 #include "sim/render/camera.h"
+#include "sim/render/scene_renderer.h"
 
 namespace incise::server::live {
 
@@ -29,20 +30,50 @@ class FrameSink {
   struct Request {
     int width = 640;
     int height = 480;
+    bool outside = false;  // the camera outside the body rather than the scope
   };
   virtual ~FrameSink() = default;
   // Called by the render thread: the size wanted if a frame is wanted now, else nullopt.
   virtual std::optional<Request> frame_wanted(SteadyClock::time_point now) = 0;
+  // Changes whenever the viewer changes what it asks for (size, camera): the same instant is then
+  // drawn again for it, so that a paused replay shows the new view (poke the streamer after).
+  virtual std::uint64_t settings_version() const { return 0; }
   // Called by the render thread with the whole message (header + JPEG) for frame_number.
   virtual void deliver(std::uint32_t frame_number,
                        std::shared_ptr<const std::vector<std::uint8_t>> message,
                        SteadyClock::time_point published_at) = 0;
 };
 
+// A snapshot as the viewers see it, prepared once for all the viewers of that instant: the
+// tissue's surface with its cut walls, the instruments with their working ends (the palpation
+// block's probes, upright at the hands), the marked line's ink dots. Keeps its buffers from
+// snapshot to snapshot.
+class SnapshotPicture {
+ public:
+  // The snapshot must outlive the calls to encode that follow.
+  void prepare(const Snapshot& snapshot);
+  // Draws the prepared snapshot from camera and encodes it (FrameEncoder::render_jpeg).
+  void encode(render::SceneRenderer& renderer, render::FrameEncoder& encoder,
+              const render::Camera& camera, std::vector<std::uint8_t>& jpeg) const;
+
+ private:
+  const Snapshot* snapshot_ = nullptr;
+  sim::Points V_, N_;
+  std::vector<double> scratch_;
+  std::vector<render::ToolView> tools_;
+  std::vector<render::MarkView> marks_;
+};
+
+// The camera of a viewer's picture of a snapshot in an image of this aspect: the outside view if
+// asked for; else the scope on a device once it has reported (scope_view); else the session's.
+render::Camera picture_camera(const Snapshot& snapshot, const render::Camera& session,
+                              const render::Camera& outside, bool outside_view, double aspect);
+
 class FrameStreamer {
  public:
-  // Starts the render thread. source must outlive the streamer.
-  FrameStreamer(const StreamSource& source, render::Camera camera);
+  // Starts the render thread. source must outlive the streamer. camera: the session's picture
+  // (a scope on a device replaces it once it reports); outside: the view from outside the body.
+  FrameStreamer(const StreamSource& source, render::Camera camera, render::Camera outside);
   ~FrameStreamer();  // stops and joins the render thread
   FrameStreamer(const FrameStreamer&) = delete;
   FrameStreamer& operator=(const FrameStreamer&) = delete;
@@ -63,6 +94,7 @@ class FrameStreamer {
 
   const StreamSource& source_;
   render::Camera camera_;
+  render::Camera outside_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   bool stop_ = false;
@@ -70,6 +102,7 @@ class FrameStreamer {
   struct Entry {
     std::weak_ptr<FrameSink> sink;
     std::int64_t last_tick = -1;
+    std::uint64_t last_version = 0;
     std::uint32_t next_frame = 1;
   };
   std::vector<Entry> sinks_;

@@ -126,7 +126,8 @@ LiveSession::~LiveSession() {
 }
 
 void LiveSession::start() {
-  streamer_ = std::make_unique<FrameStreamer>(*this, camera_for(*params_.scene));
+  streamer_ = std::make_unique<FrameStreamer>(*this, camera_for(*params_.scene),
+                                              outside_camera_for(*params_.scene));
   thread_ = std::thread([this] { run(); });
 }
 

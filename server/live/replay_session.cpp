@@ -36,6 +36,7 @@ ReplaySession::ReplaySession(const SessionScene& scene, double tick_s,
                              std::vector<TickRecord> ticks)
     : engine_(scene, tick_s, hands_of(ticks)),
       camera_(camera_for(scene)),
+      outside_(outside_camera_for(scene)),
       tick_s_(tick_s),
       ticks_(std::move(ticks)),
       ahead_(scene, tick_s, hands_of(ticks_)) {
@@ -62,7 +63,7 @@ ReplaySession::~ReplaySession() {
 }
 
 void ReplaySession::start() {
-  streamer_ = std::make_unique<FrameStreamer>(*this, camera_);
+  streamer_ = std::make_unique<FrameStreamer>(*this, camera_, outside_);
   thread_ = std::thread([this] { run(); });
   checkpointer_ = std::thread([this] { run_ahead(); });
 }

@@ -69,6 +69,7 @@ class ReplaySession : public StreamSource {
 
   SimEngine engine_;
   render::Camera camera_;
+  render::Camera outside_;
   double tick_s_;
   std::vector<TickRecord> ticks_;
   std::int64_t checkpoint_ticks_ = kCheckpointTicks;

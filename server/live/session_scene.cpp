@@ -1,6 +1,8 @@
 #include "server/live/session_scene.h"
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <stdexcept>
 #include <utility>
 
@@ -56,7 +58,50 @@ render::Camera with_clip_planes(render::Camera camera) {
 
 }  // namespace
 
+namespace {
+
+// The vertical field of view [deg] of an image of this aspect whose diagonal spans diagonal_deg.
+double vertical_fov(double diagonal_deg, double aspect) {
+  const double half = std::tan(diagonal_deg * std::numbers::pi / 360);
+  return 360 / std::numbers::pi * std::atan(half / std::sqrt(1 + aspect * aspect));
+}
+
+// An endoscope's light reaches about this far [m] (render::Camera::light_falloff_m).
+constexpr double kScopeLightFalloff = 0.08;
+constexpr double kScopeFieldOfView = 70;  // diagonal [deg]
+
+}  // namespace
+
+render::Camera scope_view(const sim::surgery::ScopeCamera& scope, double aspect) {
+  render::Camera camera;
+  camera.eye = scope.eye;
+  camera.target = scope.eye + scope.forward;
+  camera.up = scope.up;
+  camera.fov_y_deg = vertical_fov(scope.field_of_view_degrees, aspect);
+  camera.near_m = 0.002;
+  camera.far_m = 1.0;
+  camera.headlight = true;
+  camera.light_falloff_m = kScopeLightFalloff;
+  return camera;
+}
+
 render::Camera camera_for(const SessionScene& scene) {
+  const sim::surgery::SurgicalSceneSetup& setup = scene.setup();
+  if (setup.view) return outside_camera_for(scene);
+  const sim::Points& rest = setup.spec.tissue.rest;
+  sim::Vec3 target = 0.5 * (rest.colwise().minCoeff() + rest.colwise().maxCoeff()).transpose();
+  if (!setup.cut_target.empty()) {
+    target = 0.5 * (setup.cut_target.front() + setup.cut_target.back());
+  }
+  sim::surgery::ScopeCamera scope;
+  scope.eye = target + kLaparoscopeDistance * sim::Vec3(0, -0.5, 0.8).normalized();
+  scope.forward = (target - scope.eye).normalized();
+  scope.up = (sim::Vec3::UnitZ() - scope.forward.z() * scope.forward).normalized();
+  scope.field_of_view_degrees = kScopeFieldOfView;
+  return scope_view(scope, 4.0 / 3.0);
+}
+
+render::Camera outside_camera_for(const SessionScene& scene) {
   render::Camera camera;
   const sim::surgery::SurgicalSceneSetup& setup = scene.setup();
   if (const auto& view = setup.view) {

@@ -43,9 +43,22 @@ SessionScene load_session_scene(std::string_view id, std::string_view text);
 // any tool.
 std::string tools_mismatch(const SessionScene& scene, const std::vector<std::string>& tools);
 
-// The camera the live view starts with: the scene's "view" if it has one; otherwise a
-// view of the whole tissue from above and in front, aimed halfway between the tissue's centre
-// (of its bounding box) and the marked cut line's middle (the centre alone without a line).
+// The camera the live view starts with: the scene's "view" if it has one (the palpation block);
+// otherwise a laparoscope held by the task (a scope on a device takes over frame by frame once it
+// reports: scope_view): its tip kLaparoscopeDistance from the marked line's middle (the tissue's
+// centre without a line), above and in front, looking at it with the light at its tip
+// (render::Camera::headlight) and a 70-degree diagonal field of view at 4:3.
 render::Camera camera_for(const SessionScene& scene);
+inline constexpr double kLaparoscopeDistance = 0.08;  // [m]
+
+// The view from outside the body that an instructor may switch to: the scene's "view" if it has
+// one; otherwise the whole tissue from above and in front, aimed halfway between the tissue's
+// centre (of its bounding box) and the marked cut line's middle (the centre alone without a
+// line), under the scene's directional light.
+render::Camera outside_camera_for(const SessionScene& scene);
+
+// What a scope sees in an image of this aspect (width / height): the eye at its tip, its field of
+// view taken as the image's diagonal, its light at the tip.
+render::Camera scope_view(const sim::surgery::ScopeCamera& scope, double aspect);
 
 }  // namespace incise::server::live

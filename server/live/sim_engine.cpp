@@ -153,6 +153,7 @@ std::shared_ptr<Snapshot> make_snapshot(const SimEngine& engine) {
   s->tick = engine.ticks();
   s->sim_time_s = engine.time_s();
   s->surface = engine.surface();
+  s->cut_faces = engine.world().cut_faces();
   s->positions = engine.positions();
   s->tool_tip = engine.tool_tip();
   s->tool_radius = engine.tool_radius();
@@ -178,6 +179,14 @@ std::shared_ptr<Snapshot> make_snapshot(const SimEngine& engine) {
       s->shaft_direction[static_cast<std::size_t>(h)] =
           -(tool_input(engine.last_input(h)).orientation * sim::Vec3::UnitZ());
     }
+    const sim::surgery::SurgicalScene& scene = world.scene();
+    for (int t = 0; t < scene.num_tools(); ++t) {
+      sim::surgery::ToolView view = scene.tool_view(t);
+      if (view.kind != sim::surgery::ToolKind::scope && view.has_input) {
+        s->instruments.push_back(std::move(view));
+      }
+    }
+    s->scope = scene.scope_camera();
   }
   s->cut_area_m2 = damage.cut_area;
   s->cut_mean_distance_m = damage.cut_mean_distance;

@@ -9,10 +9,12 @@
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <vector>
 
 #include "sim/core/types.h"
 #include "sim/mesh/boundary_surface.h"
+#include "sim/surgery/surgical_scene.h"
 
 namespace incise::server::live {
 
@@ -20,7 +22,16 @@ struct Snapshot {
   std::int64_t tick = 0;
   double sim_time_s = 0;
   std::shared_ptr<const sim::BoundarySurface> surface;  // changes only with the topology
-  sim::Points positions;                                // #nodes by 3 [m]
+  // Per face of surface, 1 for a wall a cut opened (sim/surgery/cut_walls.h); null without cuts
+  // to show (the palpation block).
+  std::shared_ptr<const std::vector<std::uint8_t>> cut_faces;
+  // A surgical scene's instruments as simulated (every tool but a scope, which is the camera),
+  // drawn with their working ends; empty for the palpation block, whose probes are drawn from the
+  // hand fields below.
+  std::vector<sim::surgery::ToolView> instruments;
+  // The scope's camera, when the scene has a scope on a device that has reported.
+  std::optional<sim::surgery::ScopeCamera> scope;
+  sim::Points positions;  // #nodes by 3 [m]
   sim::Vec3 tool_tip = sim::Vec3::Zero();
   double tool_radius = 0.005;
   bool contact = false;

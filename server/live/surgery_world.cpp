@@ -43,6 +43,7 @@ void SurgeryWorld::reset() {
   contacts_ = {};
   events_.clear();
   surface_.reset();
+  cut_walls_.reset();
   follow_surface();
 }
 
@@ -114,6 +115,11 @@ void SurgeryWorld::follow_surface() {
     return;
   }
   surface_ = std::make_shared<const sim::BoundarySurface>(now);
+  const sim::TetMesh& mesh = scene_->tissue().mesh();
+  if (!cut_walls_) cut_walls_.emplace(mesh.rest, scene_->tissue().surface_faces());
+  auto flags = std::make_shared<std::vector<std::uint8_t>>();
+  cut_walls_->classify(mesh.rest, now, *flags);
+  cut_faces_ = std::move(flags);
 }
 
 }  // namespace incise::server::live

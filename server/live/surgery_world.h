@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "sim/core/clone_ptr.h"
 #include "sim/interact/tool_contact.h"
 #include "sim/mesh/boundary_surface.h"
+#include "sim/surgery/cut_walls.h"
 #include "sim/surgery/scene_presets.h"
 #include "sim/surgery/surgical_scene.h"
 
@@ -45,6 +47,8 @@ class SurgeryWorld {
   const sim::surgery::SurgicalSceneSetup& setup() const { return *setup_; }
   // The tissue's boundary; a new object whenever the topology changed (cuts, refinement).
   const std::shared_ptr<const sim::BoundarySurface>& surface() const { return surface_; }
+  // Per face of surface(), 1 for a wall a cut opened; a new object with each new surface.
+  const std::shared_ptr<const std::vector<std::uint8_t>>& cut_faces() const { return cut_faces_; }
   // The marked cut line's points as the tissue carries them now: each point moves with the
   // surface node nearest to it at rest (cuts and refinement renumber nodes, so it is looked up
   // each time; a few hundred distances).
@@ -64,6 +68,8 @@ class SurgeryWorld {
   std::vector<sim::surgery::ToolInput> inputs_;
   std::array<sim::ToolContact, 2> contacts_;  // per hand (SimEngine::kMaxHands)
   std::shared_ptr<const sim::BoundarySurface> surface_;
+  std::optional<sim::surgery::CutWalls> cut_walls_;  // the tissue's boundary at the start
+  std::shared_ptr<const std::vector<std::uint8_t>> cut_faces_;
   std::vector<sim::surgery::SceneEvent> events_;
 };
 

@@ -349,7 +349,7 @@ void SceneRenderer::draw_tool(const ToolView& tool) const {
       draw_box(tool.tip + 0.5 * tool.blade_length * f.along + 0.5 * height * f.third, f.along,
                f.third, f.across,
                Eigen::Vector3d(0.5 * tool.blade_length, 0.5 * height, 0.5 * thickness),
-               tool.in_contact ? style_.tool_in_contact : style_.steel);
+               style_.steel);
       shaft_start = tool.tip + tool.blade_length * along;
       shaft_length = std::max(0.0, tool.shaft_length - tool.blade_length);
       break;
@@ -370,7 +370,7 @@ void SceneRenderer::draw_tool(const ToolView& tool) const {
             std::sin(half_angle) * f.along + sign * std::cos(half_angle) * f.across;
         draw_box(tool.tip + 0.5 * tool.jaw_length * jaw + 0.5 * thickness * outward, jaw, outward,
                  f.third, Eigen::Vector3d(0.5 * tool.jaw_length, 0.5 * thickness, 0.5 * width),
-                 tool.in_contact ? style_.tool_in_contact : style_.steel);
+                 style_.steel);
       }
       break;
     }

@@ -93,7 +93,7 @@ struct SceneStyle {
   SurfaceLook tool_in_contact{{0.95f, 0.72f, 0.15f}, 0.45f, 48.0f};
   SurfaceLook floor{{0.30f, 0.31f, 0.30f}, 0.0f, 1.0f};
   SurfaceLook marker{{0.30f, 0.12f, 0.55f}, 0.0f, 1.0f};  // a surgical skin marker's violet
-  // A blade's and the jaws' polished steel.
+  // A blade's and the jaws' polished steel (also in contact: the shaft shows the contact).
   SurfaceLook steel{{0.78f, 0.80f, 0.84f}, 0.70f, 64.0f};
   // The walls a cut opened: the organ's interior, deeper red and wetter than its capsule.
   SurfaceLook cut_wall{{0.62f, 0.10f, 0.10f}, 0.35f, 32.0f};

@@ -247,6 +247,14 @@ ToolView SurgicalScene::tool_view(int index) const {
   if (tool.grasper) view.jaws = tool.grasper->jaws();
   if (tool.probe) view.force_on_tissue = tool.probe->transmitted_force();
   view.blade_depth = tool.blade.depth;
+  view.side = tool.rotation.col(0);
+  view.has_input = tool.has_input;
+  view.tip_radius = tool.spec.probe.radius;
+  if (tool.spec.kind == ToolKind::grasper) {
+    view.jaw_angle = std::clamp(tool.input.jaw, 0.0, 1.0) * tool.spec.max_jaw_angle;
+    view.jaw_length = tool.spec.grasp.jaw_length;
+  }
+  if (tool.spec.kind == ToolKind::scalpel) view.blade_length = tool.spec.blade_length;
   return view;
 }
 

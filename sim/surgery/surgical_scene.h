@@ -202,6 +202,14 @@ struct ToolView {
   std::optional<collide::JawPair> jaws;  // grasper
   // A scalpel's blade length in the tissue while its stroke is open [m].
   Real blade_depth = 0;
+  // For drawing the working end: R e_x (the jaws' opening plane, the blade's flat), the probe's
+  // radius, the jaws' opening [rad] and length, the blade's length [m].
+  Vec3 side = Vec3::UnitX();
+  bool has_input = false;  // false until its device has reported (the pose is then meaningless)
+  Real tip_radius = 0;
+  Real jaw_angle = 0;
+  Real jaw_length = 0;
+  Real blade_length = 0;
 };
 
 class SurgicalScene {

@@ -72,6 +72,9 @@ scenario(
     const after_stroke = await canvas_state(page, 'live-canvas');
     const changed = first.grid.filter((v, i) => Math.abs(v - after_stroke.grid[i]) > 8).length;
     assert.ok(changed >= 5, `the picture changed in ${changed} sampled pixels`);
+    await snap(page, 'trainee-liver-cut');
+    // The trainee trains with the laparoscope's picture: no switch to the outside view.
+    assert.equal(await page.getByRole('group', { name: 'Camera' }).count(), 0, 'no camera switch for a trainee');
 
     page.once('dialog', (dialog) => dialog.accept());
     const stopped = await click_for_response(page, page.getByRole('button', { name: 'Stop' }), 'POST', new RegExp(`^/api/sessions/${session.id}/stop$`));
@@ -111,6 +114,18 @@ scenario(
       20_000,
     );
     await snap(page, 'instructor-review-liver');
+
+    // The instructor may look from outside the body, even while the replay is paused.
+    const camera = page.getByRole('group', { name: 'Camera' });
+    await sees(camera, 'the camera switch');
+    const scope_view = await canvas_state(page, 'replay-canvas');
+    await camera.getByRole('button', { name: 'Outside view' }).click();
+    await wait_for_canvas(page, 'replay-canvas', { after_frame: scope_view.frame }, 'a frame from outside');
+    const outside_view = await canvas_state(page, 'replay-canvas');
+    const moved = scope_view.grid.filter((v, i) => Math.abs(v - outside_view.grid[i]) > 8).length;
+    assert.ok(moved > scope_view.grid.length / 4, `the outside view differs in ${moved} of ${scope_view.grid.length} samples`);
+    assert.equal(outside_view.sim_time, scope_view.sim_time, 'the same instant, seen from outside');
+    await snap(page, 'instructor-replay-outside');
   },
   { timeout_ms: 150_000 },
 );

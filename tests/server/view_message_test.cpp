@@ -45,6 +45,9 @@ TEST(ViewMessage, EachTypeIsReadWithItsFields) {
   const auto seek = accepted(R"({"type": "seek", "t": 12.5})");
   EXPECT_EQ(seek.type, Type::seek);
   EXPECT_EQ(seek.value, 12.5);
+  EXPECT_EQ(accepted(R"({"type": "configure", "view": "outside"})").outside, true);
+  EXPECT_EQ(accepted(R"({"type": "configure", "view": "scope", "fps": 5})").outside, false);
+  EXPECT_FALSE(configure.outside);
   // An integral double is an integer.
   EXPECT_EQ(accepted(R"({"type": "ack", "frame": 3.0})").frame, 3);
 }
@@ -75,6 +78,10 @@ TEST(ViewMessage, MalformedMessagesAreRefusedWithTheReason) {
             "configure: \"fps\" must be an integer in [1, 60]");
   EXPECT_EQ(refused(R"({"type": "configure", "width": 1e300})"),
             "configure: \"width\" must be an integer in [160, 1280]");
+  EXPECT_EQ(refused(R"({"type": "configure", "view": "inside"})"),
+            "configure: \"view\" must be \"scope\" or \"outside\"");
+  EXPECT_EQ(refused(R"({"type": "configure", "view": 1})"),
+            "configure: \"view\" must be \"scope\" or \"outside\"");
   EXPECT_TRUE(refused("{\"type\": \"ack\"").starts_with("malformed JSON: parse error at line 1"));
   // A long unknown type is cut to fit, at a whole character.
   const auto long_type =

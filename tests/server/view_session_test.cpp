@@ -78,5 +78,14 @@ TEST(ParseViewQuery, UnrelatedParametersAreIgnored) {
   expect_request("/fps=10/view?width=800", 30, 800, 480);
 }
 
+TEST(ParseViewQuery, TheOutsideViewIsAskedForByItsWholeKeyAndValue) {
+  EXPECT_FALSE(kDefaults.outside);
+  EXPECT_TRUE(parse_view_query("/v?fps=10&view=outside").outside);
+  for (const char* target : {"/v?view=scope", "/v?xview=outside", "/v?view=outsides",
+                             "/view=outside", "/v?view=Outside", "/v?view"}) {
+    EXPECT_FALSE(parse_view_query(target).outside) << target;
+  }
+}
+
 }  // namespace
 }  // namespace incise::server

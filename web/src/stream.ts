@@ -76,6 +76,9 @@ export interface StreamMetrics {
   real_time_factor?: number;
   shed?: string;
   frames_sent: number;
+  /** Whether this viewer may switch the picture to the camera outside the body (instructors and
+   * admins; the server decides). */
+  outside_view_allowed?: boolean;
   /** Tools in the scene: 2 for a two-handed task. */
   hands?: number;
   /** The second hand's tool (two-handed tasks only). */
@@ -112,7 +115,7 @@ export function parse_server_message(text: string): ServerMessage | null {
 
 export type ClientMessage =
   | { type: 'ack'; frame: number }
-  | { type: 'configure'; fps?: number; width?: number; height?: number }
+  | { type: 'configure'; fps?: number; width?: number; height?: number; view?: 'scope' | 'outside' }
   | { type: 'play' }
   | { type: 'pause' }
   | { type: 'speed'; value: number }

@@ -493,6 +493,20 @@ TEST_F(LiveSession, AStationsCalibrationMapsItsDeviceIntoTheScene) {
 // enters at the marked line's start, draws along it 6 mm deep and withdraws at its end.
 constexpr double kLiverStrokeEndS = 10.5;
 
+// The share of a picture's pixels that are grey and lit (channels within 12 of each other, the
+// brightest above 50): the floor and the backdrop of the outside view; inside the body the tissue
+// is red and the cavity dark, and only the instruments' steel is grey.
+double grey_share(const render::RgbImage& picture) {
+  std::size_t grey = 0;
+  const std::size_t pixels = picture.rgb.size() / 3;
+  for (std::size_t i = 0; i < pixels; ++i) {
+    const int r = picture.rgb[3 * i], g = picture.rgb[3 * i + 1], b = picture.rgb[3 * i + 2];
+    const int high = std::max({r, g, b}), low = std::min({r, g, b});
+    if (high > 50 && high - low <= 12) ++grey;
+  }
+  return pixels > 0 ? static_cast<double>(grey) / static_cast<double>(pixels) : 0;
+}
+
 TEST_F(LiveSession, TheSurgicalStationCutsTheLiverLiveScoresTheCutAndReplaysIt) {
   Running run;
   const std::string script = std::string(INCISE_SOURCE_DIR) + "/deploy/agent/liver_cut_demo.json";
@@ -514,6 +528,25 @@ TEST_F(LiveSession, TheSurgicalStationCutsTheLiverLiveScoresTheCutAndReplaysIt) 
     const auto picture = render::decode_jpeg(viewer->frames.back().jpeg);
     EXPECT_EQ(picture.width, 320);
     EXPECT_FALSE(viewer->metrics.contains("render_error")) << viewer->metrics.dump();
+    // The trainee trains with the laparoscope's picture: inside the body, no grey floor or sky.
+    EXPECT_LT(grey_share(picture), 0.05);
+    EXPECT_FALSE(viewer->metrics.value("outside_view_allowed", true));
+    viewer->send({{"type", "configure"}, {"view", "outside"}});
+    ASSERT_TRUE(viewer->read_until([&] { return viewer->closed.has_value(); }, 10s));
+    EXPECT_EQ(viewer->closed->close_code, 1008);
+    EXPECT_EQ(viewer->closed->close_reason,
+              "only instructors and admins may switch to the outside view");
+  }
+  {
+    // An instructor watching may look from outside the body: the floor and the backdrop appear.
+    auto watcher = view("/api/sessions/" + sid + "/view?fps=10&width=320&height=240", kInstructor);
+    ASSERT_TRUE(watcher->read_until([&] { return watcher->frames.size() >= 2; }, 30s));
+    EXPECT_TRUE(watcher->metrics.value("outside_view_allowed", false)) << watcher->metrics.dump();
+    EXPECT_LT(grey_share(render::decode_jpeg(watcher->frames.back().jpeg)), 0.05);
+    watcher->send({{"type", "configure"}, {"view", "outside"}});
+    const std::size_t before = watcher->frames.size();
+    ASSERT_TRUE(watcher->read_until([&] { return watcher->frames.size() >= before + 3; }, 30s));
+    EXPECT_GT(grey_share(render::decode_jpeg(watcher->frames.back().jpeg)), 0.3);
   }
   const auto stopped =
       as(kTrainee).post("/api/sessions/" + sid + "/stop", nlohmann::json::object());

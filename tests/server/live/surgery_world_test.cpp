@@ -10,6 +10,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <thread>
 #include <vector>
@@ -390,8 +391,26 @@ TEST(SurgeryEngine, TasksMustNameTheToolsTheSceneGivesEachDevice) {
   EXPECT_EQ(tools_mismatch(load_session_scene(palpation->id, palpation->text), {"scalpel"}), "");
 }
 
-TEST(SurgeryEngine, TheCameraLooksFromAboveHalfwayBetweenTheOrgansCentreAndTheMarkedLine) {
+// The trainee's picture is the laparoscope's: from 8 cm above and in front of the marked line's
+// middle, looking at it, its light at its tip.
+TEST(SurgeryEngine, TheHeldLaparoscopeLooksAtTheMarkedLinesMiddleWithItsLight) {
   const auto camera = camera_for(liver());
+  const sim::Vec3 middle = 0.5 * (setup().cut_target.front() + setup().cut_target.back());
+  EXPECT_NEAR((camera.eye - middle).norm(), kLaparoscopeDistance, 1e-12);
+  EXPECT_GT((camera.target - camera.eye).normalized().dot((middle - camera.eye).normalized()),
+            1 - 1e-12);
+  EXPECT_GT(camera.eye.z(), middle.z() + 0.03);
+  EXPECT_TRUE(camera.headlight);
+  EXPECT_LT(camera.near_m, 0.01);
+  EXPECT_GT(camera.far_m, 0.2);
+  // A 70-degree diagonal at 4:3: tan(fov_y / 2) times the diagonal over the height (5 / 3).
+  EXPECT_NEAR(std::tan(camera.fov_y_deg * std::numbers::pi / 360) * 5 / 3,
+              std::tan(35 * std::numbers::pi / 180), 1e-12);
+}
+
+TEST(SurgeryEngine, TheOutsideCameraLooksFromAboveHalfwayBetweenTheOrgansCentreAndTheLine) {
+  const auto camera = outside_camera_for(liver());
+  EXPECT_FALSE(camera.headlight);
   const sim::Vec3 middle = 0.5 * (setup().cut_target.front() + setup().cut_target.back());
   const auto& rest = setup().spec.tissue.rest;
   const sim::Vec3 centre =

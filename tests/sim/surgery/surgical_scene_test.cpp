@@ -475,6 +475,36 @@ TEST(SurgicalScene, ScopeLooksThirtyDegreesOffItsAxis) {
   EXPECT_EQ(camera->eye, in.tip);
 }
 
+// Rolling a 30-degree scope about its own axis turns its view about that axis by the same angle:
+// half a turn looks to the mirror side (the two views' sum lies along the axis), and the view
+// stays 30 degrees off the axis all the way round.
+TEST(SurgicalScene, TheThirtyDegreeViewTurnsWithTheScopesRoll) {
+  SurgicalScene scene(block({make_tool(ToolKind::scope)}));
+  const Eigen::Quaternion<Real> base(Eigen::AngleAxis<Real>(0.4, Vec3(1, -1, 0).normalized()));
+  const Vec3 axis = base * Vec3::UnitZ();
+  std::optional<Vec3> first;
+  for (const Real roll : {0.0, 0.5, std::numbers::pi}) {
+    ToolInput in = at(Vec3(0.03, 0.03, 0.1));
+    in.orientation = base * Eigen::Quaternion<Real>(Eigen::AngleAxis<Real>(roll, Vec3::UnitZ()));
+    scene.step(std::span(&in, 1));
+    const std::optional<ScopeCamera> camera = scene.scope_camera();
+    ASSERT_TRUE(camera.has_value());
+    EXPECT_NEAR(camera->forward.dot(axis), std::cos(30 * std::numbers::pi / 180), 1e-12);
+    if (!first) {
+      first = camera->forward;
+      continue;
+    }
+    // The off-axis parts of the two views are roll apart about the axis.
+    const Vec3 a = *first - first->dot(axis) * axis;
+    const Vec3 b = camera->forward - camera->forward.dot(axis) * axis;
+    const Real turned = std::atan2(a.cross(b).dot(axis), a.dot(b));
+    EXPECT_NEAR(std::abs(turned), roll, 1e-9) << "roll " << roll;
+    if (roll == std::numbers::pi) {
+      EXPECT_LT((*first + camera->forward).cross(axis).norm(), 1e-12);
+    }
+  }
+}
+
 TEST(SurgicalScene, BadSpecsAndInputsAreRefusedWithTheField) {
   SurgicalSceneSpec spec = block({make_tool(ToolKind::probe)});
   spec.dt = 0;

@@ -1,3 +1,4 @@
+import { useState } from 'react';
 import type { FrameStream } from '../use_frame_stream';
 import { default_view } from '../use_frame_stream';
 import { ErrorAlert, StatusMessage } from './alerts';
@@ -33,8 +34,29 @@ export function StreamView({
         </div>
         <LiveMetrics metrics={stream.metrics} fps={stream.fps} replay={replay} />
       </div>
+      {stream.metrics?.outside_view_allowed && <CameraSwitch stream={stream} />}
       <StreamStatus stream={stream} />
     </>
+  );
+}
+
+/** The picture's camera: the scope the trainee sees through, or the view from outside the body. */
+function CameraSwitch({ stream }: { stream: FrameStream }) {
+  const [view, set_view] = useState<'scope' | 'outside'>('scope');
+  const choose = (next: 'scope' | 'outside') => {
+    set_view(next);
+    stream.send({ type: 'configure', view: next });
+  };
+  return (
+    <div className="camera-switch" role="group" aria-label="Camera">
+      <span className="muted">Camera:</span>
+      <button type="button" aria-pressed={view === 'scope'} onClick={() => choose('scope')}>
+        Scope
+      </button>
+      <button type="button" aria-pressed={view === 'outside'} onClick={() => choose('outside')}>
+        Outside view
+      </button>
+    </div>
   );
 }
 
