@@ -19,6 +19,11 @@ struct Camera {
   // (SceneRenderer). Without it, the scene's directional light and floor.
   bool headlight = false;
   double light_falloff_m = 0.08;  // > 0 when headlight
+  // The instruments' shadows (SceneRenderer) are cast, under a headlight, from this far below the
+  // eye in the image [m]: a light exactly at the eye would hide every shadow behind its caster, and
+  // the gap between an instrument and its shadow, closing as it nears the tissue, is the depth cue
+  // trainees learn to read. The lighting itself stays at the eye.
+  double shadow_light_offset_m = 0.02;
 };
 
 // World -> eye transform as gluLookAt builds it: right-handed, the camera looks down -z.

@@ -1,6 +1,7 @@
 #include "sim/render/scene_renderer.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -68,6 +69,13 @@ uniform float specular;
 uniform float shininess;
 uniform int headlight;
 uniform float falloff;
+// The instruments' working ends as balls (centre, radius), shadowing the surfaces that receive
+// shadows from the point light at shadow_light.
+const int max_casters = 4;
+uniform int casters;
+uniform vec3 caster_centre[max_casters];
+uniform float caster_radius[max_casters];
+uniform vec3 shadow_light;
 out vec4 colour;
 void main() {
   vec3 to_eye = eye - world_position;
@@ -82,6 +90,16 @@ void main() {
     l = v;
     float d = length(to_eye) / falloff;
     reach = 1.0 / (1.0 + d * d);
+  }
+  // In an instrument's shadow the light's terms fall to a quarter, with a soft edge: the distance
+  // from the ball's centre to the segment from here to the light against its radius.
+  vec3 to_shadow_light = shadow_light - world_position;
+  float ray2 = dot(to_shadow_light, to_shadow_light);
+  for (int i = 0; i < casters; ++i) {
+    vec3 offset = caster_centre[i] - world_position;
+    float along = clamp(dot(offset, to_shadow_light) / ray2, 0.0, 1.0);
+    float d = length(offset - along * to_shadow_light);
+    reach *= mix(0.25, 1.0, smoothstep(0.8 * caster_radius[i], caster_radius[i], d));
   }
   float lambert = max(dot(n, l), 0.0);
   float highlight = 0.0;
@@ -195,7 +213,11 @@ SceneRenderer::SceneRenderer(const SceneStyle& style)
       specular_location_(lit_program_.uniform_location("specular")),
       shininess_location_(lit_program_.uniform_location("shininess")),
       headlight_location_(lit_program_.uniform_location("headlight")),
-      falloff_location_(lit_program_.uniform_location("falloff")) {
+      falloff_location_(lit_program_.uniform_location("falloff")),
+      casters_location_(lit_program_.uniform_location("casters")),
+      caster_centre_location_(lit_program_.uniform_location("caster_centre")),
+      caster_radius_location_(lit_program_.uniform_location("caster_radius")),
+      shadow_light_location_(lit_program_.uniform_location("shadow_light")) {
   glGenVertexArrays(1, &empty_vertex_array_);
   upload(sphere_, unit_sphere(sphere_slices, sphere_stacks));
   upload(cylinder_, unit_cylinder(cylinder_slices));
@@ -388,6 +410,52 @@ void SceneRenderer::draw_tool(const ToolView& tool) const {
   }
 }
 
+namespace {
+
+// An instrument's working end as the shadow test sees it: a ball. Shafts cast none: the shadow
+// that tells depth is the working end's, closing on the instrument as it reaches the tissue, and a
+// ball costs a point-to-segment distance per pixel where a shaft's capsule costs a
+// segment-to-segment one.
+struct Caster {
+  Eigen::Vector3d centre;
+  double radius;
+};
+constexpr std::size_t kMaxCasters = 4;  // max_casters in the fragment shader
+
+Caster caster_of(const ToolView& tool) {
+  const Eigen::Vector3d along = tool.shaft_direction.normalized();
+  switch (tool.shape) {
+    case ToolShape::scalpel: {
+      const ToolFrame f = tool_frame(tool);
+      return {tool.tip + 0.5 * tool.blade_length * along + tool.blade_length / 6 * f.third,
+              0.5 * tool.blade_length};
+    }
+    case ToolShape::grasper: {
+      const double half_angle = 0.5 * tool.jaw_angle;
+      return {tool.tip - 0.5 * std::cos(half_angle) * tool.jaw_length * along,
+              0.5 * tool.jaw_length + 0.7 * tool.shaft_radius};
+    }
+    case ToolShape::probe:
+      break;
+  }
+  return {tool.tip, tool.radius};
+}
+
+// Where the instruments' shadows are cast from: under a headlight, shadow_light_offset_m below
+// the eye in the image (the camera's up made orthogonal to its view direction); else far along
+// the directional light from the tissue's centre.
+Eigen::Vector3d shadow_light(const Camera& camera, const Eigen::Vector3d& centre,
+                             const Eigen::Vector3d& to_light) {
+  if (camera.headlight) {
+    const Eigen::Vector3d forward = (camera.target - camera.eye).normalized();
+    const Eigen::Vector3d up = (camera.up - camera.up.dot(forward) * forward).normalized();
+    return camera.eye - camera.shadow_light_offset_m * up;
+  }
+  return centre + 10.0 * to_light;
+}
+
+}  // namespace
+
 void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
                            const TissueView& tissue, std::span<const ToolView> tools,
                            std::span<const MarkView> marks) {
@@ -426,6 +494,7 @@ void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
   glUniform1f(diffuse_location_, style_.diffuse);
   glUniform1i(headlight_location_, camera.headlight ? 1 : 0);
   glUniform1f(falloff_location_, static_cast<float>(camera.light_falloff_m));
+  glUniform1i(casters_location_, 0);  // the instruments and marks receive no shadows
 
   // Nearest first, so that the depth test spares shading hidden pixels of the larger shapes.
   for (const ToolView& tool : tools)
@@ -437,6 +506,22 @@ void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
   }
 
   if (has_tissue) {
+    // The instruments' shadows on the tissue and the floor (casters() in the header).
+    const std::size_t count = std::min(tools.size(), kMaxCasters);
+    std::array<float, 3 * kMaxCasters> centre{};
+    std::array<float, kMaxCasters> radius{};
+    for (std::size_t i = 0; i < count; ++i) {
+      const Caster c = caster_of(tools[i]);
+      for (int k = 0; k < 3; ++k)
+        centre[3 * i + static_cast<std::size_t>(k)] = static_cast<float>(c.centre[k]);
+      radius[i] = static_cast<float>(c.radius);
+    }
+    const Eigen::Vector3f light =
+        shadow_light(camera, 0.5 * (tissue_min_ + tissue_max_), style_.to_light).cast<float>();
+    glUniform1i(casters_location_, static_cast<int>(count));
+    glUniform3fv(caster_centre_location_, kMaxCasters, centre.data());
+    glUniform1fv(caster_radius_location_, kMaxCasters, radius.data());
+    glUniform3fv(shadow_light_location_, 1, light.data());
     const int faces = tissue_.index_count() / 3;
     draw_lit(tissue_, Eigen::Affine3d::Identity(), style_.tissue, 0, capsule_triangles_);
     if (capsule_triangles_ < faces) {

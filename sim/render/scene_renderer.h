@@ -76,7 +76,11 @@ struct SurfaceLook {
 //   s = max(0, n.h)^shininess if n.l > 0, else 0,
 // with l = to_light / |to_light| and a = 1 (or, under a Camera::headlight, l the unit direction
 // from the surface point to the eye and a = 1 / (1 + (d / light_falloff_m)^2), d the distance
-// from the eye), v the unit direction from the surface point to the camera,
+// from the eye), v the unit direction from the surface point to the camera, and a further times
+// 1/4 on the tissue and the floor where an instrument's working end (as a ball: the probe's, or
+// one about the blade or the jaws; the first four tools) lies between the point and the shadows'
+// light (Camera::shadow_light_offset_m; for the directional light, 10 m along to_light from the
+// tissue's centre), with a soft edge over the ball's outer fifth,
 // h = (l + v) / |l + v| and n the interpolated, renormalised vertex normal, turned round if it
 // points away from the side of the triangle the camera sees (so that both sides of the tissue
 // and of cut surfaces are lit alike). No gamma curve: values go to the 8-bit target as they are.
@@ -169,6 +173,10 @@ class SceneRenderer {
   int shininess_location_;
   int headlight_location_;
   int falloff_location_;
+  int casters_location_;
+  int caster_centre_location_;
+  int caster_radius_location_;
+  int shadow_light_location_;
 
   unsigned int empty_vertex_array_ = 0;  // the backdrop's triangle comes from gl_VertexID alone
   GlMesh sphere_;

@@ -218,6 +218,54 @@ TEST_F(EndoscopeViewTest, CutWallsAreDrawnInTheInteriorColourAndOnlyThere) {
                std::invalid_argument);
 }
 
+// A probe's ball 2 cm above flat tissue, a scope 8 cm above looking down: the shadows' light is
+// 2 cm below the eye in the image (towards -y), so the ball's shadow falls on the far side (+y),
+// centred where the line from that light through the ball meets the tissue. There the tissue gets
+// a quarter of the light, in closed form; on the side towards the light nothing changes.
+TEST_F(EndoscopeViewTest, TheInstrumentsShadowFallsOnTheFarSideFromTheLight) {
+  SceneRenderer renderer;
+  const Framebuffer target(kWidth, kHeight);
+  const Surface tissue =
+      square_surface(0.03, 6, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero());
+  Camera camera;
+  camera.eye = Eigen::Vector3d(0, 0, 0.08);
+  camera.target = Eigen::Vector3d::Zero();
+  camera.up = Eigen::Vector3d::UnitY();
+  camera.headlight = true;
+  ToolView probe;
+  probe.tip = Eigen::Vector3d(0, 0, 0.02);
+  probe.radius = 0.003;
+  probe.shaft_length = 0;
+  renderer.render(target, camera, tissue.view(), std::span<const ToolView>{});
+  const std::vector<std::uint8_t> bare = target.read_rgb();
+  renderer.render(target, camera, tissue.view(), std::span<const ToolView>(&probe, 1));
+  const std::vector<std::uint8_t> shaded = target.read_rgb();
+
+  const Eigen::Vector3d light =
+      camera.eye - camera.shadow_light_offset_m * Eigen::Vector3d::UnitY();
+  const double t = light.z() / (light.z() - probe.tip.z());
+  const Eigen::Vector3d centre = light + t * (probe.tip - light);
+  ASSERT_GT(centre.y(), 0.005);  // beyond the ball's own image (3 mm at 6 cm from the eye)
+  const SceneStyle& style = renderer.style();
+  for (const double dy : {-0.001, 0.0, 0.001}) {
+    const Eigen::Vector3d p = centre + Eigen::Vector3d(0, dy + 0.002, 0);
+    const Eigen::Vector3d v = (camera.eye - p).normalized();
+    const double distance = (camera.eye - p).norm() / camera.light_falloff_m;
+    const double reach = 0.25 / (1 + distance * distance);
+    const double highlight = std::pow(v.z(), style.tissue.shininess);
+    const Eigen::Vector3d expected =
+        255.0 *
+        (style.tissue.albedo.cast<double>() * (style.ambient + reach * style.diffuse * v.z()) +
+         Eigen::Vector3d::Constant(reach * style.tissue.specular * highlight));
+    const PixelPosition at = project(camera, kWidth, kHeight, p);
+    EXPECT_LE(colour_error(pixel_at(shaded, kWidth, at.row, at.column), expected), 3.0) << dy;
+    EXPECT_GT(difference(bare, shaded, at), 20.0) << dy;
+    // The mirror point, towards the light: untouched.
+    const Eigen::Vector3d mirror(p.x(), -p.y(), p.z());
+    EXPECT_LE(difference(bare, shaded, project(camera, kWidth, kHeight, mirror)), 1.0) << dy;
+  }
+}
+
 TEST_F(EndoscopeViewTest, RejectsInstrumentsItCannotDraw) {
   SceneRenderer renderer;
   const Framebuffer target(64, 48);

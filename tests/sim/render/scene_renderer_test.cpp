@@ -150,11 +150,25 @@ struct ScreenBox {
   }
 };
 
-ScreenBox tool_screen_box(const Camera& camera, int width, int height, const ToolView& tool) {
+// With a light, the box also holds the tool's shadow on the plane z = plane_z: the tool's box
+// corners projected from the light onto that plane.
+ScreenBox tool_screen_box(const Camera& camera, int width, int height, const ToolView& tool,
+                          const Eigen::Vector3d* light = nullptr, double plane_z = 0) {
   const Eigen::Vector3d end = tool.tip + tool.shaft_length * tool.shaft_direction.normalized();
   const double reach = std::max(tool.radius, tool.shaft_radius);
-  const Eigen::Vector3d low = tool.tip.cwiseMin(end).array() - reach;
-  const Eigen::Vector3d high = tool.tip.cwiseMax(end).array() + reach;
+  Eigen::Vector3d low = tool.tip.cwiseMin(end).array() - reach;
+  Eigen::Vector3d high = tool.tip.cwiseMax(end).array() + reach;
+  if (light != nullptr) {
+    const Eigen::Vector3d l0 = low, h0 = high;
+    for (int corner = 0; corner < 8; ++corner) {
+      const Eigen::Vector3d p(corner & 1 ? h0.x() : l0.x(), corner & 2 ? h0.y() : l0.y(),
+                              corner & 4 ? h0.z() : l0.z());
+      const double t = (light->z() - plane_z) / (light->z() - p.z());
+      const Eigen::Vector3d shadow = *light + t * (p - *light);
+      low = low.cwiseMin(shadow);
+      high = high.cwiseMax(shadow);
+    }
+  }
   ScreenBox box{height, -1, width, -1};
   for (int corner = 0; corner < 8; ++corner) {
     const Eigen::Vector3d p(corner & 1 ? high.x() : low.x(), corner & 2 ? high.y() : low.y(),
@@ -166,6 +180,7 @@ ScreenBox tool_screen_box(const Camera& camera, int width, int height, const Too
   return box;
 }
 
+// Only the tool and its shadow change.
 TEST_F(SceneRendererTest, MovingTheToolChangesTheImageOnlyNearTheTool) {
   SceneRenderer renderer;
   const int width = 200;
@@ -180,8 +195,11 @@ TEST_F(SceneRendererTest, MovingTheToolChangesTheImageOnlyNearTheTool) {
 
   const std::vector<std::uint8_t> a = draw(renderer, target, camera, tissue.view(), before);
   const std::vector<std::uint8_t> b = draw(renderer, target, camera, tissue.view(), after);
-  const ScreenBox box_before = tool_screen_box(camera, width, height, before);
-  const ScreenBox box_after = tool_screen_box(camera, width, height, after);
+  // The tool's shadow moves with it (the directional light, 10 m from the tissue's centre).
+  const Eigen::Vector3d light =
+      Eigen::Vector3d(0, 0, 0.03) + 10.0 * renderer.style().to_light.normalized();
+  const ScreenBox box_before = tool_screen_box(camera, width, height, before, &light, 0.03);
+  const ScreenBox box_after = tool_screen_box(camera, width, height, after, &light, 0.03);
 
   int changed = 0;
   int outside = 0;
