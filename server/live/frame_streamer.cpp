@@ -76,8 +76,8 @@ void SnapshotPicture::prepare(const Snapshot& snapshot) {
     render::open_cut_walls(snapshot.surface->faces, *snapshot.cut_faces, kCutGape, V_, scratch_);
   }
   tools_.clear();
-  if (snapshot.instruments.empty()) {
-    // The palpation block's probes, upright at each hand.
+  if (!snapshot.cutting) {
+    // The palpation block's probes, upright at each hand (its probes stand for any tool).
     for (int h = 0; h < snapshot.hands && h < 2; ++h) {
       render::ToolView& t = tools_.emplace_back();
       t.tip = h == 0 ? snapshot.tool_tip : snapshot.second_tool_tip;

@@ -22,8 +22,8 @@ struct Snapshot {
   std::int64_t tick = 0;
   double sim_time_s = 0;
   std::shared_ptr<const sim::BoundarySurface> surface;  // changes only with the topology
-  // Per face of surface, 1 for a wall a cut opened (sim/surgery/cut_walls.h); null without cuts
-  // to show (the palpation block).
+  // Per face of surface, 1 for a wall a cut opened (sim/surgery/cut_walls.h); null for the
+  // palpation block, which nothing cuts.
   std::shared_ptr<const std::vector<std::uint8_t>> cut_faces;
   // A surgical scene's instruments as simulated (every tool but a scope, which is the camera),
   // drawn with their working ends; empty for the palpation block, whose probes are drawn from the

@@ -115,6 +115,7 @@ void SurgeryWorld::follow_surface() {
     return;
   }
   surface_ = std::make_shared<const sim::BoundarySurface>(now);
+  if (setup_->tools_stand_for_any) return;  // the palpation block: nothing cuts it
   const sim::TetMesh& mesh = scene_->tissue().mesh();
   if (!cut_walls_) cut_walls_.emplace(mesh.rest, scene_->tissue().surface_faces());
   auto flags = std::make_shared<std::vector<std::uint8_t>>();

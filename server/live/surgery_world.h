@@ -47,7 +47,8 @@ class SurgeryWorld {
   const sim::surgery::SurgicalSceneSetup& setup() const { return *setup_; }
   // The tissue's boundary; a new object whenever the topology changed (cuts, refinement).
   const std::shared_ptr<const sim::BoundarySurface>& surface() const { return surface_; }
-  // Per face of surface(), 1 for a wall a cut opened; a new object with each new surface.
+  // Per face of surface(), 1 for a wall a cut opened; a new object with each new surface; null
+  // for the palpation block (nothing cuts it).
   const std::shared_ptr<const std::vector<std::uint8_t>>& cut_faces() const { return cut_faces_; }
   // The marked cut line's points as the tissue carries them now: each point moves with the
   // surface node nearest to it at rest (cuts and refinement renumber nodes, so it is looked up

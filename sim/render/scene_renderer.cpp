@@ -97,6 +97,8 @@ void main() {
   float ray2 = dot(to_shadow_light, to_shadow_light);
   for (int i = 0; i < casters; ++i) {
     vec3 offset = caster_centre[i] - world_position;
+    // A point inside the ball (the blade or jaws in the tissue) is not shadowed by it.
+    if (dot(offset, offset) < caster_radius[i] * caster_radius[i]) continue;
     float along = clamp(dot(offset, to_shadow_light) / ray2, 0.0, 1.0);
     float d = length(offset - along * to_shadow_light);
     reach *= mix(0.25, 1.0, smoothstep(0.8 * caster_radius[i], caster_radius[i], d));
@@ -428,12 +430,12 @@ Caster caster_of(const ToolView& tool) {
     case ToolShape::scalpel: {
       const ToolFrame f = tool_frame(tool);
       return {tool.tip + 0.5 * tool.blade_length * along + tool.blade_length / 6 * f.third,
-              0.5 * tool.blade_length};
+              0.25 * tool.blade_length};
     }
     case ToolShape::grasper: {
       const double half_angle = 0.5 * tool.jaw_angle;
       return {tool.tip - 0.5 * std::cos(half_angle) * tool.jaw_length * along,
-              0.5 * tool.jaw_length + 0.7 * tool.shaft_radius};
+              0.7 * tool.shaft_radius + 0.5 * std::sin(half_angle) * tool.jaw_length};
     }
     case ToolShape::probe:
       break;
@@ -506,7 +508,7 @@ void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
   }
 
   if (has_tissue) {
-    // The instruments' shadows on the tissue and the floor (casters() in the header).
+    // The instruments' shadows on the tissue and the floor (Caster, above).
     const std::size_t count = std::min(tools.size(), kMaxCasters);
     std::array<float, 3 * kMaxCasters> centre{};
     std::array<float, kMaxCasters> radius{};

@@ -78,7 +78,8 @@ struct SurfaceLook {
 // from the surface point to the eye and a = 1 / (1 + (d / light_falloff_m)^2), d the distance
 // from the eye), v the unit direction from the surface point to the camera, and a further times
 // 1/4 on the tissue and the floor where an instrument's working end (as a ball: the probe's, or
-// one about the blade or the jaws; the first four tools) lies between the point and the shadows'
+// one about the blade's middle or the jaws'; the first four tools; none for points inside the
+// ball) lies between the point and the shadows'
 // light (Camera::shadow_light_offset_m; for the directional light, 10 m along to_light from the
 // tissue's centre), with a soft edge over the ball's outer fifth,
 // h = (l + v) / |l + v| and n the interpolated, renormalised vertex normal, turned round if it

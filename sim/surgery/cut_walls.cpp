@@ -1,19 +1,8 @@
 #include "sim/surgery/cut_walls.h"
 
-#include <bit>
-#include <cstdint>
+#include <algorithm>
 
 namespace incise::sim::surgery {
-
-std::size_t CutWalls::KeyHash::operator()(const Key& k) const {
-  // FNV-1a over the three coordinates' bits (-0 and +0 differ: both cases only cost a search).
-  std::uint64_t h = 14695981039346656037ull;
-  for (const Real c : {k.x, k.y, k.z}) {
-    h ^= std::bit_cast<std::uint64_t>(c);
-    h *= 1099511628211ull;
-  }
-  return static_cast<std::size_t>(h);
-}
 
 CutWalls::CutWalls(const Points& rest, const Triangles& faces) : rest_(rest) {
   tree_.build(rest_, faces);
@@ -32,17 +21,18 @@ void CutWalls::classify(const Points& rest, const BoundarySurface& surface,
       centre += rest.row(node).transpose();
     }
     centre /= 3;
-    const Key key{centre.x(), centre.y(), centre.z()};
-    std::uint8_t wall;
-    if (const auto it = known_.find(key); it != known_.end()) {
-      wall = it->second;
+    Entry entry{centre.x(), centre.y(), centre.z(), 0};
+    const auto it = std::lower_bound(known_.begin(), known_.end(), entry);
+    if (it != known_.end() && !(entry < *it)) {
+      entry.wall = it->wall;
     } else {
       tree_.overlapping_triangles(rest_, collide::Sphere{centre, kOnSurface}, slots_);
-      wall = slots_.empty() ? 1 : 0;
+      entry.wall = slots_.empty() ? 1 : 0;
     }
-    flags[f] = wall;
-    next_.emplace(key, wall);
+    flags[f] = entry.wall;
+    next_.push_back(entry);
   }
+  std::sort(next_.begin(), next_.end());
   known_.swap(next_);
 }
 

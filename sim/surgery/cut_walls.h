@@ -5,7 +5,6 @@
 // had at rest before anything changed it: a cut makes faces inside the rest volume, while
 // refinement splits boundary faces within their own planes and coarsening restores them.
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 #include "sim/collide/surface_bvh.h"
@@ -22,7 +21,8 @@ class CutWalls {
 
   // flags[f] = 1 for a cut wall, 0 for the capsule, per face of surface (whose nodes index rest,
   // the mesh's rest positions now). A face whose rest centroid was seen at the last call keeps
-  // its answer without a search, so a call costs a hash per face plus a search per new face.
+  // its answer without a search: a call costs a sort of the faces' centroids and a binary search
+  // per face, plus a tree search per new face; no allocation once its arrays have grown.
   void classify(const Points& rest, const BoundarySurface& surface,
                 std::vector<std::uint8_t>& flags);
 
@@ -32,18 +32,19 @@ class CutWalls {
   static constexpr Real kOnSurface = 1e-7;
 
  private:
-  struct Key {
+  // A rest centroid and its answer, ordered by the centroid's coordinates.
+  struct Entry {
     Real x, y, z;
-    bool operator==(const Key&) const = default;
-  };
-  struct KeyHash {
-    std::size_t operator()(const Key& k) const;
+    std::uint8_t wall;
+    bool operator<(const Entry& o) const {
+      return x != o.x ? x < o.x : y != o.y ? y < o.y : z < o.z;
+    }
   };
 
   Points rest_;
   collide::SurfaceBvh tree_;
-  std::unordered_map<Key, std::uint8_t, KeyHash> known_, next_;
-  std::vector<int> slots_;  // scratch of the search
+  std::vector<Entry> known_, next_;  // sorted: the last call's faces, this call's
+  std::vector<int> slots_;           // scratch of the search
 };
 
 }  // namespace incise::sim::surgery

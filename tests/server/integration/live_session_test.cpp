@@ -515,7 +515,8 @@ TEST_F(LiveSession, TheSurgicalStationCutsTheLiverLiveScoresTheCutAndReplaysIt) 
   const EndRun end_run(*this, run);
   const auto sid = std::to_string(run.session);
   {
-    auto viewer = view("/api/sessions/" + sid + "/view?fps=10&width=320&height=240");
+    // A trainee asking for the outside view in the query still gets the scope.
+    auto viewer = view("/api/sessions/" + sid + "/view?fps=10&width=320&height=240&view=outside");
     // The stroke is over once the blade has left the tissue above the line's end (t = 10 s).
     ASSERT_TRUE(viewer->read_until(
         [&] { return viewer->metrics.value("sim_time_s", 0.0) > kLiverStrokeEndS; }, 60s))

@@ -123,6 +123,24 @@ TEST(SurgeryEngine, AStrokeAlongTheMarkedLineCutsOnTargetAndReplaysBitForBit) {
   EXPECT_FALSE(damage.never_event);
   // The cut changed the tissue's boundary: the renderer gets a new surface.
   EXPECT_NE(engine.surface(), surface_before);
+  // Its walls are the faces drawn in the interior's colour: both sides of the cut, so twice its
+  // (one-sided, rest) area; before the stroke there were none.
+  const auto& walls = *engine.world().cut_faces();
+  const sim::BoundarySurface& surface = *engine.surface();
+  const sim::Points& rest = engine.world().scene().tissue().mesh().rest;
+  ASSERT_EQ(walls.size(), static_cast<std::size_t>(surface.faces.rows()));
+  double wall_area = 0;
+  for (int f = 0; f < surface.faces.rows(); ++f) {
+    if (walls[static_cast<std::size_t>(f)] == 0) continue;
+    const auto corner = [&](int k) -> sim::Vec3 {
+      return rest.row(surface.nodes[static_cast<std::size_t>(surface.faces(f, k))]).transpose();
+    };
+    wall_area += 0.5 * (corner(1) - corner(0)).cross(corner(2) - corner(0)).norm();
+  }
+  EXPECT_NEAR(wall_area, 2 * damage.cut_area, 0.2 * 2 * damage.cut_area);
+  SimEngine fresh(liver(), kTickS, 2);
+  const auto& none = *fresh.world().cut_faces();
+  EXPECT_EQ(std::count(none.begin(), none.end(), 1), 0);
 
   // One stroke, one cut event, by the right hand, labelled with the stroke's area.
   const auto& events = engine.scene_events().events();

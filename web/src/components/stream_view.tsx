@@ -44,6 +44,7 @@ export function StreamView({
 function CameraSwitch({ stream }: { stream: FrameStream }) {
   const [view, set_view] = useState<'scope' | 'outside'>('scope');
   const choose = (next: 'scope' | 'outside') => {
+    if (stream.phase !== 'open') return;
     set_view(next);
     stream.send({ type: 'configure', view: next });
   };
