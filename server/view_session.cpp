@@ -114,15 +114,17 @@ class ViewSession::Sink final : public live::FrameSink {
 
 ViewSession::ViewSession(net::ip::tcp::socket&& socket, std::shared_ptr<live::LiveSession> session,
                          bool outside_view_allowed)
-    : ws_(std::move(socket)),
-      metrics_timer_(ws_.get_executor()),
-      live_(std::move(session)),
-      outside_view_allowed_(outside_view_allowed) {}
+    : ViewSession(std::move(socket), std::move(session), nullptr, outside_view_allowed) {}
 
 ViewSession::ViewSession(net::ip::tcp::socket&& socket, std::unique_ptr<live::ReplaySession> replay,
                          bool outside_view_allowed)
+    : ViewSession(std::move(socket), nullptr, std::move(replay), outside_view_allowed) {}
+
+ViewSession::ViewSession(net::ip::tcp::socket&& socket, std::shared_ptr<live::LiveSession> session,
+                         std::unique_ptr<live::ReplaySession> replay, bool outside_view_allowed)
     : ws_(std::move(socket)),
       metrics_timer_(ws_.get_executor()),
+      live_(std::move(session)),
       replay_(std::move(replay)),
       outside_view_allowed_(outside_view_allowed) {}
 
@@ -176,21 +178,18 @@ void ViewSession::on_read(beast::error_code ec, std::size_t) {
   if (!ws_.got_text()) {
     return do_close(websocket::close_code::bad_payload, "binary messages are not accepted here");
   }
-  const std::string text = beast::buffers_to_string(buffer_.data());
-  const auto parsed = parse_view_message(text, sink_->issued(), replay_ != nullptr);
-  if (parsed.message && parsed.message->outside.value_or(false) && !outside_view_allowed_) {
+  const auto parsed = parse_view_message(beast::buffers_to_string(buffer_.data()), sink_->issued(),
+                                         replay_ != nullptr);
+  if (!parsed.message) return do_close(websocket::close_code::bad_payload, parsed.error);
+  if (parsed.message->outside.value_or(false) && !outside_view_allowed_) {
     return do_close(websocket::close_code::policy_error,
                     "only instructors and admins may switch to the outside view");
   }
-  const auto reason = handle_message(text);
-  if (!reason.empty()) return do_close(websocket::close_code::bad_payload, reason);
+  apply(*parsed.message);
   do_read();
 }
 
-std::string ViewSession::handle_message(std::string_view text) {
-  const auto parsed = parse_view_message(text, sink_->issued(), replay_ != nullptr);
-  if (!parsed.message) return parsed.error;
-  const ViewMessage& m = *parsed.message;
+void ViewSession::apply(const ViewMessage& m) {
   switch (m.type) {
     case ViewMessage::Type::ack:
       sink_->acknowledge(m.frame);
@@ -213,7 +212,6 @@ std::string ViewSession::handle_message(std::string_view text) {
       replay_->seek(m.value);
       break;
   }
-  return "";
 }
 
 void ViewSession::on_frame(std::shared_ptr<const std::vector<std::uint8_t>> message,

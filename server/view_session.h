@@ -18,6 +18,7 @@
 #include "server/live/frame_streamer.h"
 #include "server/live/live_session.h"
 #include "server/live/replay_session.h"
+#include "server/view_message.h"
 
 namespace incise::server {
 
@@ -42,11 +43,15 @@ class ViewSession : public std::enable_shared_from_this<ViewSession> {
   // Owns and drives a replay.
   ViewSession(boost::asio::ip::tcp::socket&& socket, std::unique_ptr<live::ReplaySession> replay,
               bool outside_view_allowed);
+
   ~ViewSession();
 
   void run(boost::beast::http::request<boost::beast::http::string_body> upgrade);
 
  private:
+  // One of live or replay.
+  ViewSession(boost::asio::ip::tcp::socket&& socket, std::shared_ptr<live::LiveSession> live,
+              std::unique_ptr<live::ReplaySession> replay, bool outside_view_allowed);
   class Sink;
   live::StreamSource& source() const;
   live::FrameStreamer& streamer() const;
@@ -54,7 +59,8 @@ class ViewSession : public std::enable_shared_from_this<ViewSession> {
   void on_accept(boost::beast::error_code ec);
   void do_read();
   void on_read(boost::beast::error_code ec, std::size_t bytes);
-  std::string handle_message(std::string_view text);  // "" or the close reason
+  // A viewer's message, parsed and allowed (on_read closes the socket otherwise).
+  void apply(const ViewMessage& message);
   void on_frame(std::shared_ptr<const std::vector<std::uint8_t>> message,
                 std::chrono::steady_clock::time_point published_at);
   void schedule_metrics();

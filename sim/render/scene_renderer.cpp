@@ -267,17 +267,14 @@ bool SceneRenderer::upload_tissue(const TissueView& tissue) {
   if (cut != nullptr)
     capsule -=
         static_cast<int>(std::count_if(cut->begin(), cut->end(), [](std::uint8_t c) { return c; }));
-  bool faces_changed =
-      static_cast<std::size_t>(F.size()) != tissue_indices_.size() || capsule != capsule_triangles_;
-  std::size_t next[2] = {0, 3 * static_cast<std::size_t>(capsule)};
-  for (Eigen::Index f = 0; f < F.rows() && !faces_changed; ++f) {
-    std::size_t& at = next[cut != nullptr && (*cut)[static_cast<std::size_t>(f)] ? 1 : 0];
-    for (int k = 0; k < 3; ++k, ++at) {
-      if (tissue_indices_[at] != static_cast<std::uint32_t>(face_data[3 * f + k])) {
-        faces_changed = true;
-      }
-    }
+  ordered_indices_.resize(static_cast<std::size_t>(F.size()));
+  std::size_t at[2] = {0, 3 * static_cast<std::size_t>(capsule)};
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    std::size_t& a = at[cut != nullptr && (*cut)[static_cast<std::size_t>(f)] ? 1 : 0];
+    for (int k = 0; k < 3; ++k)
+      ordered_indices_[a++] = static_cast<std::uint32_t>(face_data[3 * f + k]);
   }
+  const bool faces_changed = ordered_indices_ != tissue_indices_;
 
   tissue_vertices_.resize(static_cast<std::size_t>(V.rows()) * GlMesh::floats_per_vertex);
   Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
@@ -305,16 +302,10 @@ bool SceneRenderer::upload_tissue(const TissueView& tissue) {
 
   tissue_.set_vertices(tissue_vertices_);
   if (faces_changed) {
-    tissue_indices_.resize(static_cast<std::size_t>(F.size()));
-    std::size_t at[2] = {0, 3 * static_cast<std::size_t>(capsule)};
-    for (Eigen::Index f = 0; f < F.rows(); ++f) {
-      std::size_t& a = at[cut != nullptr && (*cut)[static_cast<std::size_t>(f)] ? 1 : 0];
-      for (int k = 0; k < 3; ++k)
-        tissue_indices_[a++] = static_cast<std::uint32_t>(face_data[3 * f + k]);
-    }
-    capsule_triangles_ = capsule;
+    tissue_indices_.swap(ordered_indices_);
     tissue_.set_indices(tissue_indices_);
   }
+  capsule_triangles_ = capsule;
   return true;
 }
 

@@ -188,8 +188,9 @@ class SceneRenderer {
   // The tissue as last uploaded, kept so that frames reuse memory and unchanged faces are not
   // sent again.
   std::vector<float> tissue_vertices_;
-  std::vector<std::uint32_t> tissue_indices_;  // the capsule's faces first, then the cut walls
-  int capsule_triangles_ = 0;                  // how many of tissue_indices_' faces are capsule
+  std::vector<std::uint32_t> tissue_indices_;   // the capsule's faces first, then the cut walls
+  int capsule_triangles_ = 0;                   // how many of tissue_indices_' faces are capsule
+  std::vector<std::uint32_t> ordered_indices_;  // this frame's order, compared with the last
   Eigen::Vector3d tissue_min_ = Eigen::Vector3d::Zero();  // bounding box of the last tissue
   Eigen::Vector3d tissue_max_ = Eigen::Vector3d::Zero();
   double tissue_lowest_ = 0.0;  // min over vertices of up . position [m]
