@@ -18,12 +18,14 @@ mkdir -p "$log_dir"
 server_pid=""
 agent_pid=""
 surgical_agent_pid=""
+knee_agent_pid=""
 stop() {
   trap - INT TERM EXIT
   echo
   echo "Stopping..."
   [ -n "$agent_pid" ] && kill -TERM "$agent_pid" 2>/dev/null || true
   [ -n "$surgical_agent_pid" ] && kill -TERM "$surgical_agent_pid" 2>/dev/null || true
+  [ -n "$knee_agent_pid" ] && kill -TERM "$knee_agent_pid" 2>/dev/null || true
   [ -n "$server_pid" ] && kill -TERM "$server_pid" 2>/dev/null || true
   wait 2>/dev/null || true
   echo "Stopped."
@@ -53,6 +55,14 @@ agent_pid=$!
 "$bin/incise-agent" --server "ws://$host:$port/agent" --token incise-demo-surgical-station-token \
   --script "$root/deploy/agent/liver_cut_demo.json" 2>> "$log_dir/surgical-agent.log" &
 surgical_agent_pid=$!
+# The arthroscopy station's agent: a simulated arthroscope at the knee's anterolateral portal and
+# a probe at the anteromedial one, touring the joint's landmarks every 28 s
+# (deploy/agent/knee_scope_tour.json, knee_probe_tour.json).
+"$bin/incise-agent" --server "ws://$host:$port/agent" --token incise-demo-arthroscopy-station-token \
+  --device "knee-scope:$root/deploy/agent/knee_scope_tour.json" \
+  --device "knee-instrument:$root/deploy/agent/knee_probe_tour.json" \
+  2>> "$log_dir/arthroscopy-agent.log" &
+knee_agent_pid=$!
 
 cat <<MSG
 
@@ -64,7 +74,8 @@ cat <<MSG
     admin       / incise-admin-demo
 
   Station 1 (palpation) is connected through a simulated station agent (log: $log_dir/agent.log);
-  the Surgical station (the liver task) through another (log: $log_dir/surgical-agent.log).
+  the Surgical station (the liver task) through another (log: $log_dir/surgical-agent.log), and
+  the Arthroscopy station (the knee) through a third (log: $log_dir/arthroscopy-agent.log).
   Database: $data/incise.db.   Press Ctrl-C to stop.
 
 MSG

@@ -75,6 +75,24 @@ DriverRegistry make_builtin() {
                      std::move(*script.value), demo_scope_geometry(),
                      "simulated scope (" + script_name(path) + ")"));
                });
+  for (const bool lateral : {true, false}) {
+    const std::string name = lateral ? "knee-scope" : "knee-instrument";
+    registry.add(
+        name,
+        name + ":SCRIPT.json  a simulated " +
+            (lateral ? "arthroscope at the knee's anterolateral portal"
+                     : "instrument at the knee's anteromedial portal") +
+            ": the script's tip targets (knee scene frame) through the portal's fulcrum",
+        [name, lateral](const std::string& path) -> DeviceResult {
+          if (path.empty())
+            return DeviceResult::failure(name + ": needs a script (" + name + ":SCRIPT.json)");
+          auto script = load_script(name, path);
+          if (!script) return DeviceResult::failure(script.error);
+          return DeviceResult::success(std::make_unique<SimulatedScope>(
+              std::move(*script.value), knee_portal_geometry(lateral),
+              "simulated " + name + " (" + script_name(path) + ")"));
+        });
+  }
   registry.add("replay", "replay:FILE[,device=N][,once]  plays a --record-states log",
                [](const std::string& argument) { return ReplayDevice::open(argument); });
 #if defined(__linux__)

@@ -1,5 +1,7 @@
 #include "devices/simulated_scope.h"
 
+#include "devices/eigen_conversions.h"
+
 namespace incise::devices {
 
 ScopeGeometry demo_scope_geometry() {
@@ -8,6 +10,20 @@ ScopeGeometry demo_scope_geometry() {
   geometry.portal_orientation = {0.0, 1.0, 0.0, 0.0};  // half a turn about x: +z points down
   geometry.min_insertion = 0.0;
   geometry.max_insertion = 0.1;
+  return geometry;
+}
+
+ScopeGeometry knee_portal_geometry(bool anterolateral) {
+  const Eigen::Vector3d position(anterolateral ? 0.016 : -0.016, 0.042, 0.010);
+  const Eigen::Vector3d notch(0.0, -0.004, 0.008);
+  ScopeGeometry geometry;
+  geometry.portal = to_vec3(position);
+  geometry.portal_orientation = to_quat(Eigen::Quaterniond::FromTwoVectors(
+      Eigen::Vector3d::UnitZ(), (notch - position).normalized()));
+  geometry.min_insertion = 0.0;
+  geometry.max_insertion = 0.06;
+  geometry.min_pitch = geometry.min_yaw = -50.0 * kDegree;
+  geometry.max_pitch = geometry.max_yaw = 50.0 * kDegree;
   return geometry;
 }
 

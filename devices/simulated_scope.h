@@ -19,6 +19,12 @@ namespace incise::devices {
 // Above the demo tissue block (x, y in [0, 0.08], top z = 0.03), pointing down into it.
 ScopeGeometry demo_scope_geometry();
 
+// At a portal of the knee scene (its frame; sim/mesh/cgal/anatomy.cpp's knee_portals: either
+// side of the patellar tendon, a centimetre above the joint line, aimed at the notch): the
+// anterolateral one for the arthroscope (30-degree optics), the anteromedial one for an
+// instrument; inserted up to 6 cm, pivoting up to 50 degrees each way.
+ScopeGeometry knee_portal_geometry(bool anterolateral);
+
 class SimulatedScope final : public Device {
  public:
   // Throws std::invalid_argument for an invalid script or geometry.

@@ -31,6 +31,9 @@ bool seed_demo_data(db::Database& db, std::int64_t now) {
       db::StationsRepo(db).create("Station 1", "Skills lab, room 2", kDemoStationToken, now);
   db::StationsRepo(db).create(kDemoSurgicalStationName, "Skills lab, room 3: scalpel and grasper",
                               kDemoSurgicalStationToken, now);
+  db::StationsRepo(db).create(kDemoArthroscopyStationName,
+                              "Skills lab, room 4: arthroscope and probe at a knee model",
+                              kDemoArthroscopyStationToken, now);
 
   // Validated by curriculum/ before it is stored, like every curriculum.
   const auto curriculum = curriculum::parse_curriculum_text(kDemoCurriculumJson);

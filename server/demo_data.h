@@ -1,6 +1,7 @@
 #pragma once
-// The demo data of a first run: three logins, two stations (the palpation bench and a surgical
-// station with a scalpel and a grasper), one curriculum, and one finished practice session with
+// The demo data of a first run: three logins, three stations (the palpation bench, a surgical
+// station with a scalpel and a grasper, an arthroscopy station with a scope and a probe), one
+// curriculum, and one finished practice session with
 // its scores (so every dashboard page has something to show).
 #include <string>
 
@@ -22,6 +23,8 @@ inline constexpr DemoLogin kDemoLogins[] = {
 inline constexpr const char* kDemoStationToken = "incise-demo-station-token";
 inline constexpr const char* kDemoSurgicalStationName = "Surgical station";
 inline constexpr const char* kDemoSurgicalStationToken = "incise-demo-surgical-station-token";
+inline constexpr const char* kDemoArthroscopyStationName = "Arthroscopy station";
+inline constexpr const char* kDemoArthroscopyStationToken = "incise-demo-arthroscopy-station-token";
 
 // Seeds the demo data if the database has no users yet; returns whether it did.
 bool seed_demo_data(db::Database& db, std::int64_t now);

@@ -4,6 +4,8 @@
 // between two poses that a scripted move ticks through.
 #include <cmath>
 
+#include <Eigen/Geometry>
+
 #include "devices/device_state.h"
 #include "server/live/sim_engine.h"
 #include "sim/core/types.h"
@@ -24,6 +26,16 @@ inline devices::DeviceState along_x(const sim::Vec3& tip, float jaw) {
   s.position = {tip.x(), tip.y(), tip.z()};
   s.orientation = {std::sqrt(0.5), 0, std::sqrt(0.5), 0};
   s.jaw = jaw;
+  return s;
+}
+
+// A tool pointing along direction (R takes e_z onto it), e.g. a scope or probe through a portal.
+inline devices::DeviceState pointing(const sim::Vec3& tip, const sim::Vec3& direction) {
+  const Eigen::Quaterniond q =
+      Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), direction.normalized());
+  devices::DeviceState s;
+  s.position = {tip.x(), tip.y(), tip.z()};
+  s.orientation = {q.w(), q.x(), q.y(), q.z()};
   return s;
 }
 

@@ -4,11 +4,13 @@
 // as given and one for the same box meshed finer, to at least 8000 surface triangles (the size at
 // which a frame should take 5-8 ms; docs/benchmarks.md). Without an argument, also the liver
 // station as its trainee sees it (server/live: the held laparoscope, the scalpel's blade and the
-// grasper's jaws, the marked line, the cut walls), the session ticking between frames while the
-// blade cuts along the line.
-//   bench_render [SCENE.json]     default: sim/scenes/palpation.json and the liver station
+// grasper's jaws, the marked line, the cut walls, the abdominal surroundings), the session ticking
+// between frames while the blade cuts along the line, and the knee station through its
+// arthroscope (bones, capsule, menisci and ACL, the probe) as the scope turns.
+//   bench_render [SCENE.json]     default: sim/scenes/palpation.json, the liver and knee stations
 //   bench_render --save DIR       also writes the liver station's frames 0, 100, 200 and 299 and
-//                                 the last one from outside, as DIR/liver_station_*.jpg
+//                                 the last one from outside, as DIR/liver_station_*.jpg, and the
+//                                 knee station's 0, 150, 299 and outside as DIR/knee_station_*.jpg
 // The tissue's positions change every frame (a smooth synthetic dent follows the tool), so the
 // per-frame upload is measured too; the dent is computed outside the timed part.
 #include <algorithm>
@@ -49,6 +51,25 @@ double percentile(std::vector<double> values, double fraction) {
   return values[k];
 }
 
+// The per-frame times of one scene's run, printed as one line of the table.
+struct FrameTimes {
+  std::vector<double> render_ms, readback_ms, encode_ms, total_ms, jpeg_kib;
+
+  void add(const incise::render::FrameTimings& t, const std::vector<std::uint8_t>& jpeg) {
+    render_ms.push_back(t.render_ms);
+    readback_ms.push_back(t.readback_ms);
+    encode_ms.push_back(t.encode_ms);
+    total_ms.push_back(t.total_ms());
+    jpeg_kib.push_back(static_cast<double>(jpeg.size()) / 1024.0);
+  }
+  void print(const std::string& name, int triangles) const {
+    std::printf("%-34s %9d %10.2f %11.2f %10.2f %10.2f %9.2f %9.1f\n", name.c_str(), triangles,
+                percentile(render_ms, 0.5), percentile(readback_ms, 0.5),
+                percentile(encode_ms, 0.5), percentile(total_ms, 0.5), percentile(total_ms, 0.95),
+                percentile(jpeg_kib, 0.5));
+  }
+};
+
 int surface_triangles(const Eigen::Vector3i& cells) {
   return 4 * (cells.x() * cells.y() + cells.y() * cells.z() + cells.x() * cells.z());
 }
@@ -82,7 +103,7 @@ void run(const incise::sim::Scene& scene, const Eigen::Vector3i& cells, const st
   Points V;
   Points N;
   std::vector<std::uint8_t> jpeg;
-  std::vector<double> render_ms, readback_ms, encode_ms, total_ms, jpeg_kib;
+  FrameTimes times;
 
   for (int frame = -warm_up_frames; frame < frames; ++frame) {
     // One circle over the top face per 300 frames, pressing up to 4 mm deep twice per circle.
@@ -107,18 +128,10 @@ void run(const incise::sim::Scene& scene, const Eigen::Vector3i& cells, const st
     const incise::render::TissueView tissue{&V, &N, &surface.faces};
     encoder.render_jpeg(renderer, camera, tissue, tool, jpeg);
     if (frame < 0) continue;
-    const incise::render::FrameTimings& t = encoder.timings();
-    render_ms.push_back(t.render_ms);
-    readback_ms.push_back(t.readback_ms);
-    encode_ms.push_back(t.encode_ms);
-    total_ms.push_back(t.total_ms());
-    jpeg_kib.push_back(static_cast<double>(jpeg.size()) / 1024.0);
+    times.add(encoder.timings(), jpeg);
   }
 
-  std::printf("%-34s %9d %10.2f %11.2f %10.2f %10.2f %9.2f %9.1f\n", name.c_str(),
-              static_cast<int>(surface.faces.rows()), percentile(render_ms, 0.5),
-              percentile(readback_ms, 0.5), percentile(encode_ms, 0.5), percentile(total_ms, 0.5),
-              percentile(total_ms, 0.95), percentile(jpeg_kib, 0.5));
+  times.print(name, static_cast<int>(surface.faces.rows()));
 }
 
 void save(const std::string& path, const std::vector<std::uint8_t>& jpeg) {
@@ -142,11 +155,13 @@ void run_liver_station(const std::string& save_dir) {
   const Vec3 depth(0, 0, 0.006), above(0, 0, 0.01);
   const Vec3 lobe = 0.5 * (start + end) + Vec3(-0.005, 0.012, 0.0005);
   const render::Camera camera = server::live::camera_for(scene);
-  render::SceneRenderer renderer;
+  // Built once per scene, as the streamer does: the style and the surroundings' meshes.
+  render::SceneRenderer renderer(server::live::scene_style(scene.setup()));
+  renderer.set_surroundings(server::live::static_surfaces(scene.setup(), renderer.style()));
   render::FrameEncoder encoder(width, height, 80);
   server::live::SnapshotPicture picture;
   std::vector<std::uint8_t> jpeg;
-  std::vector<double> render_ms, readback_ms, encode_ms, total_ms, jpeg_kib;
+  FrameTimes times;
   int triangles = 0;
   for (int frame = -warm_up_frames; frame < frames; ++frame) {
     // Into the tissue over the first tenth, along the line over six, out over one (the cut is
@@ -175,19 +190,73 @@ void run_liver_station(const std::string& save_dir) {
       }
     }
     if (frame < 0) continue;
-    const render::FrameTimings& t = encoder.timings();
-    render_ms.push_back(t.render_ms);
-    readback_ms.push_back(t.readback_ms);
-    encode_ms.push_back(t.encode_ms);
-    total_ms.push_back(t.total_ms());
-    jpeg_kib.push_back(static_cast<double>(jpeg.size()) / 1024.0);
+    times.add(encoder.timings(), jpeg);
   }
-  std::printf("%-34s %9d %10.2f %11.2f %10.2f %10.2f %9.2f %9.1f\n", "liver station (laparoscope)",
-              triangles, percentile(render_ms, 0.5), percentile(readback_ms, 0.5),
-              percentile(encode_ms, 0.5), percentile(total_ms, 0.5), percentile(total_ms, 0.95),
-              percentile(jpeg_kib, 0.5));
+  times.print("liver station (laparoscope)", triangles);
   std::printf("  (the stroke cut %.0f mm^2; %s)\n", engine.damage().cut_area * 1e6,
               engine.state_finite() ? "finite" : "NOT FINITE");
+}
+
+// The knee station's picture through the arthroscope at the anterolateral portal as it turns
+// from the medial meniscus's anterior horn to the lateral one, while the probe from the
+// anteromedial portal reaches the medial horn; 10 ms of simulation between frames (not timed).
+void run_knee_station(const std::string& save_dir) {
+  using namespace incise;
+  const auto source = server::live::find_scene("scenes/surgery/knee_station.json");
+  if (!source) throw std::runtime_error("the knee station's scene is not in the library");
+  const auto scene = server::live::load_session_scene(source->id, source->text);
+  const auto& setup = scene.setup();
+  server::live::SimEngine engine(scene, 0.002, 2);
+  const auto place = [&](const std::string& name) {
+    for (const auto& l : setup.landmarks)
+      if (l.name == name) return l.position;
+    for (const auto& p : setup.portals)
+      if (p.name == name) return p.position;
+    throw std::runtime_error("the knee has no place " + name);
+  };
+  const Vec3 scope_portal = place("anterolateral"), probe_portal = place("anteromedial");
+  const Vec3 medial = place("medial_meniscus_anterior_horn");
+  const Vec3 lateral = place("lateral_meniscus_anterior_horn");
+  const render::Camera session = server::live::camera_for(scene);
+  const render::Camera outside = server::live::outside_camera_for(scene);
+  render::SceneRenderer renderer(server::live::scene_style(setup));
+  renderer.set_surroundings(server::live::static_surfaces(setup, renderer.style()));
+  render::FrameEncoder encoder(width, height, 80);
+  server::live::SnapshotPicture picture;
+  std::vector<std::uint8_t> jpeg;
+  FrameTimes times;
+  int triangles = 0;
+  for (int frame = -warm_up_frames; frame < frames; ++frame) {
+    const double s =
+        std::clamp((frame + warm_up_frames) / double(frames + warm_up_frames), 0.0, 1.0);
+    const Vec3 look = ((1 - s) * medial + s * lateral - scope_portal).normalized();
+    const Vec3 reach = medial - probe_portal;
+    const double in = std::min(1.0, 2 * s);
+    const std::array<devices::DeviceState, 2> inputs = {
+        bench::pointing(scope_portal + 0.009 * look, look),
+        bench::pointing(probe_portal + (0.1 + 0.85 * in) * reach, reach)};
+    for (int tick = 0; tick < 5; ++tick)
+      engine.tick(inputs);
+    const auto snapshot = server::live::make_snapshot(engine);
+    picture.prepare(*snapshot);
+    picture.encode(
+        renderer, encoder,
+        server::live::picture_camera(*snapshot, session, outside, false, double(width) / height),
+        jpeg, snapshot->scope.has_value());
+    triangles = static_cast<int>(snapshot->surface->faces.rows());
+    if (!save_dir.empty() && (frame == 0 || frame == 150 || frame == frames - 1)) {
+      save(save_dir + "/knee_station_" + std::to_string(frame) + ".jpg", jpeg);
+      if (frame == frames - 1) {
+        std::vector<std::uint8_t> from_outside;
+        picture.encode(renderer, encoder, outside, from_outside);
+        save(save_dir + "/knee_station_outside.jpg", from_outside);
+      }
+    }
+    if (frame < 0) continue;
+    times.add(encoder.timings(), jpeg);
+  }
+  times.print("knee station (arthroscope)", triangles);
+  std::printf("  (%s)\n", engine.state_finite() ? "finite" : "NOT FINITE");
 }
 
 }  // namespace
@@ -230,7 +299,10 @@ int main(int argc, char** argv) {
       }
       run(scene, finer, label(finer));
     }
-    if (!block_only) run_liver_station(save_dir);
+    if (!block_only) {
+      run_liver_station(save_dir);
+      run_knee_station(save_dir);
+    }
   } catch (const std::exception& error) {
     std::fprintf(stderr, "bench_render: %s\n", error.what());
     return 1;

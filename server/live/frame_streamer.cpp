@@ -76,6 +76,7 @@ void SnapshotPicture::prepare(const Snapshot& snapshot) {
     render::open_cut_walls(snapshot.surface->faces, *snapshot.cut_faces, kCutGape, V_, scratch_);
   }
   tools_.clear();
+  tools_but_scopes_.clear();
   if (!snapshot.cutting) {
     // The palpation block's probes, upright at each hand (its probes stand for any tool).
     for (int h = 0; h < snapshot.hands && h < 2; ++h) {
@@ -84,10 +85,14 @@ void SnapshotPicture::prepare(const Snapshot& snapshot) {
       t.radius = snapshot.tool_radius;
       t.in_contact = h == 0 ? snapshot.contact : snapshot.second_force_n.squaredNorm() > 0;
       t.shaft_direction = snapshot.shaft_direction[static_cast<std::size_t>(h)];
+      tools_but_scopes_.push_back(t);
     }
   } else {
-    for (const sim::surgery::ToolView& instrument : snapshot.instruments)
+    for (const sim::surgery::ToolView& instrument : snapshot.instruments) {
       tools_.push_back(drawn(instrument));
+      if (instrument.kind != sim::surgery::ToolKind::scope)
+        tools_but_scopes_.push_back(tools_.back());
+    }
   }
   marks_.clear();
   for (const sim::Vec3& p : snapshot.marks)
@@ -95,10 +100,12 @@ void SnapshotPicture::prepare(const Snapshot& snapshot) {
 }
 
 void SnapshotPicture::encode(render::SceneRenderer& renderer, render::FrameEncoder& encoder,
-                             const render::Camera& camera, std::vector<std::uint8_t>& jpeg) const {
+                             const render::Camera& camera, std::vector<std::uint8_t>& jpeg,
+                             bool through_scope) const {
   render::TissueView tissue{&V_, &N_, &snapshot_->surface->faces};
   tissue.cut_faces = snapshot_->cut_faces.get();
-  encoder.render_jpeg(renderer, camera, tissue, tools_, jpeg, marks_);
+  encoder.render_jpeg(renderer, camera, tissue, through_scope ? tools_but_scopes_ : tools_, jpeg,
+                      marks_);
 }
 
 render::Camera picture_camera(const Snapshot& snapshot, const render::Camera& session,
@@ -108,11 +115,47 @@ render::Camera picture_camera(const Snapshot& snapshot, const render::Camera& se
   return session;
 }
 
+render::SceneStyle scene_style(const sim::surgery::SurgicalSceneSetup& setup) {
+  render::SceneStyle style;
+  if (setup.name == "knee") style.tissue = {{0.93f, 0.92f, 0.90f}, 0.35f, 40.0f};
+  return style;
+}
+
+std::vector<render::StaticSurface> static_surfaces(const sim::surgery::SurgicalSceneSetup& setup,
+                                                   const render::SceneStyle& style) {
+  using Kind = sim::surgery::SurroundingKind;
+  std::vector<render::StaticSurface> out;
+  for (const sim::surgery::Surrounding& s : setup.surroundings) {
+    render::StaticSurface surface;
+    surface.V = &s.vertices;
+    surface.F = &s.triangles;
+    switch (s.kind) {
+      case Kind::bone:
+        surface.look = style.bone;
+        break;
+      case Kind::wall:
+        surface.look = style.lining;
+        break;
+      case Kind::organ:
+        surface.look = style.organ;
+        break;
+      case Kind::fat:
+        surface.look = style.fat;
+        break;
+    }
+    surface.inside_only = s.inside_only;
+    out.push_back(surface);
+  }
+  return out;
+}
+
 FrameStreamer::FrameStreamer(const StreamSource& source, render::Camera camera,
-                             render::Camera outside)
+                             render::Camera outside,
+                             std::shared_ptr<const sim::surgery::SurgicalSceneSetup> scene)
     : source_(source),
       camera_(std::move(camera)),
       outside_(std::move(outside)),
+      scene_(std::move(scene)),
       thread_([this] { run(); }) {}
 
 FrameStreamer::~FrameStreamer() {
@@ -161,7 +204,8 @@ void FrameStreamer::run() {
 }
 
 void FrameStreamer::render_loop() {
-  render::SceneRenderer renderer;
+  render::SceneRenderer renderer(scene_ ? scene_style(*scene_) : render::SceneStyle{});
+  if (scene_) renderer.set_surroundings(static_surfaces(*scene_, renderer.style()));
   // One encoder per frame size in use. Viewers choose their size, so the set is capped: the least
   // recently used encoder goes when a new size needs room (each holds a framebuffer and buffers).
   struct Encoder {
@@ -232,7 +276,8 @@ void FrameStreamer::render_loop() {
         const render::Camera camera =
             picture_camera(*snapshot, camera_, outside_, job.request.outside,
                            static_cast<double>(size.first) / size.second);
-        picture.encode(renderer, *it->second.encoder, camera, jpeg);
+        picture.encode(renderer, *it->second.encoder, camera, jpeg,
+                       !job.request.outside && snapshot->scope.has_value());
         ++frames_rendered_;
         jpeg_of_size = std::make_shared<const std::vector<std::uint8_t>>(jpeg);
       }

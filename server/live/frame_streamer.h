@@ -17,6 +17,7 @@
 #include "server/live/snapshot.h"
 #include "sim/render/camera.h"
 #include "sim/render/scene_renderer.h"
+#include "sim/surgery/scene_presets.h"
 
 namespace incise::server::live {
 
@@ -53,14 +54,18 @@ class SnapshotPicture {
   // The snapshot must outlive the calls to encode that follow.
   void prepare(const Snapshot& snapshot);
   // Draws the prepared snapshot from camera and encodes it (FrameEncoder::render_jpeg).
+  // through_scope: the camera is a scope of the scene (scope_view), whose own shaft is then not
+  // drawn (its eye is inside it).
   void encode(render::SceneRenderer& renderer, render::FrameEncoder& encoder,
-              const render::Camera& camera, std::vector<std::uint8_t>& jpeg) const;
+              const render::Camera& camera, std::vector<std::uint8_t>& jpeg,
+              bool through_scope = false) const;
 
  private:
   const Snapshot* snapshot_ = nullptr;
   sim::Points V_, N_;
   std::vector<double> scratch_;
   std::vector<render::ToolView> tools_;
+  std::vector<render::ToolView> tools_but_scopes_;  // tools_ without the scopes
   std::vector<render::MarkView> marks_;
 };
 
@@ -69,11 +74,22 @@ class SnapshotPicture {
 render::Camera picture_camera(const Snapshot& snapshot, const render::Camera& session,
                               const render::Camera& outside, bool outside_view, double aspect);
 
+// How a scene is drawn: the default style, with the knee's soft tissue the white of meniscus and
+// ligament rather than the liver's red.
+render::SceneStyle scene_style(const sim::surgery::SurgicalSceneSetup& setup);
+
+// The scene's surroundings (SurgicalSceneSetup::surroundings) as the renderer takes them, each in
+// style's look for its kind. They point into setup, which must outlive them.
+std::vector<render::StaticSurface> static_surfaces(const sim::surgery::SurgicalSceneSetup& setup,
+                                                   const render::SceneStyle& style);
+
 class FrameStreamer {
  public:
   // Starts the render thread. source must outlive the streamer. camera: the session's picture
-  // (a scope on a device replaces it once it reports); outside: the view from outside the body.
-  FrameStreamer(const StreamSource& source, render::Camera camera, render::Camera outside);
+  // (a scope on a device replaces it once it reports); outside: the view from outside the body;
+  // scene: the style and the surroundings drawn around the tissue (null: the default style, none).
+  FrameStreamer(const StreamSource& source, render::Camera camera, render::Camera outside,
+                std::shared_ptr<const sim::surgery::SurgicalSceneSetup> scene = nullptr);
   ~FrameStreamer();  // stops and joins the render thread
   FrameStreamer(const FrameStreamer&) = delete;
   FrameStreamer& operator=(const FrameStreamer&) = delete;
@@ -95,6 +111,7 @@ class FrameStreamer {
   const StreamSource& source_;
   render::Camera camera_;
   render::Camera outside_;
+  std::shared_ptr<const sim::surgery::SurgicalSceneSetup> scene_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   bool stop_ = false;

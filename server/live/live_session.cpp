@@ -127,7 +127,8 @@ LiveSession::~LiveSession() {
 
 void LiveSession::start() {
   streamer_ = std::make_unique<FrameStreamer>(*this, camera_for(*params_.scene),
-                                              outside_camera_for(*params_.scene));
+                                              outside_camera_for(*params_.scene),
+                                              params_.scene->shared_setup());
   thread_ = std::thread([this] { run(); });
 }
 

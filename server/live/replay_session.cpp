@@ -37,6 +37,7 @@ ReplaySession::ReplaySession(const SessionScene& scene, double tick_s,
     : engine_(scene, tick_s, hands_of(ticks)),
       camera_(camera_for(scene)),
       outside_(outside_camera_for(scene)),
+      scene_(scene.shared_setup()),
       tick_s_(tick_s),
       ticks_(std::move(ticks)),
       ahead_(scene, tick_s, hands_of(ticks_)) {
@@ -63,7 +64,7 @@ ReplaySession::~ReplaySession() {
 }
 
 void ReplaySession::start() {
-  streamer_ = std::make_unique<FrameStreamer>(*this, camera_, outside_);
+  streamer_ = std::make_unique<FrameStreamer>(*this, camera_, outside_, scene_);
   thread_ = std::thread([this] { run(); });
   checkpointer_ = std::thread([this] { run_ahead(); });
 }

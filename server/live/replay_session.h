@@ -70,6 +70,7 @@ class ReplaySession : public StreamSource {
   SimEngine engine_;
   render::Camera camera_;
   render::Camera outside_;
+  std::shared_ptr<const sim::surgery::SurgicalSceneSetup> scene_;  // for the picture
   double tick_s_;
   std::vector<TickRecord> ticks_;
   std::int64_t checkpoint_ticks_ = kCheckpointTicks;

@@ -152,6 +152,10 @@ SceneStyle normalised(SceneStyle style) {
   validate_look(style.marker, "marker");
   validate_look(style.steel, "steel");
   validate_look(style.cut_wall, "cut_wall");
+  validate_look(style.bone, "bone");
+  validate_look(style.lining, "lining");
+  validate_look(style.organ, "organ");
+  validate_look(style.fat, "fat");
   style.up.normalize();
   style.to_light.normalize();
   return style;
@@ -229,6 +233,58 @@ SceneRenderer::SceneRenderer(const SceneStyle& style)
 
 SceneRenderer::~SceneRenderer() {
   glDeleteVertexArrays(1, &empty_vertex_array_);
+}
+
+void SceneRenderer::set_surroundings(std::span<const StaticSurface> surfaces) {
+  // Everything is built before anything replaces the old ones, so that a rejected call keeps them.
+  std::vector<Surroundings> built;
+  std::vector<float> vertices;
+  std::vector<std::uint32_t> indices;
+  for (std::size_t s = 0; s < surfaces.size(); ++s) {
+    const StaticSurface& surface = surfaces[s];
+    const std::string which = "surrounding " + std::to_string(s);
+    if (surface.V == nullptr || surface.F == nullptr) {
+      throw std::invalid_argument(which + " needs V and F");
+    }
+    validate_look(surface.look, "surrounding look");
+    const auto& V = *surface.V;
+    const auto& F = *surface.F;
+    if (!V.allFinite()) throw std::invalid_argument(which + " has a non-finite position");
+    Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> N =
+        Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>::Zero(V.rows(), 3);
+    indices.resize(static_cast<std::size_t>(F.size()));
+    for (Eigen::Index f = 0; f < F.rows(); ++f) {
+      for (int k = 0; k < 3; ++k) {
+        const int index = F(f, k);
+        if (index < 0 || index >= V.rows()) {
+          throw std::invalid_argument(which + " face " + std::to_string(f) +
+                                      " has a vertex index outside [0, " +
+                                      std::to_string(V.rows()) + ")");
+        }
+        indices[static_cast<std::size_t>(3 * f + k)] = static_cast<std::uint32_t>(index);
+      }
+      // The cross product's length is twice the area: normals weighted by area.
+      const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+      const Eigen::Vector3d n = (b - a).cross(c - a);
+      for (int k = 0; k < 3; ++k)
+        N.row(F(f, k)) += n.transpose();
+    }
+    vertices.resize(static_cast<std::size_t>(V.rows()) * GlMesh::floats_per_vertex);
+    for (Eigen::Index v = 0; v < V.rows(); ++v) {
+      const double length = N.row(v).norm();
+      for (int k = 0; k < 3; ++k) {
+        vertices[static_cast<std::size_t>(v) * GlMesh::floats_per_vertex + k] =
+            static_cast<float>(V(v, k));
+        vertices[static_cast<std::size_t>(v) * GlMesh::floats_per_vertex + 3 + k] =
+            length > 0.0 ? static_cast<float>(N(v, k) / length) : (k == 2 ? 1.0f : 0.0f);
+      }
+    }
+    Surroundings entry{std::make_unique<GlMesh>(), surface.look, surface.inside_only};
+    entry.mesh->set_vertices(vertices);
+    entry.mesh->set_indices(indices);
+    built.push_back(std::move(entry));
+  }
+  surroundings_ = std::move(built);
 }
 
 bool SceneRenderer::upload_tissue(const TissueView& tissue) {
@@ -498,8 +554,8 @@ void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
     draw_lit(sphere_, sphere, style_.marker);
   }
 
-  if (has_tissue) {
-    // The instruments' shadows on the tissue and the floor (Caster, above).
+  if (has_tissue || !surroundings_.empty()) {
+    // The instruments' shadows on the tissue, its surroundings and the floor (Caster, above).
     const std::size_t count = std::min(tools.size(), kMaxCasters);
     std::array<float, 3 * kMaxCasters> centre{};
     std::array<float, kMaxCasters> radius{};
@@ -515,11 +571,17 @@ void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
     glUniform3fv(caster_centre_location_, kMaxCasters, centre.data());
     glUniform1fv(caster_radius_location_, kMaxCasters, radius.data());
     glUniform3fv(shadow_light_location_, 1, light.data());
-    const int faces = tissue_.index_count() / 3;
-    draw_lit(tissue_, Eigen::Affine3d::Identity(), style_.tissue, 0, capsule_triangles_);
-    if (capsule_triangles_ < faces) {
-      draw_lit(tissue_, Eigen::Affine3d::Identity(), style_.cut_wall, capsule_triangles_,
-               faces - capsule_triangles_);
+    if (has_tissue) {
+      const int faces = tissue_.index_count() / 3;
+      draw_lit(tissue_, Eigen::Affine3d::Identity(), style_.tissue, 0, capsule_triangles_);
+      if (capsule_triangles_ < faces) {
+        draw_lit(tissue_, Eigen::Affine3d::Identity(), style_.cut_wall, capsule_triangles_,
+                 faces - capsule_triangles_);
+      }
+    }
+    for (const Surroundings& s : surroundings_) {
+      if (s.inside_only && !camera.headlight) continue;
+      draw_lit(*s.mesh, Eigen::Affine3d::Identity(), s.look);
     }
   }
   if (has_tissue && !camera.headlight) {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -71,6 +72,16 @@ struct SurfaceLook {
   float shininess = 1.0f;  // Blinn-Phong exponent, > 0
 };
 
+// A surface that does not move (a bone, the cavity's wall, a neighbouring organ), world
+// coordinates [m]. Read by set_surroundings only.
+struct StaticSurface {
+  const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>* V = nullptr;  // #V by 3
+  const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>* F = nullptr;     // into V
+  SurfaceLook look;
+  // Drawn only under a Camera::headlight (the scope, inside the body): a cavity's wall.
+  bool inside_only = false;
+};
+
 // Colours, light and floor placement of a scene. Every lit pixel is
 //   colour = clamp(albedo * (ambient + a diffuse * max(0, n.l)) + a specular * s, 0, 1),
 //   s = max(0, n.h)^shininess if n.l > 0, else 0,
@@ -102,6 +113,12 @@ struct SceneStyle {
   SurfaceLook steel{{0.78f, 0.80f, 0.84f}, 0.70f, 64.0f};
   // The walls a cut opened: the organ's interior, deeper red and wetter than its capsule.
   SurfaceLook cut_wall{{0.62f, 0.10f, 0.10f}, 0.35f, 32.0f};
+  // Looks for the surroundings (StaticSurface): bone with its cartilage, the cavity's lining, a
+  // neighbouring organ, fat.
+  SurfaceLook bone{{0.86f, 0.80f, 0.60f}, 0.30f, 24.0f};
+  SurfaceLook lining{{0.70f, 0.34f, 0.32f}, 0.20f, 24.0f};
+  SurfaceLook organ{{0.66f, 0.46f, 0.47f}, 0.25f, 32.0f};
+  SurfaceLook fat{{0.86f, 0.70f, 0.36f}, 0.30f, 32.0f};
   // Behind everything an endoscope sees (Camera::headlight): the unlit cavity.
   Eigen::Vector3f cavity{0.035f, 0.012f, 0.010f};
   // The floor is a square perpendicular to up, floor_gap below the tissue's lowest point (along
@@ -110,8 +127,8 @@ struct SceneStyle {
   double floor_half_size = 0.5;  // [m], > 0
 };
 
-// Draws a live scene: backdrop, floor, tissue and tools (without the floor, on the cavity's colour,
-// under a Camera::headlight). One per render thread; needs a current
+// Draws a live scene: backdrop, floor, tissue, its surroundings and tools (without the floor, on
+// the cavity's colour, under a Camera::headlight). One per render thread; needs a current
 // EglContext for its whole life and must be destroyed before it.
 //
 // The tissue's positions and normals are uploaded every frame into buffers that are reallocated
@@ -125,6 +142,12 @@ class SceneRenderer {
   ~SceneRenderer();
   SceneRenderer(const SceneRenderer&) = delete;
   SceneRenderer& operator=(const SceneRenderer&) = delete;
+
+  // Replaces the surroundings drawn with every frame (none at first): uploads them once, with
+  // area-weighted vertex normals. Throws std::invalid_argument, keeping the ones before, for a
+  // surface without V or F, a face index outside [0, #V), a non-finite position or a look with a
+  // non-positive shininess.
+  void set_surroundings(std::span<const StaticSurface> surfaces);
 
   // The style as given, with up and to_light normalised.
   const SceneStyle& style() const { return style_; }
@@ -185,6 +208,12 @@ class SceneRenderer {
   GlMesh square_;
   GlMesh box_;
   GlMesh tissue_;
+  struct Surroundings {
+    std::unique_ptr<GlMesh> mesh;
+    SurfaceLook look;
+    bool inside_only = false;
+  };
+  std::vector<Surroundings> surroundings_;
   // The tissue as last uploaded, kept so that frames reuse memory and unchanged faces are not
   // sent again.
   std::vector<float> tissue_vertices_;

@@ -293,10 +293,16 @@ SurgicalSceneFile parse_surgical_scene_file(const json& value) {
     read_common(root, o);
   }
   if (root.has("solver")) {
-    const JsonObjectReader s(root.required("solver"), "solver", {"cut_every", "damage_every"});
+    const JsonObjectReader s(root.required("solver"), "solver",
+                             {"cut_every", "damage_every", "time_step"});
     const int max = std::numeric_limits<int>::max();
     if (s.has("cut_every")) file.cut_every = read_count(s, "cut_every", 1, max);
     if (s.has("damage_every")) file.damage_every = read_count(s, "damage_every", 1, max);
+    if (s.has("time_step")) {
+      Real& step = file.anatomy == Anatomy::liver ? file.liver.time_step : file.knee.time_step;
+      step = s.number("time_step");
+      check_range(s.path("time_step"), step, 0, true, 0.01, true);
+    }
   }
   return file;
 }

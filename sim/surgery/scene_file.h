@@ -19,14 +19,18 @@
 //     "tools"?: [ {"kind": "probe" | "grasper" | "scalpel" | "scope", "device": integer >= 0,
 //                  per-kind settings, each optional} ]     (absent: the preset's default tools)
 //     "damage"?: {"strain_threshold"?, "target_half_width"?},
-//     "solver"?: {"cut_every"?, "damage_every"?} }
+//     "solver"?: {"cut_every"?, "damage_every"?, "time_step"?} }
+// time_step [s] in [0, 0.01]: longer than the tissue's stable step, the tissue is mass-scaled
+// to make it stable (SurgicalSceneSetup::mass_scale); otherwise, and by default, the step is the
+// stable step.
 // A tool starts from the preset's default tool of its kind (the knee's probe has a 1.5 mm hook
 // tip, its scope a 4 mm shaft), else from ToolSpec's defaults. Its settings and the kinds they
 // belong to: shaft_length, shaft_radius (all); radius (probe); coupling_stiffness, max_force
 // (probe, scope); tear_force, jaw_length, reach, max_jaw_angle [rad] (grasper); blade_length
 // (scalpel);
 // view_angle_degrees, field_of_view_degrees (scope). A setting on a kind it does not belong to is
-// refused, as is any unknown member. The time step is the preset's (the tissue's stable step).
+// refused, as is any unknown member. The time step is the tissue's stable step unless
+// solver.time_step asks for more.
 //
 // Errors: SceneError naming the JSON path, e.g.
 //   tools[1].kind: "saw" is not one of probe, grasper, scalpel, scope

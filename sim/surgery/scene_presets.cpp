@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "sim/mesh/box_mesher.h"
@@ -49,6 +50,26 @@ Real set_guard(SurgicalSceneSpec& spec, const std::map<int, Material>& materials
 // set_guard, and dt the stable step of the fastest material on the smallest altitude.
 void set_step(SurgicalSceneSpec& spec, const std::map<int, Material>& materials) {
   spec.dt = kExplicitSafety * set_guard(spec, materials);
+}
+
+// Mass scaling (SurgicalSceneSetup::mass_scale): scales the materials' densities so that the
+// stable step is time_step, if that is longer; returns the scale (1: unchanged).
+Real scale_masses(SurgicalSceneSpec& spec, std::map<int, Material>& materials, Real time_step) {
+  set_step(spec, materials);
+  if (!(time_step > spec.dt)) return 1;
+  const Real scale = (time_step / spec.dt) * (time_step / spec.dt);
+  for (auto& [label, m] : materials) {
+    (void)label;
+    m.density *= scale;
+  }
+  return scale;
+}
+
+void check_time_step(Real time_step) {
+  if (!(std::isfinite(time_step) && time_step >= 0 && time_step <= 0.01)) {
+    throw std::invalid_argument("time_step must be in [0, 0.01] s, got " +
+                                std::to_string(time_step));
+  }
 }
 
 tools::MarkedTarget target_of(const std::vector<Vec3>& line, Real half_width) {
@@ -150,10 +171,12 @@ SurgicalSceneSetup make_liver_surgery(const LiverSceneOptions& options) {
   SurgicalSceneSetup setup;
   setup.name = "liver";
   SurgicalSceneSpec& spec = setup.spec;
-  const std::map<int, Material> materials = {{kLiverLabel, options.liver},
-                                             {kGallbladderBedLabel, options.liver}};
+  std::map<int, Material> materials = {{kLiverLabel, options.liver},
+                                       {kGallbladderBedLabel, options.liver}};
+  check_time_step(options.time_step);
   spec.fixed = held(liver.organ.num_nodes(), liver.held_nodes);
   spec.tissue = std::move(liver.organ);
+  setup.mass_scale = scale_masses(spec, materials, options.time_step);
   spec.model = model_of(materials);
   set_step(spec, materials);
   spec.ambient_damping = options.ambient_damping;
@@ -171,6 +194,9 @@ SurgicalSceneSetup make_liver_surgery(const LiverSceneOptions& options) {
     spec.far_field.radius = options.operational_radius;
     spec.far_field.materials = element_materials(scene_of(materials), spec.tissue);
   }
+  setup.surroundings = liver_surroundings(Box3(spec.tissue.rest.colwise().minCoeff().transpose(),
+                                               spec.tissue.rest.colwise().maxCoeff().transpose()),
+                                          liver.shape.flat_side_z);
   setup.landmarks = std::move(liver.landmarks);
   setup.cut_target = std::move(liver.cut_line);
   return setup;
@@ -181,11 +207,13 @@ SurgicalSceneSetup make_knee_surgery(const KneeSceneOptions& options) {
   SurgicalSceneSetup setup;
   setup.name = "knee";
   SurgicalSceneSpec& spec = setup.spec;
-  const std::map<int, Material> materials = {{kMedialMeniscusLabel, options.meniscus},
-                                             {kLateralMeniscusLabel, options.meniscus},
-                                             {kLigamentLabel, options.ligament}};
+  std::map<int, Material> materials = {{kMedialMeniscusLabel, options.meniscus},
+                                       {kLateralMeniscusLabel, options.meniscus},
+                                       {kLigamentLabel, options.ligament}};
+  check_time_step(options.time_step);
   spec.fixed = held(knee.tissue.num_nodes(), knee.held_nodes);
   spec.tissue = std::move(knee.tissue);
+  setup.mass_scale = scale_masses(spec, materials, options.time_step);
   spec.model = model_of(materials);
   set_step(spec, materials);
   spec.ambient_damping = options.ambient_damping;
@@ -202,6 +230,12 @@ SurgicalSceneSetup make_knee_surgery(const KneeSceneOptions& options) {
   }
   spec.damage.protected_labels = knee.protected_labels;
   spec.damage.target = target_of(knee.cut_target, options.target_half_width);
+  std::vector<Surrounding> bones;
+  for (const BoneSpec& bone : spec.bones)
+    bones.push_back({bone.name, SurroundingKind::bone, bone.vertices, bone.triangles});
+  setup.surroundings =
+      knee_surroundings(std::move(bones), Box3(spec.tissue.rest.colwise().minCoeff().transpose(),
+                                               spec.tissue.rest.colwise().maxCoeff().transpose()));
   setup.landmarks = std::move(knee.landmarks);
   setup.portals = std::move(knee.portals);
   setup.cut_target = std::move(knee.cut_target);

@@ -22,6 +22,7 @@
 #include "sim/mesh/cgal/anatomy.h"
 #include "sim/scene/scene.h"
 #include "sim/surgery/surgical_scene.h"
+#include "sim/surgery/surroundings.h"
 
 namespace incise::sim::surgery {
 
@@ -35,6 +36,15 @@ struct SurgicalSceneSetup {
   std::optional<ViewSpec> view;  // the scene's own camera, if it names one (the block's "view")
   // The block's probes stand for any tool a task names (a "retractor" is a probe that holds).
   bool tools_stand_for_any = false;
+  // Mass scaling: a time_step longer than the tissue's stable step is made stable by scaling every
+  // tissue density by mass_scale = (time_step / stable step)^2 (the P-wave speed falls by its
+  // square root). Static deformation and forces are unchanged (no gravity in these scenes);
+  // motion is slower: every vibration mode's frequency falls by sqrt(mass_scale), and the ambient
+  // damping's time constant stays. 1: none.
+  Real mass_scale = 1;
+  // What frames the tissue in the picture (the knee's bones and capsule, the liver's neighbours
+  // and the abdominal wall); none for the block.
+  std::vector<Surrounding> surroundings;
 };
 
 struct LiverSceneOptions {
@@ -60,6 +70,8 @@ struct LiverSceneOptions {
   // nodes, which the condensed model keeps, and its dense K* costs about what the nonlinear
   // elements it replaces do; docs/surgical_scenes.md has the figures).
   Real operational_radius = 0;
+  // The step [s]; 0 or anything up to the tissue's stable step: the stable step (see mass_scale).
+  Real time_step = 0;
   std::vector<ToolSpec> tools = default_tools();
   static std::vector<ToolSpec> default_tools();  // a probe on device 0, a grasper on device 1
 };
@@ -80,10 +92,12 @@ struct KneeSceneOptions {
   // mass-proportional damping [1/s]: a time constant of 10 ms (the menisci's lowest modes are near
   // 65 Hz; at 20/s a jerked meniscus was still tangled after the suite's 60 ms settle).
   Real ambient_damping = 100;
-  // No refinement by default: the generated mesh's slivers set dt, so a split of its 3 mm cells
-  // would need a shorter step; bench_surgery's probe landing made 6 splits and refused 718, at
-  // 4.9 ms. On (to 1.5 mm edges within 5 mm) once the knee's mesh is better.
+  // No refinement by default: a split of the 3 mm cells would need a shorter step than the
+  // tissue's (43 us at 3 mm cells; bench_surgery's probe landing, on the older mesh, made 6 splits
+  // and refused 718, at 4.9 ms).
   AdaptivitySpec adaptivity{false, 0.0015, 0.005, 0.1, 2000};
+  // The step [s]; 0 or anything up to the tissue's stable step: the stable step (see mass_scale).
+  Real time_step = 0;
   std::vector<ToolSpec> tools = default_tools();
   static std::vector<ToolSpec> default_tools();  // a scope on device 0, a probe on device 1
 };

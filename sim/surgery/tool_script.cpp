@@ -58,7 +58,8 @@ const Place& find_place(const std::vector<Place>& places, const JsonObjectReader
 Keyframe read_keyframe(const json& value, const std::string& path, const Keyframe* previous,
                        Real duration, const std::vector<Place>& places, const std::string& scene) {
   const JsonObjectReader o(
-      value, path, {"t", "tip", "at", "offset", "direction", "towards", "along", "advance", "jaw"});
+      value, path,
+      {"t", "tip", "at", "offset", "direction", "towards", "from", "along", "advance", "jaw"});
   Keyframe k;
   k.t = o.number("t");
   check_range(o.path("t"), k.t, 0, true, duration, true);
@@ -77,9 +78,10 @@ Keyframe read_keyframe(const json& value, const std::string& path, const Keyfram
   const Vec3 base = o.has("tip") ? o.vec3("tip")
                                  : find_place(places, o, "at", scene, false).position +
                                        (o.has("offset") ? o.vec3("offset") : Vec3::Zero());
-  const int given = int(o.has("direction")) + int(o.has("towards")) + int(o.has("along"));
+  const int given =
+      int(o.has("direction")) + int(o.has("towards")) + int(o.has("from")) + int(o.has("along"));
   if (given > 1) {
-    throw SceneError(path, "has more than one of \"direction\", \"towards\", \"along\"");
+    throw SceneError(path, "has more than one of \"direction\", \"towards\", \"from\", \"along\"");
   }
   std::string direction_path = path;
   k.direction = previous != nullptr ? previous->direction : Vec3(-Vec3::UnitZ());
@@ -91,6 +93,11 @@ Keyframe read_keyframe(const json& value, const std::string& path, const Keyfram
   } else if (o.has("towards")) {
     direction_path = o.path("towards");
     const Vec3 d = find_place(places, o, "towards", scene, false).position - base;
+    if (!(d.norm() > 1e-9)) throw SceneError(direction_path, "is where the tip is");
+    k.direction = d.normalized();
+  } else if (o.has("from")) {
+    direction_path = o.path("from");
+    const Vec3 d = base - find_place(places, o, "from", scene, false).position;
     if (!(d.norm() > 1e-9)) throw SceneError(direction_path, "is where the tip is");
     k.direction = d.normalized();
   } else if (o.has("along")) {

@@ -9,12 +9,14 @@
 //     "devices": [ {"keyframes": [ keyframe, ... ]}, ... ] }     (devices[d] drives device d)
 //   keyframe: { "t": seconds in [0, duration], strictly increasing along a track,
 //               "tip": [x, y, z] | "at": "<place>" with "offset"?: [dx, dy, dz],
-//               "direction"?: [dx, dy, dz] | "towards": "<place>" | "along": "<portal>",
+//               "direction"?: [dx, dy, dz] | "towards": "<place>" | "from": "<place>" |
+//                             "along": "<portal>",
 //               "advance"?: metres along the direction,
 //               "jaw"?: opening in [0, 1] }
 //   A place is a landmark or a portal of the scene, or "cut_start" / "cut_end" (the ends of the
 //   marked cut line). The tip is (tip, or the place + offset) + advance * direction. "towards"
-//   points from (tip, or place + offset) to the named place; "along" takes the portal's
+//   points from (tip, or place + offset) to the named place, "from" from the named place to it
+//   (a tool that entered through that portal); "along" takes the portal's
 //   direction. direction and jaw carry over from the previous keyframe (the first's: straight
 //   down [0, 0, -1], and 1, open).
 // Between keyframes the tip and the jaw are interpolated linearly and the direction normalised-

@@ -29,6 +29,7 @@ export const demo = {
   trainee: { username: 'trainee', password: 'incise-trainee-demo' },
   station_token: 'incise-demo-station-token',
   surgical_station_token: 'incise-demo-surgical-station-token',
+  arthroscopy_station_token: 'incise-demo-arthroscopy-station-token',
 };
 
 /**
@@ -189,6 +190,32 @@ export async function click_for_response(page, button, method, path_pattern) {
     button.click(),
   ]);
   return response;
+}
+
+/**
+ * A logged-in trainee walks up to `station_name` (the only station online, so preselected under
+ * "Train now"), books it from now, picks the task `task_key`, sees `instructions` and starts it.
+ * Returns the session the server started, the page on its live view.
+ */
+export async function walk_up_and_start(page, station_name, task_key, instructions) {
+  const stations = (await api_call(page, 'GET', '/api/stations')).body;
+  const station = stations.find((s) => s.name === station_name);
+  assert.ok(station?.online, `the ${station_name}'s agent is connected: ${JSON.stringify(stations)}`);
+  const train = region(page, 'Train now');
+  const walk_up = train.getByRole('form', { name: 'Walk up to a station' });
+  await sees(walk_up, 'the walk-up form');
+  assert.equal(await walk_up.getByLabel('Station').inputValue(), String(station.id), 'the online station is preselected');
+  const booked = await click_for_response(page, walk_up.getByRole('button', { name: /^Book from / }), 'POST', /^\/api\/bookings$/);
+  assert.equal(booked.status(), 201, await booked.text());
+  const start_form = train.getByRole('form', { name: `Start a session at ${station_name}` });
+  await sees(start_form, `a form to start a session at the ${station_name}`);
+  await start_form.getByLabel('Task').selectOption(task_key);
+  await sees(start_form.filter({ hasText: instructions }), `the instructions of ${task_key}`);
+  const started = await click_for_response(page, start_form.getByRole('button', { name: 'Start session' }), 'POST', /^\/api\/sessions$/);
+  assert.equal(started.status(), 201, await started.text());
+  const session = await started.json();
+  await page.waitForURL(`**/sessions/${session.id}`);
+  return session;
 }
 
 export async function log_in(page, { username, password }) {

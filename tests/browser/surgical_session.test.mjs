@@ -18,6 +18,7 @@ import {
   sees,
   snap,
   wait_for_canvas,
+  walk_up_and_start,
 } from './support.mjs';
 
 const { scenario } = browser_suite({
@@ -38,25 +39,8 @@ scenario(
   async (page) => {
     assert.equal((await log_in(page, demo.trainee)).status(), 200);
     await page.waitForURL('**/trainee');
-    const stations = (await api_call(page, 'GET', '/api/stations')).body;
-    const station = stations.find((s) => s.name === 'Surgical station');
-    assert.ok(station?.online, `the Surgical station's agent is connected: ${JSON.stringify(stations)}`);
-
     // Walk up to the Surgical station (the only one online), then start the liver task there.
-    const train = region(page, 'Train now');
-    const walk_up = train.getByRole('form', { name: 'Walk up to a station' });
-    await sees(walk_up, 'the walk-up form');
-    assert.equal(await walk_up.getByLabel('Station').inputValue(), String(station.id), 'the online station is preselected');
-    const booked = await click_for_response(page, walk_up.getByRole('button', { name: /^Book from / }), 'POST', /^\/api\/bookings$/);
-    assert.equal(booked.status(), 201, await booked.text());
-    const start_form = train.getByRole('form', { name: 'Start a session at Surgical station' });
-    await sees(start_form, 'a form to start a session at the Surgical station');
-    await start_form.getByLabel('Task').selectOption('liver_cut');
-    await sees(start_form.filter({ hasText: 'Cut the liver along the line' }), "the liver task's instructions");
-    const started = await click_for_response(page, start_form.getByRole('button', { name: 'Start session' }), 'POST', /^\/api\/sessions$/);
-    assert.equal(started.status(), 201, await started.text());
-    const session = await started.json();
-    await page.waitForURL(`**/sessions/${session.id}`);
+    const session = await walk_up_and_start(page, 'Surgical station', 'liver_cut', 'Cut the liver along the line');
 
     // Live: the picture, the two hands, and the cut growing as the blade moves along the line.
     await wait_for_canvas(page, 'live-canvas', {}, 'a first live frame');

@@ -44,7 +44,7 @@ TEST(CurriculumJson, DemoFileParses) {
   ASSERT_FALSE(text.empty()) << INCISE_DEMO_CURRICULUM;
   const Curriculum curriculum = parse_curriculum_text(text);
   EXPECT_EQ(curriculum.name, "Basic laparoscopic skills");
-  ASSERT_EQ(curriculum.modules.size(), 2u);
+  ASSERT_EQ(curriculum.modules.size(), 3u);
   ASSERT_EQ(curriculum.modules[0].tasks.size(), 2u);
   // The second task is two-handed: its tools are held by devices 0 and 1.
   const Task& bimanual = curriculum.modules[0].tasks[1];
@@ -89,6 +89,17 @@ TEST(CurriculumJson, DemoFileParses) {
   };
   for (const char* key : {"cut_area_m2", "cut_on_target_fraction", "never_events"})
     EXPECT_TRUE(scored(key)) << key;
+  // The knee at the arthroscopy station: a tour of four landmarks (all to be reached), then a
+  // meniscectomy with the punch, the scope on device 0 in both.
+  ASSERT_EQ(curriculum.modules[2].tasks.size(), 2u);
+  const Task& tour = curriculum.modules[2].tasks[0];
+  EXPECT_EQ(tour.scene, "scenes/surgery/knee_station.json");
+  EXPECT_EQ(tour.tools, (std::vector<std::string>{"scope", "probe"}));
+  EXPECT_EQ(tour.targets.size(), 4u);
+  const Task& trim = curriculum.modules[2].tasks[1];
+  EXPECT_EQ(trim.scene, "scenes/surgery/knee_meniscectomy.json");
+  EXPECT_EQ(trim.tools, (std::vector<std::string>{"scope", "scalpel"}));
+  EXPECT_EQ(trim.prerequisites, std::vector<std::string>{"knee_tour"});
   EXPECT_EQ(parse_curriculum(to_json(curriculum)), curriculum);
 }
 

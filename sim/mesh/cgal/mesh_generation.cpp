@@ -216,8 +216,19 @@ TetMesh mesh_labelling(const Labelling& labelling, const Box3& bounds, const Box
   Complex complex;
   try {
     // time_limit = 0: no wall-clock limit, so the result does not depend on the machine's speed.
-    complex = CGAL::make_mesh_3<Complex>(domain, criteria, params::perturb(params::time_limit = 0),
-                                         params::exude(params::time_limit = 0));
+    if (c.odt_iterations > 0) {
+      complex = CGAL::make_mesh_3<Complex>(
+          domain, criteria,
+          params::odt(params::time_limit = 0,
+                      params::max_iteration_number = static_cast<std::size_t>(c.odt_iterations)),
+          params::perturb(params::time_limit = 0, params::sliver_bound = c.sliver_bound_deg),
+          params::exude(params::time_limit = 0, params::sliver_bound = c.sliver_bound_deg));
+    } else {
+      complex = CGAL::make_mesh_3<Complex>(
+          domain, criteria,
+          params::perturb(params::time_limit = 0, params::sliver_bound = c.sliver_bound_deg),
+          params::exude(params::time_limit = 0, params::sliver_bound = c.sliver_bound_deg));
+    }
   } catch (const std::exception& e) {
     throw std::runtime_error(std::string("CGAL Mesh_3 failed: ") + e.what());
   }
@@ -243,6 +254,12 @@ void check_meshing_criteria(const MeshingCriteria& c) {
           "meshing criteria: cell_radius_edge_ratio must be >= 2 (Mesh_3 terminates only from "
           "2), got " +
               std::to_string(c.cell_radius_edge_ratio));
+  require(c.odt_iterations >= 0 && c.odt_iterations <= 1000,
+          "meshing criteria: odt_iterations must be in [0, 1000], got " +
+              std::to_string(c.odt_iterations));
+  require(std::isfinite(c.sliver_bound_deg) && c.sliver_bound_deg >= 0 && c.sliver_bound_deg < 30,
+          "meshing criteria: sliver_bound_deg must be in [0, 30), got " +
+              std::to_string(c.sliver_bound_deg));
 }
 
 TetMesh mesh_implicit(const ImplicitShape& shape, const Box3& bounds,

@@ -38,10 +38,19 @@ struct MeshingCriteria {
   // Upper bound on a tet's circumradius over its shortest edge, >= 2 (Mesh_3 guarantees
   // termination from 2 up); the sliver passes then remove the flat tets this bound allows.
   Real cell_radius_edge_ratio = 3;
+  // Optimisation before the sliver passes: this many iterations of ODT smoothing (CGAL's
+  // odt_optimize_mesh_3: vertices moved to minimise the optimal-Delaunay energy), 0 for none.
+  // Thin tissue (the knee's menisci) leaves boundary slivers that the sliver passes alone cannot
+  // remove; ODT first spreads the vertices so that they can.
+  int odt_iterations = 0;
+  // The smallest dihedral angle [degrees] the perturbation and exudation aim for, in [0, 30);
+  // 0: CGAL's default (improve the worst tets while it can).
+  Real sliver_bound_deg = 0;
 };
 
 // Throws std::invalid_argument naming the offending field: a size that is not finite or <= 0, an
-// angle outside (0, 30], a radius-edge ratio below 2 or not finite.
+// angle outside (0, 30], a radius-edge ratio below 2 or not finite, odt_iterations outside
+// [0, 1000], a sliver bound outside [0, 30).
 void check_meshing_criteria(const MeshingCriteria& criteria);
 
 // A tet mesh of the inside of shape (implicit_value < 0), all labels 1.

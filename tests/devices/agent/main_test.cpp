@@ -234,8 +234,10 @@ TEST(Agent, CommandLine) {
       {{"--token", "t", "--script", "/nonexistent/script.json"},
        "incise-agent: simulated /nonexistent/script.json: cannot open\n"},
       {{"--token", "t", "--device", "bogus"},
-       "incise-agent: --device bogus: unknown driver (have simulated, hand, scope, replay, "
-       "evdev)\n"},
+       "incise-agent: --device bogus: unknown driver (have simulated, hand, scope, knee-scope, "
+       "knee-instrument, replay, evdev)\n"},
+      {{"--token", "t", "--device", "knee-scope"},
+       "incise-agent: knee-scope: needs a script (knee-scope:SCRIPT.json)\n"},
       {{"--token", "t", "--device", "simulated", "--device", "hand", "--device", "simulated"},
        "incise-agent: --device simulated: a station has at most 2 devices (see --help)\n"},
       {{"--token", "t", "--device", "replay:/nonexistent.log"},

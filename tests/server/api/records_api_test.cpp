@@ -76,13 +76,16 @@ TEST_F(RecordsApi, SessionShape) {
 
 TEST_F(RecordsApi, StationsShowWhetherAnAgentIsOnline) {
   const auto list = json_of(get("/api/stations", session_of(Who::trainee)));
-  ASSERT_EQ(list.size(), 2u);  // the demo's palpation bench and surgical station
-  EXPECT_EQ(list[0], (nlohmann::json{{"id", demo_station_id()},
+  // The demo's arthroscopy station, palpation bench and surgical station, by name.
+  ASSERT_EQ(list.size(), 3u);
+  EXPECT_EQ(list[0]["name"], "Arthroscopy station");
+  EXPECT_EQ(list[0]["online"], false);
+  EXPECT_EQ(list[1], (nlohmann::json{{"id", demo_station_id()},
                                      {"name", "Station 1"},
                                      {"location", "Skills lab, room 2"},
                                      {"online", false}}));
-  EXPECT_EQ(list[1]["name"], "Surgical station");
-  EXPECT_EQ(list[1]["online"], false);
+  EXPECT_EQ(list[2]["name"], "Surgical station");
+  EXPECT_EQ(list[2]["online"], false);
 }
 
 TEST_F(RecordsApi, AdminsCreateStationsWithATokenShownOnce) {
@@ -94,7 +97,7 @@ TEST_F(RecordsApi, AdminsCreateStationsWithATokenShownOnce) {
   EXPECT_EQ(body["station"]["location"], "");
   EXPECT_EQ(body["station"]["online"], false);
   EXPECT_EQ(body["token"].get<std::string>().size(), 64u);
-  EXPECT_EQ(json_of(get("/api/stations", token)).size(), 3u);
+  EXPECT_EQ(json_of(get("/api/stations", token)).size(), 4u);  // the demo's three and this one
   EXPECT_EQ(json_of(get("/api/stations", token)).dump().find(body["token"].get<std::string>()),
             std::string::npos);
   EXPECT_TRUE(

@@ -286,5 +286,66 @@ TEST_F(EndoscopeViewTest, RejectsInstrumentsItCannotDraw) {
   EXPECT_THROW(draw(renderer, target, dark, {}), std::invalid_argument);
 }
 
+// A static surface (a bone) is drawn in its own look where it projects, with no tissue at all; a
+// cavity's wall (inside_only) shows through the scope and not from outside; the surfaces stay
+// until replaced, and a rejected set keeps them.
+TEST_F(EndoscopeViewTest, SurroundingsAreDrawnInTheirLookAndTheCavityWallOnlyInside) {
+  SceneStyle style;
+  style.bone.albedo = Eigen::Vector3f(0.9f, 0.9f, 0.2f);
+  style.lining.albedo = Eigen::Vector3f(0.2f, 0.3f, 0.9f);
+  SceneRenderer renderer(style);
+  const Framebuffer target(kWidth, kHeight);
+  // Facing the camera (normal -y), 10 cm in front of it.
+  Eigen::Matrix3d facing;
+  facing << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  const Surface bone = square_surface(0.01, 2, facing, Eigen::Vector3d(-0.012, 0, 0.035));
+  const Surface wall = square_surface(0.01, 2, facing, Eigen::Vector3d(0.012, 0, 0.035));
+  const std::vector<StaticSurface> surfaces = {{&bone.V, &bone.F, style.bone, false},
+                                               {&wall.V, &wall.F, style.lining, true}};
+  renderer.set_surroundings(surfaces);
+  const Eigen::Vector3d on_bone(-0.012, 0, 0.035), on_wall(0.012, 0, 0.035);
+
+  const Camera scope = side_scope();
+  const std::vector<std::uint8_t> inside = draw(renderer, target, scope, {});
+  for (const auto& [p, look] : {std::pair{on_bone, style.bone}, std::pair{on_wall, style.lining}}) {
+    // Under the headlight l = v: n.l is the cosine to the eye, and so is n.h.
+    const double d = (scope.eye - p).norm() / scope.light_falloff_m;
+    const double reach = 1 / (1 + d * d);
+    const double lambert = (scope.eye - p).normalized().dot(-Eigen::Vector3d::UnitY());
+    const Eigen::Vector3d expected =
+        255.0 *
+        (look.albedo.cast<double>() * (style.ambient + reach * style.diffuse * lambert) +
+         Eigen::Vector3d::Constant(reach * look.specular * std::pow(lambert, look.shininess)))
+            .cwiseMin(1.0);
+    const PixelPosition at = project(scope, kWidth, kHeight, p);
+    EXPECT_LE(colour_error(pixel_at(inside, kWidth, at.row, at.column), expected), 4.0);
+  }
+  // Between the two squares: the cavity.
+  const PixelPosition gap = project(scope, kWidth, kHeight, Eigen::Vector3d(0, 0, 0.035));
+  EXPECT_LE(colour_error(pixel_at(inside, kWidth, gap.row, gap.column),
+                         255.0 * style.cavity.cast<double>()),
+            2.0);
+
+  Camera outside = scope;
+  outside.headlight = false;
+  const std::vector<std::uint8_t> seen = draw(renderer, target, outside, {});
+  const PixelPosition at_bone = project(outside, kWidth, kHeight, on_bone);
+  const PixelPosition at_wall = project(outside, kWidth, kHeight, on_wall);
+  const test::Pixel bone_pixel = pixel_at(seen, kWidth, at_bone.row, at_bone.column);
+  EXPECT_GT(bone_pixel[0], 100);  // yellow: red and green high, blue low
+  EXPECT_LT(bone_pixel[2], bone_pixel[0] / 2);
+  const test::Pixel behind = pixel_at(seen, kWidth, at_wall.row, at_wall.column);
+  EXPECT_LT(behind[2], 150);  // the backdrop's grey, not the wall's blue
+  EXPECT_LE(std::abs(behind[2] - behind[0]), 40);
+
+  Surface broken = bone;
+  broken.F(0, 0) = 99;
+  const std::vector<StaticSurface> bad = {{&broken.V, &broken.F, style.bone, false}};
+  EXPECT_THROW(renderer.set_surroundings(bad), std::invalid_argument);
+  EXPECT_EQ(draw(renderer, target, scope, {}), inside);
+  renderer.set_surroundings({});
+  EXPECT_NE(draw(renderer, target, scope, {}), inside);
+}
+
 }  // namespace
 }  // namespace incise::render

@@ -52,6 +52,24 @@ TEST(ToolScript, ResolvesPlacesAndCarriesDirectionAndJaw) {
   expect_near(script.devices[1].keyframes[1].tip, Vec3(-0.01, 0, 0));
 }
 
+// "from": the tool entered through a place (a portal) and points from it to the tip; "advance"
+// then goes on along that line (negative: stops short).
+TEST(ToolScript, FromAPortalPointsThroughItToThePlace) {
+  const ToolScript script = parse_tool_script(json::parse(R"({
+    "duration": 1,
+    "devices": [{"keyframes": [{"t": 0, "at": "horn", "from": "medial", "advance": -0.002}]}]})"),
+                                              scripted_scene());
+  const Keyframe& k = script.devices[0].keyframes[0];
+  const Vec3 horn(0.01, 0, 0), portal(0, 0, 0.05);
+  const Vec3 through = (horn - portal).normalized();
+  expect_near(k.direction, through);
+  expect_near(k.tip, horn - 0.002 * through);
+  EXPECT_THROW(parse_tool_script(json::parse(R"({"duration": 1, "devices": [{"keyframes": [
+                   {"t": 0, "at": "medial", "from": "medial"}]}]})"),
+                                 scripted_scene()),
+               SceneError);
+}
+
 TEST(ToolScript, EveryBadInputNamesItsPath) {
   const BadCase cases[] = {
       {R"([1])", "the script must be a JSON object (got [1])"},
@@ -67,7 +85,7 @@ TEST(ToolScript, EveryBadInputNamesItsPath) {
        "devices[2]: no tool of the test scene is on device 2"},
       {R"({"duration": 1, "devices": [{"keyframes": [{"t": 0, "tipp": [0, 0, 0]}]}]})",
        "devices[0].keyframes[0].tipp: unknown key (expected one of: t, tip, at, offset, "
-       "direction, towards, along, advance, jaw)"},
+       "direction, towards, from, along, advance, jaw)"},
       {R"({"duration": 1, "devices": [{"keyframes": [{"t": 2, "tip": [0, 0, 0]}]}]})",
        "devices[0].keyframes[0].t: must be in [0, 1] (got 2)"},
       {R"({"duration": 1, "devices": [{"keyframes": [{"t": 0.5, "tip": [0, 0, 0]},
@@ -92,7 +110,7 @@ TEST(ToolScript, EveryBadInputNamesItsPath) {
        "devices[0].keyframes[0].towards: is where the tip is"},
       {R"({"duration": 1, "devices": [{"keyframes": [{"t": 0, "at": "horn",
            "direction": [0, 0, 1], "towards": "notch"}]}]})",
-       R"(devices[0].keyframes[0]: has more than one of "direction", "towards", "along")"},
+       R"(devices[0].keyframes[0]: has more than one of "direction", "towards", "from", "along")"},
       {R"({"duration": 1, "devices": [{"keyframes": [{"t": 0, "tip": [0, 0, 0],
                                                       "direction": [0, 0, 0]}]}]})",
        "devices[0].keyframes[0].direction: must not be zero"},

@@ -8,11 +8,14 @@
 #include <cstdio>
 #include <functional>
 #include <map>
+#include <numbers>
 #include <set>
 #include <string>
 #include <utility>
 
 #include "mesh_checks.h"
+#include "sim/mesh/mesh_quality.h"
+#include "sim/solve/stable_time_step.h"
 
 // The checks below recompute every property from the arrays (surface topology, volumes,
 // distances, point-in-tet) rather than trusting the code under test.
@@ -236,11 +239,29 @@ TEST(KneeAnatomy, TissueLabelsKeepTheirSegmentedVolumes) {
     std::printf("[figures] label %d: %ld tets, volume %.4g m^3, voxels %.4g m^3 (%+.1f%%)\n", label,
                 tets, mesh_volume, voxels, 100 * (mesh_volume / voxels - 1));
     EXPECT_GT(tets, 50) << label;
-    // 8% (measured 4-6% less): the tissues are only 2-9 voxels thick, so the fraction of a voxel
-    // layer by which the smoothed voxel boundary (label_at) and the inscribed mesh facets (facet
-    // distance voxel_size / 3) fall inside the voxels is a few percent of the volume.
-    EXPECT_NEAR(mesh_volume, voxels, 0.08 * voxels) << label;
+    // 20% (measured 9-15% less at the default 2 mm cells): the tissues are only 2-9 voxels
+    // thick, so the fraction of a voxel layer by which the smoothed voxel boundary (label_at) and
+    // the inscribed mesh facets (facet distance one voxel, for the stable step: make_knee) fall
+    // inside the voxels is a tenth of the volume or more. Never more than the voxels.
+    EXPECT_NEAR(mesh_volume, voxels, 0.20 * voxels) << label;
+    EXPECT_LT(mesh_volume, voxels) << label;
   }
+}
+
+// No slivers, and no tets so small that they set a step far below the cells' size: the smallest
+// dihedral angle and the stable step of the stiffest tissue (the ligament's P-wave speed) on the
+// default 2 mm cells (measured 13.4 degrees and 22.9 us; 12.0 degrees and 8.2 us at 3 mm cells
+// when the facets followed the voxels to a third of one).
+TEST(KneeAnatomy, TheTissueMeshHasNoSliversAndAStableStepOfTensOfMicroseconds) {
+  const KneeAnatomy& k = knee();
+  const QualitySummary q = summarize_quality(k.tissue.rest, k.tissue.tets);
+  const Real min_dihedral_deg = q.min_dihedral.min * 180 / std::numbers::pi;
+  const Real step = stable_time_step(k.tissue, 60000, 0.3, 1100);
+  std::printf("[figures] knee tissue: smallest dihedral angle %.2f deg, stable step %.1f us\n",
+              min_dihedral_deg, step * 1e6);
+  EXPECT_GE(min_dihedral_deg, 10.0);
+  EXPECT_EQ(q.num_inverted + q.num_degenerate, 0);
+  EXPECT_GE(step, 15e-6);
 }
 
 TEST(KneeAnatomy, SoftTissueRestsAgainstButOutsideTheBones) {
