@@ -242,7 +242,7 @@ void run_knee_station(const std::string& save_dir) {
     picture.encode(
         renderer, encoder,
         server::live::picture_camera(*snapshot, session, outside, false, double(width) / height),
-        jpeg, snapshot->scope.has_value());
+        jpeg);
     triangles = static_cast<int>(snapshot->surface->faces.rows());
     if (!save_dir.empty() && (frame == 0 || frame == 150 || frame == frames - 1)) {
       save(save_dir + "/knee_station_" + std::to_string(frame) + ".jpg", jpeg);

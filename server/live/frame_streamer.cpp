@@ -76,7 +76,6 @@ void SnapshotPicture::prepare(const Snapshot& snapshot) {
     render::open_cut_walls(snapshot.surface->faces, *snapshot.cut_faces, kCutGape, V_, scratch_);
   }
   tools_.clear();
-  tools_but_scopes_.clear();
   if (!snapshot.cutting) {
     // The palpation block's probes, upright at each hand (its probes stand for any tool).
     for (int h = 0; h < snapshot.hands && h < 2; ++h) {
@@ -85,14 +84,11 @@ void SnapshotPicture::prepare(const Snapshot& snapshot) {
       t.radius = snapshot.tool_radius;
       t.in_contact = h == 0 ? snapshot.contact : snapshot.second_force_n.squaredNorm() > 0;
       t.shaft_direction = snapshot.shaft_direction[static_cast<std::size_t>(h)];
-      tools_but_scopes_.push_back(t);
     }
   } else {
-    for (const sim::surgery::ToolView& instrument : snapshot.instruments) {
+    // Without the scopes (make_snapshot leaves them out): a scope is the camera.
+    for (const sim::surgery::ToolView& instrument : snapshot.instruments)
       tools_.push_back(drawn(instrument));
-      if (instrument.kind != sim::surgery::ToolKind::scope)
-        tools_but_scopes_.push_back(tools_.back());
-    }
   }
   marks_.clear();
   for (const sim::Vec3& p : snapshot.marks)
@@ -100,12 +96,10 @@ void SnapshotPicture::prepare(const Snapshot& snapshot) {
 }
 
 void SnapshotPicture::encode(render::SceneRenderer& renderer, render::FrameEncoder& encoder,
-                             const render::Camera& camera, std::vector<std::uint8_t>& jpeg,
-                             bool through_scope) const {
+                             const render::Camera& camera, std::vector<std::uint8_t>& jpeg) const {
   render::TissueView tissue{&V_, &N_, &snapshot_->surface->faces};
   tissue.cut_faces = snapshot_->cut_faces.get();
-  encoder.render_jpeg(renderer, camera, tissue, through_scope ? tools_but_scopes_ : tools_, jpeg,
-                      marks_);
+  encoder.render_jpeg(renderer, camera, tissue, tools_, jpeg, marks_);
 }
 
 render::Camera picture_camera(const Snapshot& snapshot, const render::Camera& session,
@@ -276,8 +270,7 @@ void FrameStreamer::render_loop() {
         const render::Camera camera =
             picture_camera(*snapshot, camera_, outside_, job.request.outside,
                            static_cast<double>(size.first) / size.second);
-        picture.encode(renderer, *it->second.encoder, camera, jpeg,
-                       !job.request.outside && snapshot->scope.has_value());
+        picture.encode(renderer, *it->second.encoder, camera, jpeg);
         ++frames_rendered_;
         jpeg_of_size = std::make_shared<const std::vector<std::uint8_t>>(jpeg);
       }

@@ -54,18 +54,14 @@ class SnapshotPicture {
   // The snapshot must outlive the calls to encode that follow.
   void prepare(const Snapshot& snapshot);
   // Draws the prepared snapshot from camera and encodes it (FrameEncoder::render_jpeg).
-  // through_scope: the camera is a scope of the scene (scope_view), whose own shaft is then not
-  // drawn (its eye is inside it).
   void encode(render::SceneRenderer& renderer, render::FrameEncoder& encoder,
-              const render::Camera& camera, std::vector<std::uint8_t>& jpeg,
-              bool through_scope = false) const;
+              const render::Camera& camera, std::vector<std::uint8_t>& jpeg) const;
 
  private:
   const Snapshot* snapshot_ = nullptr;
   sim::Points V_, N_;
   std::vector<double> scratch_;
   std::vector<render::ToolView> tools_;
-  std::vector<render::ToolView> tools_but_scopes_;  // tools_ without the scopes
   std::vector<render::MarkView> marks_;
 };
 

@@ -95,6 +95,13 @@ render::Camera camera_for(const SessionScene& scene) {
   }
   sim::surgery::ScopeCamera scope;
   scope.eye = target + kLaparoscopeDistance * sim::Vec3(0, -0.5, 0.8).normalized();
+  if (!setup.portals.empty()) {
+    // A joint: until its arthroscope reports, the view from just inside the first portal (the
+    // scope's), inside the capsule rather than outside it.
+    const sim::Portal& portal = setup.portals.front();
+    scope.eye = portal.position + kPortalEntry * portal.direction;
+    target = scope.eye + portal.direction;
+  }
   scope.forward = (target - scope.eye).normalized();
   scope.up = (sim::Vec3::UnitZ() - scope.forward.z() * scope.forward).normalized();
   scope.field_of_view_degrees = kScopeFieldOfView;

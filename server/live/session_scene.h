@@ -48,8 +48,11 @@ std::string tools_mismatch(const SessionScene& scene, const std::vector<std::str
 // reports: scope_view): its tip kLaparoscopeDistance from the marked line's middle (the tissue's
 // centre without a line), above and in front, looking at it with the light at its tip
 // (render::Camera::headlight) and a 70-degree diagonal field of view at 4:3.
+// A scene with portals (the knee) starts instead from kPortalEntry inside its first portal, looking
+// along it.
 render::Camera camera_for(const SessionScene& scene);
 inline constexpr double kLaparoscopeDistance = 0.08;  // [m]
+inline constexpr double kPortalEntry = 0.005;         // [m]
 
 // The view from outside the body that an instructor may switch to: the scene's "view" if it has
 // one; otherwise the whole tissue from above and in front, aimed halfway between the tissue's

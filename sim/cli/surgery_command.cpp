@@ -79,8 +79,9 @@ json result_json(const SurgicalSceneSetup& setup, const SurgicalScene& scene,
   result["nodes"] = scene.tissue().mesh().num_nodes();
   result["tets"] = scene.tissue().mesh().num_tets();
   result["wall_seconds"] = run.wall_seconds;
-  // Simulated time over wall time: at least 1 keeps up with a station's clock.
-  result["real_time_ratio"] = run.wall_seconds > 0 ? script.duration / run.wall_seconds : 0.0;
+  // Simulated time over wall time (the steps run, also when a run stopped early): at least 1
+  // keeps up with a station's clock.
+  result["real_time_ratio"] = run.wall_seconds > 0 ? run.steps * dt / run.wall_seconds : 0.0;
   result["steps_per_second"] =
       run.wall_seconds > 0 ? static_cast<Real>(run.steps) / run.wall_seconds : 0.0;
   result["finite"] = run.finite;

@@ -10,7 +10,7 @@ namespace incise::sim {
 // file (sim/surgery/scene_file.h), drives its tools by the script for the script's duration at
 // the scene's dt, and writes RESULT.json (docs/surgical_scene_files.md):
 //   {"scene", "scene_file", "script_file", "dt", "duration", "mass_scale", "steps", "nodes",
-//    "tets", "setup_seconds", "wall_seconds", "real_time_ratio" (duration / wall_seconds),
+//    "tets", "setup_seconds", "wall_seconds", "real_time_ratio" (steps * dt / wall_seconds),
 //    "steps_per_second", "finite", "status", "cuts_refused",
 //    "mass_scaled_nodes", "max_mass_scale",
 //    "events": [{"kind", "tool", "tool_kind", "time", "detail"}],

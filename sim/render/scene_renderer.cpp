@@ -238,6 +238,7 @@ SceneRenderer::~SceneRenderer() {
 void SceneRenderer::set_surroundings(std::span<const StaticSurface> surfaces) {
   // Everything is built before anything replaces the old ones, so that a rejected call keeps them.
   std::vector<Surroundings> built;
+  double lowest = std::numeric_limits<double>::infinity();
   std::vector<float> vertices;
   std::vector<std::uint32_t> indices;
   for (std::size_t s = 0; s < surfaces.size(); ++s) {
@@ -279,12 +280,17 @@ void SceneRenderer::set_surroundings(std::span<const StaticSurface> surfaces) {
             length > 0.0 ? static_cast<float>(N(v, k) / length) : (k == 2 ? 1.0f : 0.0f);
       }
     }
+    if (!surface.inside_only) {
+      for (Eigen::Index v = 0; v < V.rows(); ++v)
+        lowest = std::min(lowest, style_.up.dot(V.row(v).transpose()));
+    }
     Surroundings entry{std::make_unique<GlMesh>(), surface.look, surface.inside_only};
     entry.mesh->set_vertices(vertices);
     entry.mesh->set_indices(indices);
     built.push_back(std::move(entry));
   }
   surroundings_ = std::move(built);
+  surroundings_lowest_ = lowest;
 }
 
 bool SceneRenderer::upload_tissue(const TissueView& tissue) {
@@ -590,7 +596,7 @@ void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
     Eigen::Vector3d across_1, across_2;
     complete_basis(up, across_1, across_2);
     const Eigen::Vector3d centre = 0.5 * (tissue_min_ + tissue_max_);
-    const double floor_height = tissue_lowest_ - style_.floor_gap;
+    const double floor_height = std::min(tissue_lowest_, surroundings_lowest_) - style_.floor_gap;
     Eigen::Matrix3d axes;
     axes << across_1 * style_.floor_half_size, across_2 * style_.floor_half_size, up;
     Eigen::Affine3d floor = Eigen::Affine3d::Identity();

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <span>
 #include <vector>
@@ -121,8 +122,9 @@ struct SceneStyle {
   SurfaceLook fat{{0.86f, 0.70f, 0.36f}, 0.30f, 32.0f};
   // Behind everything an endoscope sees (Camera::headlight): the unlit cavity.
   Eigen::Vector3f cavity{0.035f, 0.012f, 0.010f};
-  // The floor is a square perpendicular to up, floor_gap below the tissue's lowest point (along
-  // up) and centred under the tissue's bounding box, floor_half_size from centre to each edge.
+  // The floor is a square perpendicular to up, floor_gap below the lowest point (along up) of the
+  // tissue and of the surroundings seen from outside (not inside_only), centred under the tissue's
+  // bounding box, floor_half_size from centre to each edge.
   double floor_gap = 0.001;      // [m], >= 0
   double floor_half_size = 0.5;  // [m], > 0
 };
@@ -214,6 +216,8 @@ class SceneRenderer {
     bool inside_only = false;
   };
   std::vector<Surroundings> surroundings_;
+  // min over the vertices of the surroundings that are not inside_only of up . position [m].
+  double surroundings_lowest_ = std::numeric_limits<double>::infinity();
   // The tissue as last uploaded, kept so that frames reuse memory and unchanged faces are not
   // sent again.
   std::vector<float> tissue_vertices_;

@@ -39,8 +39,9 @@ struct SurgicalSceneSetup {
   // Mass scaling: a time_step longer than the tissue's stable step is made stable by scaling every
   // tissue density by mass_scale = (time_step / stable step)^2 (the P-wave speed falls by its
   // square root). Static deformation and forces are unchanged (no gravity in these scenes);
-  // motion is slower: every vibration mode's frequency falls by sqrt(mass_scale), and the ambient
-  // damping's time constant stays. 1: none.
+  // motion is slower: every vibration mode's frequency falls by sqrt(mass_scale), the tissue's
+  // Kelvin-Voigt time (damping l_min / c) grows by it, inertial forces by mass_scale, and the
+  // ambient damping's time constant stays. 1: none.
   Real mass_scale = 1;
   // What frames the tissue in the picture (the knee's bones and capsule, the liver's neighbours
   // and the abdominal wall); none for the block.

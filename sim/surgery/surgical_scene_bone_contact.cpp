@@ -21,48 +21,33 @@ const collide::Contact* deepest(const std::vector<collide::Contact>& contacts) {
 }  // namespace
 
 void SurgicalScene::bones(Tool& tool, int /*index*/) {
-  if (bones_->empty()) {
-    tool.bone = {};
-    tool.bone.reference_position = tool.tip;
-    tool.touching_bone = false;
-    return;
-  }
-  const bool same_pose = tool.bone_query_valid && tool.bone_query_tip == tool.tip &&
-                         tool.bone_query_direction == tool.direction;
-  if (!same_pose) {
-    tool.bone = {};
-    tool.bone.reference_position = tool.tip;
-    tool.touching_bone = false;
-    tool.bone_query_depths.assign(bones_->size(), 0);
-    const Real tip_radius =
-        tool.spec.kind == ToolKind::probe ? tool.spec.probe.radius : tool.spec.shaft_radius;
-    const collide::Sphere tip{tool.tip, tip_radius};
-    const collide::Capsule shaft{tool.tip - tool.spec.shaft_length * tool.direction, tool.tip,
-                                 tool.spec.shaft_radius};
-    std::vector<collide::Contact>& contacts = tool.bone_contacts;
-    for (std::size_t b = 0; b < bones_->size(); ++b) {
-      for (int shape = 0; shape < 2; ++shape) {
-        contacts.clear();
-        if (shape == 0) {
-          (*bones_)[b].contacts(tip, contacts);
-        } else {
-          (*bones_)[b].contacts(shaft, contacts);
-        }
-        const collide::Contact* c = deepest(contacts);
-        if (c == nullptr || !(c->depth > 0)) continue;
-        // A penalty on the tool along the bone's normal; K = k n n^T (PSD).
-        tool.bone.force += spec_.bone_stiffness * c->depth * c->normal;
-        tool.bone.stiffness += spec_.bone_stiffness * c->normal * c->normal.transpose();
-        tool.touching_bone = true;
-        tool.bone_query_depths[b] = std::max(tool.bone_query_depths[b], c->depth);
+  tool.bone = {};
+  tool.bone.reference_position = tool.tip;
+  tool.touching_bone = false;
+  if (bones_->empty()) return;
+  const Real tip_radius =
+      tool.spec.kind == ToolKind::probe ? tool.spec.probe.radius : tool.spec.shaft_radius;
+  const collide::Sphere tip{tool.tip, tip_radius};
+  const collide::Capsule shaft{tool.tip - tool.spec.shaft_length * tool.direction, tool.tip,
+                               tool.spec.shaft_radius};
+  std::vector<collide::Contact>& contacts = tool.bone_contacts;
+  for (std::size_t b = 0; b < bones_->size(); ++b) {
+    for (int shape = 0; shape < 2; ++shape) {
+      contacts.clear();
+      if (shape == 0) {
+        (*bones_)[b].contacts(tip, contacts);
+      } else {
+        (*bones_)[b].contacts(shaft, contacts);
       }
+      const collide::Contact* c = deepest(contacts);
+      if (c == nullptr || !(c->depth > 0)) continue;
+      // A penalty on the tool along the bone's normal; K = k n n^T (PSD).
+      tool.bone.force += spec_.bone_stiffness * c->depth * c->normal;
+      tool.bone.stiffness += spec_.bone_stiffness * c->normal * c->normal.transpose();
+      tool.touching_bone = true;
+      bone_depths_[b] = std::max(bone_depths_[b], c->depth);
     }
-    tool.bone_query_valid = true;
-    tool.bone_query_tip = tool.tip;
-    tool.bone_query_direction = tool.direction;
   }
-  for (std::size_t b = 0; b < bones_->size(); ++b)
-    bone_depths_[b] = std::max(bone_depths_[b], tool.bone_query_depths[b]);
 }
 
 }  // namespace incise::sim::surgery

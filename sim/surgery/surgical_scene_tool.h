@@ -40,15 +40,8 @@ struct SurgicalScene::Tool {
   tools::BladeInTissue blade;     // the scalpel's blade in the tissue this step
   tools::LocalForceModel bone;    // this step's bone contacts, on the tool at its tip
   bool touching_bone = false;
-  // The bones do not move, so a tool in the pose of its last bone query meets them as it did
-  // then (a station sends a pose per 1 ms tick; the steps between share it): the query's pose
-  // and per-bone depths, reused until the pose changes. Contacts is the query's scratch.
-  bool bone_query_valid = false;
-  Vec3 bone_query_tip = Vec3::Zero();
-  Vec3 bone_query_direction = Vec3::Zero();
-  std::vector<Real> bone_query_depths;
-  std::vector<collide::Contact> bone_contacts;
-  Vec3 hand_force = Vec3::Zero();  // grasper: the tissue's pull on the hand
+  std::vector<collide::Contact> bone_contacts;  // the bone queries' scratch, kept between steps
+  Vec3 hand_force = Vec3::Zero();               // grasper: the tissue's pull on the hand
   // Scalpel: the tissue's resistance to the cut this step, on the tool [N].
   Vec3 cutting_force = Vec3::Zero();
 };

@@ -40,8 +40,8 @@ struct MeshingCriteria {
   Real cell_radius_edge_ratio = 3;
   // Optimisation before the sliver passes: this many iterations of ODT smoothing (CGAL's
   // odt_optimize_mesh_3: vertices moved to minimise the optimal-Delaunay energy), 0 for none.
-  // Thin tissue (the knee's menisci) leaves boundary slivers that the sliver passes alone cannot
-  // remove; ODT first spreads the vertices so that they can.
+  // No scene uses it: on the knee's tissue it raised neither the smallest dihedral angle nor the
+  // smallest altitude (docs/anatomy.md); kept for meshes whose worst tets are flat, not small.
   int odt_iterations = 0;
   // The smallest dihedral angle [degrees] the perturbation and exudation aim for, in [0, 30);
   // 0: CGAL's default (improve the worst tets while it can).

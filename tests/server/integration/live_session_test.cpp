@@ -547,7 +547,9 @@ TEST_F(LiveSession, TheSurgicalStationCutsTheLiverLiveScoresTheCutAndReplaysIt) 
     watcher->send({{"type", "configure"}, {"view", "outside"}});
     const std::size_t before = watcher->frames.size();
     ASSERT_TRUE(watcher->read_until([&] { return watcher->frames.size() >= before + 3; }, 30s));
-    EXPECT_GT(grey_share(render::decode_jpeg(watcher->frames.back().jpeg)), 0.3);
+    // (A quarter of the picture: the posterior wall, stomach and omentum around the organ hide
+    // part of the floor.)
+    EXPECT_GT(grey_share(render::decode_jpeg(watcher->frames.back().jpeg)), 0.15);
   }
   const auto stopped =
       as(kTrainee).post("/api/sessions/" + sid + "/stop", nlohmann::json::object());

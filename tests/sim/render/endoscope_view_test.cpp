@@ -347,5 +347,31 @@ TEST_F(EndoscopeViewTest, SurroundingsAreDrawnInTheirLookAndTheCavityWallOnlyIns
   EXPECT_NE(draw(renderer, target, scope, {}), inside);
 }
 
+// From outside, the floor lies under the surroundings too, not only under the tissue: a bone lower
+// than the tissue shows in its own look, in closed form, instead of being buried in the floor.
+TEST_F(EndoscopeViewTest, TheFloorLiesUnderTheSurroundingsSeenFromOutside) {
+  SceneRenderer renderer;
+  const Framebuffer target(kWidth, kHeight);
+  const Surface tissue =
+      square_surface(0.01, 4, Eigen::Matrix3d::Identity(), Eigen::Vector3d(0, 0, 0.03));
+  const Surface bone =
+      square_surface(0.01, 4, Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.03, 0, 0.0));
+  const SceneStyle& style = renderer.style();
+  const std::vector<StaticSurface> surfaces = {{&bone.V, &bone.F, style.bone, false}};
+  renderer.set_surroundings(surfaces);
+  Camera camera;
+  camera.eye = Eigen::Vector3d(0.015, -0.06, 0.12);
+  camera.target = Eigen::Vector3d(0.015, 0, 0.01);
+  camera.up = Eigen::Vector3d::UnitZ();
+  camera.fov_y_deg = 40;
+  renderer.render(target, camera, tissue.view(), std::span<const ToolView>{});
+  const std::vector<std::uint8_t> rgb = target.read_rgb();
+  const Eigen::Vector3d p(0.03, 0.003, 0.0);
+  const PixelPosition at = project(camera, kWidth, kHeight, p);
+  const Eigen::Vector3d expected =
+      test::shade(style, style.bone, Eigen::Vector3d::UnitZ(), (camera.eye - p).normalized());
+  EXPECT_LE(colour_error(pixel_at(rgb, kWidth, at.row, at.column), expected), 4.0);
+}
+
 }  // namespace
 }  // namespace incise::render

@@ -309,6 +309,12 @@ TEST(SceneFile, EveryBadInputNamesItsPath) {
        "solver.cut_every: must be in [1, 2147483647] (got 0)"},
       {R"({"anatomy": "liver", "solver": {"damage_every": 1.5}})",
        "solver.damage_every: must be an integer (got 1.5)"},
+      {R"({"anatomy": "knee", "solver": {"time_step": -1}})",
+       "solver.time_step: must be in [0, 0.01] (got -1)"},
+      {R"({"anatomy": "liver", "solver": {"time_step": 0.02}})",
+       "solver.time_step: must be in [0, 0.01] (got 0.02)"},
+      {R"({"anatomy": "liver", "solver": {"step": 0.001}})",
+       "solver.step: unknown key (expected one of: cut_every, damage_every, time_step)"},
   };
   for (const BadCase& c : cases) {
     SCOPED_TRACE(c.json);

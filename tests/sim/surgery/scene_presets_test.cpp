@@ -7,6 +7,7 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -214,6 +215,28 @@ TEST(KneeScene, ScopeAndProbeThroughThePortalsAndTheLigamentIsProtected) {
   EXPECT_GT(count(cut, EventKind::never_event), 0);
   EXPECT_TRUE(scene.damage().never_event);
   (void)inspection;
+}
+
+// Mass scaling: a step up to the stable one leaves the tissue as it is; twice the stable step
+// makes every density 4 times larger (the total mass with it) and the step exactly that.
+TEST(LiverScene, AStepLongerThanTheStableStepScalesTheMasses) {
+  LiverSceneOptions options;
+  const SurgicalSceneSetup plain = make_liver_surgery(options);
+  EXPECT_EQ(plain.mass_scale, 1);
+  options.time_step = 0.5 * plain.spec.dt;
+  const SurgicalSceneSetup shorter = make_liver_surgery(options);
+  EXPECT_EQ(shorter.mass_scale, 1);
+  EXPECT_EQ(shorter.spec.dt, plain.spec.dt);
+  options.time_step = 2 * plain.spec.dt;
+  const SurgicalSceneSetup scaled = make_liver_surgery(options);
+  EXPECT_NEAR(scaled.mass_scale, 4, 1e-12);
+  EXPECT_NEAR(scaled.spec.dt, 2 * plain.spec.dt, 1e-12 * plain.spec.dt);
+  const auto total_mass = [](const SurgicalSceneSetup& setup) {
+    return setup.spec.model(setup.spec.tissue)->masses().sum();
+  };
+  EXPECT_NEAR(total_mass(scaled), 4 * total_mass(plain), 1e-9 * total_mass(plain));
+  options.time_step = -1;
+  EXPECT_THROW(make_liver_surgery(options), std::invalid_argument);
 }
 
 // The palpation block's scene (sim/scenes/palpation.json), written out.
