@@ -8,9 +8,9 @@
 // between frames while the blade cuts along the line, and the knee station through its
 // arthroscope (bones, capsule, menisci and ACL, the probe) as the scope turns.
 //   bench_render [SCENE.json]     default: sim/scenes/palpation.json, the liver and knee stations
-//   bench_render --save DIR       also writes the liver station's frames 0, 100, 200 and 299 and
-//                                 the last one from outside, as DIR/liver_station_*.jpg, and the
-//                                 knee station's 0, 150, 299 and outside as DIR/knee_station_*.jpg
+//   bench_render --save DIR       also writes each station's frames 0, 150 and 299 and the last
+//                                 one from outside, as DIR/liver_station_*.jpg and
+//                                 DIR/knee_station_*.jpg
 // The tissue's positions change every frame (a smooth synthetic dent follows the tool), so the
 // per-frame upload is measured too; the dent is computed outside the timed part.
 #include <algorithm>
@@ -142,19 +142,18 @@ void save(const std::string& path, const std::vector<std::uint8_t>& jpeg) {
   if (written != jpeg.size()) throw std::runtime_error("cannot write " + path);
 }
 
-// The liver station's picture while the scalpel cuts 6 mm deep along the marked line and the
-// grasper holds the lobe open beside it; 10 ms of simulation between frames (not timed).
-void run_liver_station(const std::string& save_dir) {
+// A station's scene through the streaming path, as its viewers see it: the session ticks 10 ms
+// between frames (not timed) with the inputs inputs_at(frame) gives, each frame is drawn from the
+// camera picture_camera picks (the scene's scope once it reports), and one line is printed. With
+// save_dir, frames 0, 150 and the last are written as DIR/<prefix>_<frame>.jpg, and the last also
+// from outside as DIR/<prefix>_outside.jpg.
+template <typename InputsAt>
+void run_station(const incise::server::live::SessionScene& scene,
+                 incise::server::live::SimEngine& engine, const char* label,
+                 const std::string& save_dir, const std::string& prefix, InputsAt inputs_at) {
   using namespace incise;
-  const auto source = server::live::find_scene("scenes/surgery/liver_station.json");
-  if (!source) throw std::runtime_error("the liver station's scene is not in the library");
-  const auto scene = server::live::load_session_scene(source->id, source->text);
-  server::live::SimEngine engine(scene, 0.002, 2);
-  const auto& line = scene.setup().cut_target;
-  const Vec3 start = line.front(), end = line.back();
-  const Vec3 depth(0, 0, 0.006), above(0, 0, 0.01);
-  const Vec3 lobe = 0.5 * (start + end) + Vec3(-0.005, 0.012, 0.0005);
-  const render::Camera camera = server::live::camera_for(scene);
+  const render::Camera session = server::live::camera_for(scene);
+  const render::Camera outside = server::live::outside_camera_for(scene);
   // Built once per scene, as the streamer does: the style and the surroundings' meshes.
   render::SceneRenderer renderer(server::live::scene_style(scene.setup()));
   renderer.set_surroundings(server::live::static_surfaces(scene.setup(), renderer.style()));
@@ -164,77 +163,7 @@ void run_liver_station(const std::string& save_dir) {
   FrameTimes times;
   int triangles = 0;
   for (int frame = -warm_up_frames; frame < frames; ++frame) {
-    // Into the tissue over the first tenth, along the line over six, out over one (the cut is
-    // made as the blade leaves), and the opened cut seen for the last fifth; the grasper's jaws
-    // close on the lobe over the first tenth.
-    const double in = std::clamp((frame + warm_up_frames) / (0.1 * frames), 0.0, 1.0);
-    const double along = std::clamp((frame - 0.1 * frames) / (0.6 * frames), 0.0, 1.0);
-    const double out = std::clamp((frame - 0.7 * frames) / (0.1 * frames), 0.0, 1.0);
-    const double s = in - out;  // how deep the blade is, 0 above .. 1 at depth
-    const Vec3 blade = (1 - along) * start + along * end - s * depth + (1 - s) * above;
-    const std::array<devices::DeviceState, 2> inputs = {
-        bench::down(blade), bench::along_x(lobe, static_cast<float>(1 - in))};
-    // 10 ms of simulation a frame (not timed): the stroke takes 3 s, at the demo agent's pace.
-    for (int tick = 0; tick < 5; ++tick)
-      engine.tick(inputs);
-    const auto snapshot = server::live::make_snapshot(engine);
-    picture.prepare(*snapshot);
-    picture.encode(renderer, encoder, camera, jpeg);
-    triangles = static_cast<int>(snapshot->surface->faces.rows());
-    if (!save_dir.empty() && (frame == 0 || frame == 100 || frame == 200 || frame == frames - 1)) {
-      save(save_dir + "/liver_station_" + std::to_string(frame) + ".jpg", jpeg);
-      if (frame == frames - 1) {
-        std::vector<std::uint8_t> outside;
-        picture.encode(renderer, encoder, server::live::outside_camera_for(scene), outside);
-        save(save_dir + "/liver_station_outside.jpg", outside);
-      }
-    }
-    if (frame < 0) continue;
-    times.add(encoder.timings(), jpeg);
-  }
-  times.print("liver station (laparoscope)", triangles);
-  std::printf("  (the stroke cut %.0f mm^2; %s)\n", engine.damage().cut_area * 1e6,
-              engine.state_finite() ? "finite" : "NOT FINITE");
-}
-
-// The knee station's picture through the arthroscope at the anterolateral portal as it turns
-// from the medial meniscus's anterior horn to the lateral one, while the probe from the
-// anteromedial portal reaches the medial horn; 10 ms of simulation between frames (not timed).
-void run_knee_station(const std::string& save_dir) {
-  using namespace incise;
-  const auto source = server::live::find_scene("scenes/surgery/knee_station.json");
-  if (!source) throw std::runtime_error("the knee station's scene is not in the library");
-  const auto scene = server::live::load_session_scene(source->id, source->text);
-  const auto& setup = scene.setup();
-  server::live::SimEngine engine(scene, 0.002, 2);
-  const auto place = [&](const std::string& name) {
-    for (const auto& l : setup.landmarks)
-      if (l.name == name) return l.position;
-    for (const auto& p : setup.portals)
-      if (p.name == name) return p.position;
-    throw std::runtime_error("the knee has no place " + name);
-  };
-  const Vec3 scope_portal = place("anterolateral"), probe_portal = place("anteromedial");
-  const Vec3 medial = place("medial_meniscus_anterior_horn");
-  const Vec3 lateral = place("lateral_meniscus_anterior_horn");
-  const render::Camera session = server::live::camera_for(scene);
-  const render::Camera outside = server::live::outside_camera_for(scene);
-  render::SceneRenderer renderer(server::live::scene_style(setup));
-  renderer.set_surroundings(server::live::static_surfaces(setup, renderer.style()));
-  render::FrameEncoder encoder(width, height, 80);
-  server::live::SnapshotPicture picture;
-  std::vector<std::uint8_t> jpeg;
-  FrameTimes times;
-  int triangles = 0;
-  for (int frame = -warm_up_frames; frame < frames; ++frame) {
-    const double s =
-        std::clamp((frame + warm_up_frames) / double(frames + warm_up_frames), 0.0, 1.0);
-    const Vec3 look = ((1 - s) * medial + s * lateral - scope_portal).normalized();
-    const Vec3 reach = medial - probe_portal;
-    const double in = std::min(1.0, 2 * s);
-    const std::array<devices::DeviceState, 2> inputs = {
-        bench::pointing(scope_portal + 0.009 * look, look),
-        bench::pointing(probe_portal + (0.1 + 0.85 * in) * reach, reach)};
+    const std::array<devices::DeviceState, 2> inputs = inputs_at(frame);
     for (int tick = 0; tick < 5; ++tick)
       engine.tick(inputs);
     const auto snapshot = server::live::make_snapshot(engine);
@@ -245,17 +174,81 @@ void run_knee_station(const std::string& save_dir) {
         jpeg);
     triangles = static_cast<int>(snapshot->surface->faces.rows());
     if (!save_dir.empty() && (frame == 0 || frame == 150 || frame == frames - 1)) {
-      save(save_dir + "/knee_station_" + std::to_string(frame) + ".jpg", jpeg);
+      save(save_dir + "/" + prefix + "_" + std::to_string(frame) + ".jpg", jpeg);
       if (frame == frames - 1) {
         std::vector<std::uint8_t> from_outside;
         picture.encode(renderer, encoder, outside, from_outside);
-        save(save_dir + "/knee_station_outside.jpg", from_outside);
+        save(save_dir + "/" + prefix + "_outside.jpg", from_outside);
       }
     }
     if (frame < 0) continue;
     times.add(encoder.timings(), jpeg);
   }
-  times.print("knee station (arthroscope)", triangles);
+  times.print(label, triangles);
+}
+
+incise::server::live::SessionScene station_scene(const char* id) {
+  const auto source = incise::server::live::find_scene(id);
+  if (!source) throw std::runtime_error(std::string("no scene ") + id + " in the library");
+  return incise::server::live::load_session_scene(source->id, source->text);
+}
+
+// The liver station's picture while the scalpel cuts 6 mm deep along the marked line and the
+// grasper holds the lobe open beside it.
+void run_liver_station(const std::string& save_dir) {
+  using namespace incise;
+  const auto scene = station_scene("scenes/surgery/liver_station.json");
+  server::live::SimEngine engine(scene, 0.002, 2);
+  const auto& line = scene.setup().cut_target;
+  const Vec3 start = line.front(), end = line.back();
+  const Vec3 depth(0, 0, 0.006), above(0, 0, 0.01);
+  const Vec3 lobe = 0.5 * (start + end) + Vec3(-0.005, 0.012, 0.0005);
+  run_station(scene, engine, "liver station (laparoscope)", save_dir, "liver_station",
+              [&](int frame) {
+                // Into the tissue over the first tenth, along the line over six, out over one
+                // (the cut is made as the blade leaves), and the opened cut seen for the last
+                // fifth; the grasper's jaws close on the lobe over the first tenth. The stroke
+                // takes 3 s, at the demo agent's pace.
+                const double in = std::clamp((frame + warm_up_frames) / (0.1 * frames), 0.0, 1.0);
+                const double along = std::clamp((frame - 0.1 * frames) / (0.6 * frames), 0.0, 1.0);
+                const double out = std::clamp((frame - 0.7 * frames) / (0.1 * frames), 0.0, 1.0);
+                const double s = in - out;  // how deep the blade is, 0 above .. 1 at depth
+                const Vec3 blade = (1 - along) * start + along * end - s * depth + (1 - s) * above;
+                return std::array<devices::DeviceState, 2>{
+                    bench::down(blade), bench::along_x(lobe, static_cast<float>(1 - in))};
+              });
+  std::printf("  (the stroke cut %.0f mm^2; %s)\n", engine.damage().cut_area * 1e6,
+              engine.state_finite() ? "finite" : "NOT FINITE");
+}
+
+// The knee station's picture through the arthroscope at the anterolateral portal as it turns
+// from the medial meniscus's anterior horn to the lateral one, while the probe from the
+// anteromedial portal reaches the medial horn.
+void run_knee_station(const std::string& save_dir) {
+  using namespace incise;
+  const auto scene = station_scene("scenes/surgery/knee_station.json");
+  const auto& setup = scene.setup();
+  server::live::SimEngine engine(scene, 0.002, 2);
+  const auto portal = [&](const std::string& name) {
+    for (const auto& p : setup.portals)
+      if (p.name == name) return p.position;
+    throw std::runtime_error("the knee has no portal " + name);
+  };
+  const Vec3 scope_portal = portal("anterolateral"), probe_portal = portal("anteromedial");
+  const Vec3 medial = sim::find_landmark(setup.landmarks, "medial_meniscus_anterior_horn").position;
+  const Vec3 lateral =
+      sim::find_landmark(setup.landmarks, "lateral_meniscus_anterior_horn").position;
+  run_station(
+      scene, engine, "knee station (arthroscope)", save_dir, "knee_station", [&](int frame) {
+        const double s =
+            std::clamp((frame + warm_up_frames) / double(frames + warm_up_frames), 0.0, 1.0);
+        const Vec3 look = ((1 - s) * medial + s * lateral - scope_portal).normalized();
+        const Vec3 reach = medial - probe_portal;
+        const double in = std::min(1.0, 2 * s);
+        return std::array<devices::DeviceState, 2>{
+            bench::pointing(scope_portal + 0.009 * look, look),
+            bench::pointing(probe_portal + (0.1 + 0.85 * in) * reach, reach)};
+      });
   std::printf("  (%s)\n", engine.state_finite() ? "finite" : "NOT FINITE");
 }
 
