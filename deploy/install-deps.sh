@@ -7,7 +7,7 @@ root=$(dirname "$here")
 
 apt_packages=(
   build-essential cmake ninja-build pkg-config git clang-format
-  libeigen3-dev libcgal-dev libboost1.74-dev libfcl-dev
+  libeigen3-dev libcgal-dev libboost1.74-dev libfcl-dev libnifti2-dev
   nlohmann-json3-dev libsqlite3-dev sqlite3
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri libgles-dev
   libturbojpeg0-dev libsodium-dev

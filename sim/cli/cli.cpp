@@ -5,6 +5,7 @@
 #include <fstream>
 #include <optional>
 
+#include "sim/cli/mesh_command.h"
 #include "sim/cli/scene_mesh.h"
 #include "sim/cli/surgery_command.h"
 #include "sim/io/result_json.h"
@@ -21,7 +22,8 @@ namespace incise::sim {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: incise solve SCENE.json --out RESULT.json, incise mesh-info MESH, or incise --help";
+    "usage: incise solve SCENE.json --out RESULT.json, incise mesh-info MESH, incise mesh "
+    "VOLUME.nii --labels 1=NAME --cell-size H --out MESH, incise surgery ..., or incise --help";
 
 constexpr const char* kHelp =
     R"(incise - the Incise soft-tissue simulation core from the command line
@@ -29,6 +31,8 @@ constexpr const char* kHelp =
 usage:
   incise solve SCENE.json --out RESULT.json   run a scene, write its result
   incise mesh-info MESH                       counts, labels, size and quality of a tet mesh
+  incise mesh VOLUME.nii[.gz] --labels 1=NAME,2=NAME --cell-size H --out MESH.msh|.vtu|.node
+                                              mesh a labelled segmentation (NIfTI) with CGAL
   incise surgery SCENE.json --script SCRIPT.json --out RESULT.json
                                               run a surgical scene file with a tool script
                                               (docs/surgical_scene_files.md)
@@ -42,6 +46,13 @@ MESH: a gmsh .msh file (ASCII 2.2 or 4.1; tetrahedra and their physical tags as 
   a malformed file (truncated, bad counts or indices, non-finite coordinates, a zero-volume tet)
   is one error line "incise: FILE:LINE: problem" and exit code 2.
 
+VOLUME: a labelled segmentation in NIfTI-1 or -2 (.nii, .nii.gz; 3D Slicer, ITK-SNAP), one
+  integer label per voxel, 0 outside. The mesh keeps the volume's place: its affine (sform, else
+  qform, else the voxel sizes) in metres; --labels names every label it holds. mesh prints the
+  volume's voxels, spacing, axes and origin, each tissue's voxel and meshed volumes and the
+  mesh's quality as mesh-info does. A bad volume (an unknown or empty label, not 3-D, a
+  truncated file, a sheared affine, a non-integer voxel) is one error line and exit code 2.
+
 SCENE.json (units SI; members marked ? are optional):
   { "mesh": {"box": {"size": [Lx, Ly, Lz], "cells": [nx, ny, nz]}},
     "material": {"model": "mss", "E": 3000, "nu": 0.45, "density": 1000, "damping"?: 0.1,
@@ -54,14 +65,17 @@ SCENE.json (units SI; members marked ? are optional):
   mesh           one of: "box": a box with its corner at the origin, 5 tets per cell;
                  "file": "organ.msh" (or TetGen) relative to the scene file, labels from it;
                  "generate": {"shape": "sphere"|"ellipsoid"|"liver", "centre"?: [x, y, z],
-                 "radius": r | "radii": [rx, ry, rz], "cell_size": h} (CGAL Mesh_3)
+                 "radius": r | "radii": [rx, ry, rz], "cell_size": h} (CGAL Mesh_3);
+                 "segmentation": {"file": "organ.nii.gz", "labels": {"1": "liver", ...},
+                 "cell_size": h}: a labelled NIfTI volume meshed as `incise mesh` does
   material       model: "mss" (mass-spring, Paloc 2006; no free Poisson ratio),
                  "linear", "corotational" (QR), "corotational_polar",
                  "corotational_nodal_pressure" (polar, without volumetric locking), "stvk",
                  "neohookean" (Joshi et al., eq. 4). damping in [0, 1]: for mss the fraction of
                  2 sqrt(k (m_i + m_j)) per spring, for FEM a viscosity of damping * l_min / c
                  (default 0.1)
-  materials?     {"<label>": {"E", "nu", "density", "damping"?}}: per tissue label
+  materials?     {"<label>": {"E", "nu", "density", "damping"?}}: per tissue label (or per
+                 tissue name of mesh.segmentation.labels)
   solver         integrator: "symplectic_euler", "central_difference", "adaptive_explicit",
                  "implicit_euler" (CG to "tolerance"?, default 1e-8) or "static" (Newton to
                  "tolerance"; "steps"? load increments, dt unused); "linear_solver"?: "cg"
@@ -192,6 +206,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
     }
     if (args[0] == "solve") return solve(args, err);
     if (args[0] == "mesh-info") return mesh_info(args, out, err);
+    if (args[0] == "mesh") return run_mesh_command(args, out, err);
     if (args[0] == "surgery") return run_surgery_command(args, out, err);
     return usage_error(err, "unknown command " + args[0]);
   } catch (const std::exception& error) {

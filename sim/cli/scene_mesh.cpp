@@ -1,10 +1,12 @@
 #include "sim/cli/scene_mesh.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "sim/mesh/box_mesher.h"
 #include "sim/mesh/cgal/mesh_generation.h"
 #include "sim/mesh/mesh_file_error.h"
+#include "sim/mesh/nifti/nifti_segmentation.h"
 #include "sim/mesh/read_mesh_file.h"
 #include "sim/scene/scene_error.h"
 
@@ -18,6 +20,16 @@ ImplicitShape shape_of(const GenerateSpec& g) {
 }
 
 }  // namespace
+
+MeshingCriteria segmentation_criteria(const LabelVolume& volume, Real cell_size) {
+  MeshingCriteria criteria;
+  criteria.cell_size = cell_size;
+  criteria.facet_size = cell_size;
+  // A voxel is the volume's own resolution: following its surface closer only adds slivers where
+  // the tissue thins (what the knee's menisci taught us, docs/anatomy.md).
+  criteria.facet_distance = std::max(cell_size / 4, volume.spacing.minCoeff());
+  return criteria;
+}
 
 TetMesh build_scene_mesh(const Scene& scene, const std::filesystem::path& scene_dir) {
   const MeshSpec& spec = scene.mesh;
@@ -34,6 +46,20 @@ TetMesh build_scene_mesh(const Scene& scene, const std::filesystem::path& scene_
         return read_mesh_file(file);
       } catch (const std::exception& e) {
         throw SceneError("mesh.file", e.what());
+      }
+    }
+    case MeshSource::segmentation: {
+      const SegmentationSpec& g = spec.segmentation;
+      LabelVolume volume;
+      try {
+        volume = read_nifti_segmentation(scene_dir / g.file, g.tissues);
+      } catch (const std::exception& e) {
+        throw SceneError("mesh.segmentation.file", e.what());
+      }
+      try {
+        return mesh_labelled_volume(volume, segmentation_criteria(volume, g.cell_size));
+      } catch (const std::exception& e) {
+        throw SceneError("mesh.segmentation", e.what());
       }
     }
     case MeshSource::generate: {

@@ -50,17 +50,57 @@ Selection read_selection(const json& value, const std::string& path) {
   return selection;
 }
 
+// "labels": {"<value>": "<tissue>"} of a segmentation: label values 1..255, distinct names.
+std::map<int, std::string> read_segmentation_tissues(const json& value, const std::string& path) {
+  if (!value.is_object() || value.empty()) {
+    throw SceneError(path,
+                     "must be an object {\"<label value>\": \"<tissue>\"} naming every "
+                     "label the volume holds (got " +
+                         describe(value) + ")");
+  }
+  std::map<int, std::string> tissues;
+  for (const auto& [key, item] : value.items()) {
+    const std::string item_path = member_path(path, key);
+    int label = 0;
+    const auto [end, ec] = std::from_chars(key.data(), key.data() + key.size(), label);
+    if (ec != std::errc{} || end != key.data() + key.size() || label < 1 || label > 255) {
+      throw SceneError(item_path, "a label value must be an integer in 1..255 (0 is outside)");
+    }
+    if (!item.is_string() || item.get_ref<const std::string&>().empty()) {
+      throw SceneError(item_path, "must be the tissue's name (got " + describe(item) + ")");
+    }
+    const std::string& name = item.get_ref<const std::string&>();
+    for (const auto& [other, other_name] : tissues)
+      if (other_name == name)
+        throw SceneError(item_path, "names " + describe(item) + " again (label " +
+                                        std::to_string(other) + " has it)");
+    tissues[label] = name;
+  }
+  return tissues;
+}
+
 MeshSpec read_mesh(const json& value) {
-  const JsonObjectReader mesh(value, "mesh", {"box", "file", "generate"});
-  const int sources = int(mesh.has("box")) + int(mesh.has("file")) + int(mesh.has("generate"));
+  const JsonObjectReader mesh(value, "mesh", {"box", "file", "generate", "segmentation"});
+  const int sources = int(mesh.has("box")) + int(mesh.has("file")) + int(mesh.has("generate")) +
+                      int(mesh.has("segmentation"));
   if (sources != 1) {
-    throw SceneError("mesh", sources == 0 ? "needs one of \"box\", \"file\", \"generate\""
-                                          : "has more than one of \"box\", \"file\", \"generate\"");
+    const char* names = "\"box\", \"file\", \"generate\", \"segmentation\"";
+    throw SceneError("mesh",
+                     std::string(sources == 0 ? "needs one of " : "has more than one of ") + names);
   }
   MeshSpec spec;
   if (mesh.has("file")) {
     spec.source = MeshSource::file;
     spec.file = mesh.string("file");
+    return spec;
+  }
+  if (mesh.has("segmentation")) {
+    spec.source = MeshSource::segmentation;
+    const JsonObjectReader g(mesh.required("segmentation"), mesh.path("segmentation"),
+                             {"file", "labels", "cell_size"});
+    spec.segmentation.file = g.string("file");
+    spec.segmentation.tissues = read_segmentation_tissues(g.required("labels"), g.path("labels"));
+    spec.segmentation.cell_size = g.number("cell_size");
     return spec;
   }
   if (mesh.has("generate")) {
@@ -114,7 +154,9 @@ Material read_material(const json& value) {
   return material;
 }
 
-std::map<int, Material> read_materials_by_label(const json& value, const Material& base) {
+// Keyed by label, or by a tissue's name where the mesh is a segmentation.
+std::map<int, Material> read_materials_by_label(const json& value, const Material& base,
+                                                const MeshSpec& mesh) {
   if (!value.is_object()) {
     throw SceneError("materials",
                      "must be an object {\"<label>\": {...}} (got " + describe(value) + ")");
@@ -122,11 +164,19 @@ std::map<int, Material> read_materials_by_label(const json& value, const Materia
   std::map<int, Material> out;
   for (const auto& [key, item] : value.items()) {
     const std::string path = member_path("materials", key);
-    int label = 0;
-    const auto [end, ec] = std::from_chars(key.data(), key.data() + key.size(), label);
-    if (ec != std::errc{} || end != key.data() + key.size() || label < 0) {
-      throw SceneError(path, "a label must be a non-negative integer");
+    int label = -1;
+    for (const auto& [value_label, name] : mesh.segmentation.tissues)
+      if (mesh.source == MeshSource::segmentation && name == key) label = value_label;
+    if (label < 0) {
+      const auto [end, ec] = std::from_chars(key.data(), key.data() + key.size(), label);
+      if (ec != std::errc{} || end != key.data() + key.size() || label < 0) {
+        throw SceneError(path, mesh.source == MeshSource::segmentation
+                                   ? "is neither a label nor a tissue of mesh.segmentation.labels"
+                                   : "a label must be a non-negative integer");
+      }
     }
+    if (out.contains(label))
+      throw SceneError(path, "sets label " + std::to_string(label) + " a second time");
     const JsonObjectReader object(item, path, {"E", "nu", "density", "damping"});
     Material material = base;
     read_constants(object, material);
@@ -313,7 +363,8 @@ Scene parse_scene(const json& value) {
   scene.mesh = read_mesh(root.required("mesh"));
   scene.material = read_material(root.required("material"));
   if (root.has("materials")) {
-    scene.materials_by_label = read_materials_by_label(root.required("materials"), scene.material);
+    scene.materials_by_label =
+        read_materials_by_label(root.required("materials"), scene.material, scene.mesh);
   }
   if (root.has("output")) {
     const JsonObjectReader output(root.required("output"), "output", {"vtu"});

@@ -32,17 +32,27 @@ struct GenerateSpec {
   Real cell_size = 0;          // "cell_size" [m], > 0: the largest tet circumradius
 };
 
+// A tet mesh made by CGAL Mesh_3 from a labelled segmentation volume in NIfTI
+// (sim/mesh/nifti/nifti_segmentation.h), in the volume's own world coordinates.
+struct SegmentationSpec {
+  std::string file;                    // "file": .nii or .nii.gz, relative to the scene file
+  std::map<int, std::string> tissues;  // "labels": {"<value>": "<tissue>"}, every value it holds
+  Real cell_size = 0;                  // "cell_size" [m], > 0: the largest tet circumradius
+};
+
 enum class MeshSource {
-  box,       // "box"
-  file,      // "file": gmsh .msh (2.2 or 4.1) or TetGen .node/.ele, relative to the scene file
-  generate,  // "generate"
+  box,           // "box"
+  file,          // "file": gmsh .msh (2.2 or 4.1) or TetGen .node/.ele, relative to the scene file
+  generate,      // "generate"
+  segmentation,  // "segmentation"
 };
 
 struct MeshSpec {
   MeshSource source = MeshSource::box;
-  BoxMeshSpec box;        // "box"
-  std::string file;       // "file", as written in the scene
-  GenerateSpec generate;  // "generate"
+  BoxMeshSpec box;                // "box"
+  std::string file;               // "file", as written in the scene
+  GenerateSpec generate;          // "generate"
+  SegmentationSpec segmentation;  // "segmentation"
 };
 
 enum class MaterialModel {

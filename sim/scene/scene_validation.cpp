@@ -109,6 +109,14 @@ void validate_mesh(const MeshSpec& mesh) {
     case MeshSource::file:
       if (mesh.file.empty()) throw SceneError("mesh.file", "must not be empty");
       return;
+    case MeshSource::segmentation: {
+      const SegmentationSpec& g = mesh.segmentation;
+      if (g.file.empty()) throw SceneError("mesh.segmentation.file", "must not be empty");
+      if (g.tissues.empty())
+        throw SceneError("mesh.segmentation.labels", "must name at least one tissue");
+      require_positive("mesh.segmentation.cell_size", g.cell_size);
+      return;
+    }
     case MeshSource::generate: {
       const GenerateSpec& g = mesh.generate;
       if (g.shape != "sphere" && g.shape != "ellipsoid" && g.shape != "liver") {

@@ -19,6 +19,10 @@ void check_label_volume(const LabelVolume& volume) {
   require(volume.spacing.allFinite() && (volume.spacing.array() > 0).all(),
           "spacing must be finite and > 0 along every axis");
   require(volume.origin.allFinite(), "origin is not finite");
+  require(
+      volume.axes.allFinite() &&
+          (volume.axes.transpose() * volume.axes - Mat3::Identity()).cwiseAbs().maxCoeff() <= 1e-6,
+      "axes must be orthonormal columns (a rotation, or a rotation with a mirror)");
   const std::size_t count = static_cast<std::size_t>(volume.dims.x()) *
                             static_cast<std::size_t>(volume.dims.y()) *
                             static_cast<std::size_t>(volume.dims.z());
@@ -31,14 +35,21 @@ void check_label_volume(const LabelVolume& volume) {
 }
 
 Box3 label_volume_extent(const LabelVolume& volume) {
-  const Vec3 half = volume.spacing / 2;
-  const Vec3 last =
-      volume.origin + (volume.dims.cast<Real>() - Vec3::Ones()).cwiseProduct(volume.spacing);
-  return Box3(volume.origin - half, last + half);
+  // The voxels span [-1/2, dims - 1/2] voxel steps along each of their axes.
+  const Vec3 span = volume.dims.cast<Real>().cwiseProduct(volume.spacing);
+  const Vec3 first = -volume.spacing / 2;
+  Box3 box;
+  for (int corner = 0; corner < 8; ++corner) {
+    Vec3 local = first;
+    for (int a = 0; a < 3; ++a)
+      if ((corner >> a) & 1) local[a] += span[a];
+    box.extend(volume.origin + volume.axes * local);
+  }
+  return box;
 }
 
 int label_at(const LabelVolume& volume, const Vec3& p) {
-  const Vec3 t = (p - volume.origin).cwiseQuotient(volume.spacing);
+  const Vec3 t = (volume.axes.transpose() * (p - volume.origin)).cwiseQuotient(volume.spacing);
   if (!t.allFinite()) return 0;
   const Vec3 base = t.array().floor();
   const Vec3 frac = t - base;

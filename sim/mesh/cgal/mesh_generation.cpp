@@ -289,7 +289,8 @@ TetMesh mesh_labelled_volume(const LabelVolume& volume, const MeshingCriteria& c
   check_meshing_criteria(criteria);
   // One voxel of label 0 all round, so that the tissue's outer surface lies inside the bounds.
   const Box3 extent = label_volume_extent(volume);
-  const Box3 bounds(extent.min() - volume.spacing, extent.max() + volume.spacing);
+  const Vec3 margin = Vec3::Constant(volume.spacing.maxCoeff());
+  const Box3 bounds(extent.min() - margin, extent.max() + margin);
   check_mesh_size(extent, criteria);
   const Real step = std::min(volume.spacing.minCoeff(), criteria.facet_size / 2);
   return mesh_labelling([&volume](const Point& p) { return label_at(volume, to_vec3(p)); }, bounds,

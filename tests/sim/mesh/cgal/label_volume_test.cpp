@@ -80,6 +80,32 @@ TEST(LabelVolume, InvalidVolumesAreRejectedWithTheReason) {
   v = columns();
   std::fill(v.labels.begin(), v.labels.end(), 0);
   EXPECT_NE(message(v).find("no tissue"), std::string::npos);
+  v = columns();
+  v.axes(0, 1) = 0.1;  // i and j no longer perpendicular
+  EXPECT_NE(message(v).find("orthonormal"), std::string::npos);
+}
+
+// A scan's own orientation: i along +y, j along -x, k along -z (a turn and a mirror).
+TEST(LabelVolume, RotatedAxesCarryTheVoxelsWithThem) {
+  LabelVolume v = columns();
+  v.axes << 0, -1, 0, 1, 0, 0, 0, 0, -1;
+  check_label_volume(v);
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 4; ++i) {
+        const Vec3 world = v.origin + v.axes * Vec3(i, j, k).cwiseProduct(v.spacing);
+        EXPECT_EQ(label_at(v, world), i < 3 ? 1 + i : 0);
+      }
+  // Along i (now +y) the label changes at half a voxel; along world x it does not.
+  const Vec3 c = v.origin + v.axes * Vec3(1, 1, 0).cwiseProduct(v.spacing);
+  EXPECT_EQ(label_at(v, c + Vec3(0, 0.24, 0)), 2);
+  EXPECT_EQ(label_at(v, c + Vec3(0, 0.26, 0)), 3);
+  EXPECT_EQ(label_at(v, c + Vec3(0.4, 0, 0)), 2);
+  // The extent: y from the origin's 2 - 0.25 over 4 x 0.5; x from 1 + 0.5 back over 3 x 1;
+  // z from 3 + 1 down over 2 x 2.
+  const Box3 box = label_volume_extent(v);
+  EXPECT_TRUE(box.min().isApprox(Vec3(-1.5, 1.75, 0))) << box.min().transpose();
+  EXPECT_TRUE(box.max().isApprox(Vec3(1.5, 3.75, 4))) << box.max().transpose();
 }
 
 }  // namespace
