@@ -41,6 +41,9 @@ struct Zone {
   std::string name;  // shown in events and results, e.g. "vessel"
   std::array<double, 3> center_m{};
   double radius_m = 0;  // > 0
+  // Drawn in the trainee's picture (a translucent ball: a target green, a protected structure
+  // amber, a never-zone red); hidden by default, when finding it is part of the skill.
+  bool visible = false;
 
   bool operator==(const Zone&) const = default;
 };

@@ -147,11 +147,12 @@ Zone parse_zone(const ObjectReader& reader) {
   zone.name = reader.string("name", required);
   zone.center_m = parse_point(*reader.find("center_m", required), reader.path("center_m"));
   zone.radius_m = reader.number("radius_m", required);
+  zone.visible = reader.boolean("visible", optional);
   return zone;
 }
 
 ProtectedZone parse_protected_zone(const json& value, const std::string& path) {
-  const ObjectReader reader(value, path, {"name", "center_m", "radius_m", "never"});
+  const ObjectReader reader(value, path, {"name", "center_m", "radius_m", "visible", "never"});
   ProtectedZone zone;
   zone.zone = parse_zone(reader);
   zone.never = reader.boolean("never", optional);
@@ -159,11 +160,13 @@ ProtectedZone parse_protected_zone(const json& value, const std::string& path) {
 }
 
 Zone parse_target(const json& value, const std::string& path) {
-  return parse_zone(ObjectReader(value, path, {"name", "center_m", "radius_m"}));
+  return parse_zone(ObjectReader(value, path, {"name", "center_m", "radius_m", "visible"}));
 }
 
 json zone_json(const Zone& zone) {
-  return {{"name", zone.name}, {"center_m", zone.center_m}, {"radius_m", zone.radius_m}};
+  json item = {{"name", zone.name}, {"center_m", zone.center_m}, {"radius_m", zone.radius_m}};
+  if (zone.visible) item["visible"] = true;  // absent: hidden (curricula written before it)
+  return item;
 }
 
 int parse_consecutive_passes(const json& value, const std::string& path) {

@@ -5,8 +5,10 @@
 // which a frame should take 5-8 ms; docs/benchmarks.md). Without an argument, also the liver
 // station as its trainee sees it (server/live: the held laparoscope, the scalpel's blade and the
 // grasper's jaws, the marked line, the cut walls, the abdominal surroundings), the session ticking
-// between frames while the blade cuts along the line, and the knee station through its
-// arthroscope (bones, capsule, menisci and ACL, the probe) as the scope turns.
+// between frames while the blade cuts along the line (and once more with every vessel pattern
+// off: their price in the same run), and the knee station through its arthroscope (bones,
+// capsule, menisci and ACL with their vessels, the probe, two landmarks as visible targets) as
+// the scope turns.
 //   bench_render [SCENE.json]     default: sim/scenes/palpation.json, the liver and knee stations
 //   bench_render --save DIR       also writes each station's frames 0, 150 and 299 and the last
 //                                 one from outside, as DIR/liver_station_*.jpg and
@@ -146,19 +148,29 @@ void save(const std::string& path, const std::vector<std::uint8_t>& jpeg) {
 // between frames (not timed) with the inputs inputs_at(frame) gives, each frame is drawn from the
 // camera picture_camera picks (the scene's scope once it reports), and one line is printed. With
 // save_dir, frames 0, 150 and the last are written as DIR/<prefix>_<frame>.jpg, and the last also
-// from outside as DIR/<prefix>_outside.jpg.
+// from outside as DIR/<prefix>_outside.jpg. zones: a task's visible zones, drawn in every frame.
+// Without vessels, every look's vessel pattern is off: the same run's price of the vessels.
 template <typename InputsAt>
 void run_station(const incise::server::live::SessionScene& scene,
                  incise::server::live::SimEngine& engine, const char* label,
-                 const std::string& save_dir, const std::string& prefix, InputsAt inputs_at) {
+                 const std::string& save_dir, const std::string& prefix, InputsAt inputs_at,
+                 std::vector<incise::render::MarkView> zones = {}, bool vessels = true) {
   using namespace incise;
   const render::Camera session = server::live::camera_for(scene);
   const render::Camera outside = server::live::outside_camera_for(scene);
   // Built once per scene, as the streamer does: the style and the surroundings' meshes.
-  render::SceneRenderer renderer(server::live::scene_style(scene.setup()));
+  render::SceneStyle style = server::live::scene_style(scene.setup());
+  if (!vessels) {
+    for (render::SurfaceLook* look : {&style.tissue, &style.lining, &style.organ, &style.fat})
+      look->vessels = 0;
+    for (auto& [label, look] : style.tissue_by_label)
+      look.vessels = 0;
+  }
+  render::SceneRenderer renderer(style);
   renderer.set_surroundings(server::live::static_surfaces(scene.setup(), renderer.style()));
   render::FrameEncoder encoder(width, height, 80);
   server::live::SnapshotPicture picture;
+  picture.set_zones(std::move(zones));
   std::vector<std::uint8_t> jpeg;
   FrameTimes times;
   int triangles = 0;
@@ -195,7 +207,7 @@ incise::server::live::SessionScene station_scene(const char* id) {
 
 // The liver station's picture while the scalpel cuts 6 mm deep along the marked line and the
 // grasper holds the lobe open beside it.
-void run_liver_station(const std::string& save_dir) {
+void run_liver_station(const std::string& save_dir, bool vessels) {
   using namespace incise;
   const auto scene = station_scene("scenes/surgery/liver_station.json");
   server::live::SimEngine engine(scene, 0.002, 2);
@@ -203,7 +215,9 @@ void run_liver_station(const std::string& save_dir) {
   const Vec3 start = line.front(), end = line.back();
   const Vec3 depth(0, 0, 0.006), above(0, 0, 0.01);
   const Vec3 lobe = 0.5 * (start + end) + Vec3(-0.005, 0.012, 0.0005);
-  run_station(scene, engine, "liver station (laparoscope)", save_dir, "liver_station",
+  run_station(scene, engine,
+              vessels ? "liver station (laparoscope)" : "liver station, no vessels", save_dir,
+              vessels ? "liver_station" : "liver_station_plain",
               [&](int frame) {
                 // Into the tissue over the first tenth, along the line over six, out over one
                 // (the cut is made as the blade leaves), and the opened cut seen for the last
@@ -216,14 +230,15 @@ void run_liver_station(const std::string& save_dir) {
                 const Vec3 blade = (1 - along) * start + along * end - s * depth + (1 - s) * above;
                 return std::array<devices::DeviceState, 2>{
                     bench::down(blade), bench::along_x(lobe, static_cast<float>(1 - in))};
-              });
+              },
+              {}, vessels);
   std::printf("  (the stroke cut %.0f mm^2; %s)\n", engine.damage().cut_area * 1e6,
               engine.state_finite() ? "finite" : "NOT FINITE");
 }
 
 // The knee station's picture through the arthroscope at the anterolateral portal as it turns
 // from the medial meniscus's anterior horn to the lateral one, while the probe from the
-// anteromedial portal reaches the medial horn.
+// anteromedial portal reaches the medial horn; the two horns are the tour task's visible targets.
 void run_knee_station(const std::string& save_dir) {
   using namespace incise;
   const auto scene = station_scene("scenes/surgery/knee_station.json");
@@ -239,7 +254,8 @@ void run_knee_station(const std::string& save_dir) {
   const Vec3 lateral =
       sim::find_landmark(setup.landmarks, "lateral_meniscus_anterior_horn").position;
   run_station(
-      scene, engine, "knee station (arthroscope)", save_dir, "knee_station", [&](int frame) {
+      scene, engine, "knee station (arthroscope)", save_dir, "knee_station",
+      [&](int frame) {
         const double s =
             std::clamp((frame + warm_up_frames) / double(frames + warm_up_frames), 0.0, 1.0);
         const Vec3 look = ((1 - s) * medial + s * lateral - scope_portal).normalized();
@@ -248,7 +264,8 @@ void run_knee_station(const std::string& save_dir) {
         return std::array<devices::DeviceState, 2>{
             bench::pointing(scope_portal + 0.009 * look, look),
             bench::pointing(probe_portal + (0.1 + 0.85 * in) * reach, reach)};
-      });
+      },
+      {{medial, 0.004, render::MarkKind::target}, {lateral, 0.004, render::MarkKind::target}});
   std::printf("  (%s)\n", engine.state_finite() ? "finite" : "NOT FINITE");
 }
 
@@ -293,7 +310,8 @@ int main(int argc, char** argv) {
       run(scene, finer, label(finer));
     }
     if (!block_only) {
-      run_liver_station(save_dir);
+      run_liver_station(save_dir, true);
+      run_liver_station(save_dir, false);
       run_knee_station(save_dir);
     }
   } catch (const std::exception& error) {

@@ -9,6 +9,7 @@
 #include "server/api/api_error.h"
 #include "server/api/live_access.h"
 #include "server/api/router.h"
+#include "server/live/frame_streamer.h"
 #include "server/live/scene_library.h"
 #include "server/live/scoring.h"
 #include "server/live/session_scene.h"
@@ -53,6 +54,7 @@ struct ReplayInput {
   std::string_view scene_text;
   double tick_s = 0;
   std::vector<live::TickRecord> ticks;
+  std::vector<render::MarkView> zones;  // the recorded task's visible zones
 };
 
 ReplayInput replay_input(ApiContext& ctx, std::int64_t recording_id) {
@@ -83,7 +85,9 @@ ReplayInput replay_input(ApiContext& ctx, std::int64_t recording_id) {
   }
   auto ticks = live::load_tick_records(db, recording_id);
   if (ticks.empty()) throw ApiError(http::status::conflict, name + " is empty");
-  return {scene->id, scene->text, 1.0 / meta->tick_hz, std::move(ticks)};
+  const auto task = api::find_curriculum_task(db, record->task);
+  return {scene->id, scene->text, 1.0 / meta->tick_hz, std::move(ticks),
+          task ? live::task_zones(*task) : std::vector<render::MarkView>{}};
 }
 
 }  // namespace
@@ -122,7 +126,7 @@ std::variant<ViewTarget, Response> resolve_view(const Request& request, AppState
     return ViewTarget{nullptr,
                       std::make_unique<live::ReplaySession>(
                           live::load_session_scene(input->scene_id, input->scene_text),
-                          input->tick_s, std::move(input->ticks)),
+                          input->tick_s, std::move(input->ticks), std::move(input->zones)),
                       outside_view_allowed};
   } catch (const ApiError& e) {
     return json_error(e.status(), e.what(), request.version(), false);

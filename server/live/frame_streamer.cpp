@@ -93,12 +93,15 @@ void SnapshotPicture::prepare(const Snapshot& snapshot) {
   marks_.clear();
   for (const sim::Vec3& p : snapshot.marks)
     marks_.push_back({p, kMarkRadius});
+  marks_.insert(marks_.end(), zones_.begin(), zones_.end());
 }
 
 void SnapshotPicture::encode(render::SceneRenderer& renderer, render::FrameEncoder& encoder,
                              const render::Camera& camera, std::vector<std::uint8_t>& jpeg) const {
   render::TissueView tissue{&V_, &N_, &snapshot_->surface->faces};
   tissue.cut_faces = snapshot_->cut_faces.get();
+  tissue.face_labels = snapshot_->face_labels.get();
+  tissue.rest = snapshot_->surface_rest.get();
   encoder.render_jpeg(renderer, camera, tissue, tools_, jpeg, marks_);
 }
 
@@ -109,10 +112,66 @@ render::Camera picture_camera(const Snapshot& snapshot, const render::Camera& se
   return session;
 }
 
+namespace {
+
+// A look with a vessel pattern: vessels of colour `vessel`, `strength` in [0, 1], `spacing` apart.
+render::SurfaceLook with_vessels(render::SurfaceLook look, float strength, float spacing_m,
+                                 const Eigen::Vector3f& vessel) {
+  look.vessels = strength;
+  look.vessel_spacing_m = spacing_m;
+  look.vessel_albedo = vessel;
+  return look;
+}
+
+// The look of a tissue by its name (SurgicalSceneSetup::tissue_names); nullopt: the default.
+std::optional<render::SurfaceLook> tissue_look(const std::string& name) {
+  // Glisson's capsule over the parenchyma shows a fine net of vessels; the fibrocartilage of a
+  // meniscus is white with a few vessels at its rim; the ACL's synovial sheath is vascular.
+  if (name == "liver")
+    return with_vessels({{0.72f, 0.30f, 0.24f}, 0.30f, 40.0f}, 0.45f, 0.012f,
+                        {0.38f, 0.05f, 0.10f});
+  if (name == "gallbladder bed")
+    return with_vessels({{0.62f, 0.52f, 0.30f}, 0.30f, 40.0f}, 0.35f, 0.010f,
+                        {0.30f, 0.22f, 0.10f});
+  if (name == "meniscus")
+    return with_vessels({{0.93f, 0.92f, 0.90f}, 0.35f, 40.0f}, 0.15f, 0.006f,
+                        {0.78f, 0.42f, 0.42f});
+  if (name == "ligament")
+    return with_vessels({{0.92f, 0.87f, 0.78f}, 0.35f, 40.0f}, 0.35f, 0.004f,
+                        {0.72f, 0.25f, 0.24f});
+  return std::nullopt;
+}
+
+}  // namespace
+
 render::SceneStyle scene_style(const sim::surgery::SurgicalSceneSetup& setup) {
   render::SceneStyle style;
-  if (setup.name == "knee") style.tissue = {{0.93f, 0.92f, 0.90f}, 0.35f, 40.0f};
+  for (const auto& [label, name] : setup.tissue_names) {
+    if (const auto look = tissue_look(name)) style.tissue_by_label[label] = *look;
+  }
+  // The synovium lining the joint and the peritoneum over the abdominal wall and the neighbours
+  // carry the vessels a scope's view is full of.
+  style.lining = with_vessels(style.lining, 0.40f, 0.010f, {0.45f, 0.06f, 0.08f});
+  style.organ = with_vessels(style.organ, 0.30f, 0.018f, {0.40f, 0.08f, 0.12f});
+  style.fat = with_vessels(style.fat, 0.25f, 0.015f, {0.60f, 0.20f, 0.12f});
   return style;
+}
+
+std::vector<render::MarkView> task_zones(const curriculum::Task& task) {
+  std::vector<render::MarkView> zones;
+  const auto centre = [](const curriculum::Zone& z) {
+    return sim::Vec3(z.center_m[0], z.center_m[1], z.center_m[2]);
+  };
+  for (const curriculum::Zone& target : task.targets) {
+    if (target.visible)
+      zones.push_back({centre(target), target.radius_m, render::MarkKind::target});
+  }
+  for (const curriculum::ProtectedZone& zone : task.protected_zones) {
+    if (!zone.zone.visible) continue;
+    zones.push_back({centre(zone.zone), zone.zone.radius_m,
+                     zone.never ? render::MarkKind::never_zone : render::MarkKind::protected_zone});
+  }
+  return zones;
 }
 
 std::vector<render::StaticSurface> static_surfaces(const sim::surgery::SurgicalSceneSetup& setup,
@@ -145,11 +204,13 @@ std::vector<render::StaticSurface> static_surfaces(const sim::surgery::SurgicalS
 
 FrameStreamer::FrameStreamer(const StreamSource& source, render::Camera camera,
                              render::Camera outside,
-                             std::shared_ptr<const sim::surgery::SurgicalSceneSetup> scene)
+                             std::shared_ptr<const sim::surgery::SurgicalSceneSetup> scene,
+                             std::vector<render::MarkView> zones)
     : source_(source),
       camera_(std::move(camera)),
       outside_(std::move(outside)),
       scene_(std::move(scene)),
+      zones_(std::move(zones)),
       thread_([this] { run(); }) {}
 
 FrameStreamer::~FrameStreamer() {
@@ -210,6 +271,7 @@ void FrameStreamer::render_loop() {
   std::int64_t pass = 0;
   std::vector<std::uint8_t> jpeg;
   SnapshotPicture picture;
+  picture.set_zones(zones_);
   struct Job {
     std::shared_ptr<FrameSink> sink;
     FrameSink::Request request;

@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "curriculum/curriculum.h"
 #include "server/live/snapshot.h"
 #include "sim/render/camera.h"
 #include "sim/render/scene_renderer.h"
@@ -51,6 +52,8 @@ class FrameSink {
 // snapshot to snapshot.
 class SnapshotPicture {
  public:
+  // Drawn with every snapshot after the marked line's ink: a task's visible zones (task_zones).
+  void set_zones(std::vector<render::MarkView> zones) { zones_ = std::move(zones); }
   // The snapshot must outlive the calls to encode that follow.
   void prepare(const Snapshot& snapshot);
   // Draws the prepared snapshot from camera and encodes it (FrameEncoder::render_jpeg).
@@ -63,6 +66,7 @@ class SnapshotPicture {
   std::vector<double> scratch_;
   std::vector<render::ToolView> tools_;
   std::vector<render::MarkView> marks_;
+  std::vector<render::MarkView> zones_;
 };
 
 // The camera of a viewer's picture of a snapshot in an image of this aspect: the outside view if
@@ -70,9 +74,15 @@ class SnapshotPicture {
 render::Camera picture_camera(const Snapshot& snapshot, const render::Camera& session,
                               const render::Camera& outside, bool outside_view, double aspect);
 
-// How a scene is drawn: the default style, with the knee's soft tissue the white of meniscus and
-// ligament rather than the liver's red.
+// How a scene is drawn: the default style, each tissue label of the scene in its tissue's look
+// (SurgicalSceneSetup::tissue_names: the liver's red-brown and its capsule's vessels, the
+// meniscus's and ligament's white with fine vessels) and the surroundings with their vessels
+// (the synovium's and the peritoneum's).
 render::SceneStyle scene_style(const sim::surgery::SurgicalSceneSetup& setup);
+
+// The zones of a task the trainee is shown ("visible": true in the curriculum): its targets and
+// its protected zones (never-zones apart), as translucent balls.
+std::vector<render::MarkView> task_zones(const curriculum::Task& task);
 
 // The scene's surroundings (SurgicalSceneSetup::surroundings) as the renderer takes them, each in
 // style's look for its kind. They point into setup, which must outlive them.
@@ -83,9 +93,11 @@ class FrameStreamer {
  public:
   // Starts the render thread. source must outlive the streamer. camera: the session's picture
   // (a scope on a device replaces it once it reports); outside: the view from outside the body;
-  // scene: the style and the surroundings drawn around the tissue (null: the default style, none).
+  // scene: the style and the surroundings drawn around the tissue (null: the default style, none);
+  // zones: drawn in every picture (task_zones).
   FrameStreamer(const StreamSource& source, render::Camera camera, render::Camera outside,
-                std::shared_ptr<const sim::surgery::SurgicalSceneSetup> scene = nullptr);
+                std::shared_ptr<const sim::surgery::SurgicalSceneSetup> scene = nullptr,
+                std::vector<render::MarkView> zones = {});
   ~FrameStreamer();  // stops and joins the render thread
   FrameStreamer(const FrameStreamer&) = delete;
   FrameStreamer& operator=(const FrameStreamer&) = delete;
@@ -108,6 +120,7 @@ class FrameStreamer {
   render::Camera camera_;
   render::Camera outside_;
   std::shared_ptr<const sim::surgery::SurgicalSceneSetup> scene_;
+  std::vector<render::MarkView> zones_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   bool stop_ = false;

@@ -126,9 +126,9 @@ LiveSession::~LiveSession() {
 }
 
 void LiveSession::start() {
-  streamer_ = std::make_unique<FrameStreamer>(*this, camera_for(*params_.scene),
-                                              outside_camera_for(*params_.scene),
-                                              params_.scene->shared_setup());
+  streamer_ = std::make_unique<FrameStreamer>(
+      *this, camera_for(*params_.scene), outside_camera_for(*params_.scene),
+      params_.scene->shared_setup(), task_zones(params_.task));
   thread_ = std::thread([this] { run(); });
 }
 

@@ -33,11 +33,12 @@ void replay_tick(SimEngine& engine, const TickRecord& record) {
 }
 
 ReplaySession::ReplaySession(const SessionScene& scene, double tick_s,
-                             std::vector<TickRecord> ticks)
+                             std::vector<TickRecord> ticks, std::vector<render::MarkView> zones)
     : engine_(scene, tick_s, hands_of(ticks)),
       camera_(camera_for(scene)),
       outside_(outside_camera_for(scene)),
       scene_(scene.shared_setup()),
+      zones_(std::move(zones)),
       tick_s_(tick_s),
       ticks_(std::move(ticks)),
       ahead_(scene, tick_s, hands_of(ticks_)) {
@@ -64,7 +65,7 @@ ReplaySession::~ReplaySession() {
 }
 
 void ReplaySession::start() {
-  streamer_ = std::make_unique<FrameStreamer>(*this, camera_, outside_, scene_);
+  streamer_ = std::make_unique<FrameStreamer>(*this, camera_, outside_, scene_, zones_);
   thread_ = std::thread([this] { run(); });
   checkpointer_ = std::thread([this] { run_ahead(); });
 }

@@ -34,8 +34,10 @@ class ReplaySession : public StreamSource {
   static constexpr double kMinSpeed = 0.25;
   static constexpr double kMaxSpeed = 4.0;
 
-  // Throws like SimEngine for a bad scene.
-  ReplaySession(const SessionScene& scene, double tick_s, std::vector<TickRecord> ticks);
+  // zones: drawn in the picture (the recorded task's visible zones, task_zones). Throws like
+  // SimEngine for a bad scene.
+  ReplaySession(const SessionScene& scene, double tick_s, std::vector<TickRecord> ticks,
+                std::vector<render::MarkView> zones = {});
   ~ReplaySession() override;
 
   // Starts the replay thread (playing from t = 0 at 1x, as a video would) and the render thread.
@@ -71,6 +73,7 @@ class ReplaySession : public StreamSource {
   render::Camera camera_;
   render::Camera outside_;
   std::shared_ptr<const sim::surgery::SurgicalSceneSetup> scene_;  // for the picture
+  std::vector<render::MarkView> zones_;
   double tick_s_;
   std::vector<TickRecord> ticks_;
   std::int64_t checkpoint_ticks_ = kCheckpointTicks;

@@ -154,6 +154,8 @@ std::shared_ptr<Snapshot> make_snapshot(const SimEngine& engine) {
   s->sim_time_s = engine.time_s();
   s->surface = engine.surface();
   s->cut_faces = engine.world().cut_faces();
+  s->face_labels = engine.world().face_labels();
+  s->surface_rest = engine.world().surface_rest();
   s->positions = engine.positions();
   s->tool_tip = engine.tool_tip();
   s->tool_radius = engine.tool_radius();

@@ -25,6 +25,9 @@ struct Snapshot {
   // Per face of surface, 1 for a wall a cut opened (sim/surgery/cut_walls.h); null for the
   // palpation block, which nothing cuts.
   std::shared_ptr<const std::vector<std::uint8_t>> cut_faces;
+  // Per face of surface, its tissue label; per surface vertex, its rest position (SurgeryWorld).
+  std::shared_ptr<const std::vector<std::uint8_t>> face_labels;
+  std::shared_ptr<const sim::Points> surface_rest;
   // A surgical scene's instruments as simulated (every tool but a scope, which is the camera),
   // drawn with their working ends; empty for the palpation block, whose probes are drawn from the
   // hand fields below.

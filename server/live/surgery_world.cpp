@@ -115,8 +115,19 @@ void SurgeryWorld::follow_surface() {
     return;
   }
   surface_ = std::make_shared<const sim::BoundarySurface>(now);
-  if (setup_->tools_stand_for_any) return;  // the palpation block: nothing cuts it
   const sim::TetMesh& mesh = scene_->tissue().mesh();
+  auto labels = std::make_shared<std::vector<std::uint8_t>>(now.tets.size());
+  for (std::size_t f = 0; f < now.tets.size(); ++f) {
+    const int t = now.tets[f];
+    const int label = t < mesh.labels.size() ? mesh.labels[t] : 0;
+    (*labels)[f] = static_cast<std::uint8_t>(std::clamp(label, 0, 255));
+  }
+  face_labels_ = std::move(labels);
+  auto rest = std::make_shared<sim::Points>(static_cast<Eigen::Index>(now.nodes.size()), 3);
+  for (std::size_t j = 0; j < now.nodes.size(); ++j)
+    rest->row(static_cast<Eigen::Index>(j)) = mesh.rest.row(now.nodes[j]);
+  surface_rest_ = std::move(rest);
+  if (setup_->tools_stand_for_any) return;  // the palpation block: nothing cuts it
   if (!cut_walls_) cut_walls_.emplace(mesh.rest, scene_->tissue().surface_faces());
   auto flags = std::make_shared<std::vector<std::uint8_t>>();
   cut_walls_->classify(mesh.rest, now, *flags);

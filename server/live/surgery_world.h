@@ -50,6 +50,13 @@ class SurgeryWorld {
   // Per face of surface(), 1 for a wall a cut opened; a new object with each new surface; null
   // for the palpation block (nothing cuts it).
   const std::shared_ptr<const std::vector<std::uint8_t>>& cut_faces() const { return cut_faces_; }
+  // Per face of surface(), the tissue label of its tet (0..255), and per surface vertex its rest
+  // position [m] (where the picture fixes the tissue's vessels); new objects with each new
+  // surface.
+  const std::shared_ptr<const std::vector<std::uint8_t>>& face_labels() const {
+    return face_labels_;
+  }
+  const std::shared_ptr<const sim::Points>& surface_rest() const { return surface_rest_; }
   // The marked cut line's points as the tissue carries them now: each point moves with the
   // surface node nearest to it at rest (cuts and refinement renumber nodes, so it is looked up
   // each time; a few hundred distances).
@@ -71,6 +78,8 @@ class SurgeryWorld {
   std::shared_ptr<const sim::BoundarySurface> surface_;
   std::optional<sim::surgery::CutWalls> cut_walls_;  // the tissue's boundary at the start
   std::shared_ptr<const std::vector<std::uint8_t>> cut_faces_;
+  std::shared_ptr<const std::vector<std::uint8_t>> face_labels_;
+  std::shared_ptr<const sim::Points> surface_rest_;
   std::vector<sim::surgery::SceneEvent> events_;
 };
 

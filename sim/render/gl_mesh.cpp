@@ -40,6 +40,7 @@ GlMesh::GlMesh() {
 }
 
 GlMesh::~GlMesh() {
+  if (pattern_buffer_ != 0) glDeleteBuffers(1, &pattern_buffer_);
   glDeleteBuffers(1, &index_buffer_);
   glDeleteBuffers(1, &vertex_buffer_);
   glDeleteVertexArrays(1, &vertex_array_);
@@ -48,6 +49,20 @@ GlMesh::~GlMesh() {
 void GlMesh::set_vertices(std::span<const float> interleaved) {
   glBindBuffer(GL_ARRAY_BUFFER, vertex_buffer_);
   upload(GL_ARRAY_BUFFER, interleaved.data(), interleaved.size_bytes(), vertex_bytes_);
+  glBindBuffer(GL_ARRAY_BUFFER, 0);
+}
+
+void GlMesh::set_pattern_positions(std::span<const float> xyz) {
+  if (pattern_buffer_ == 0) {
+    glGenBuffers(1, &pattern_buffer_);
+    glBindVertexArray(vertex_array_);
+    glBindBuffer(GL_ARRAY_BUFFER, pattern_buffer_);
+    glEnableVertexAttribArray(2);
+    glVertexAttribPointer(2, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
+    glBindVertexArray(0);
+  }
+  glBindBuffer(GL_ARRAY_BUFFER, pattern_buffer_);
+  upload(GL_ARRAY_BUFFER, xyz.data(), xyz.size_bytes(), pattern_bytes_);
   glBindBuffer(GL_ARRAY_BUFFER, 0);
 }
 

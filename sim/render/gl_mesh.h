@@ -25,6 +25,10 @@ class GlMesh {
   void set_vertices(std::span<const float> interleaved);
   void set_indices(std::span<const std::uint32_t> indices);
 
+  // Per vertex xyz of a second position (attribute 2; until set, attribute 2 is off): where a
+  // surface pattern is fixed, e.g. the rest shape of a tissue that deforms. #vertices * 3 floats.
+  void set_pattern_positions(std::span<const float> xyz);
+
   // Draws the triangles with whatever program is in use; nothing when there are no indices.
   void draw() const;
   // Draws triangles [first, first + count) of the index list (clamped to it).
@@ -37,7 +41,9 @@ class GlMesh {
   unsigned int vertex_array_ = 0;
   unsigned int vertex_buffer_ = 0;
   unsigned int index_buffer_ = 0;
+  unsigned int pattern_buffer_ = 0;  // 0 until set_pattern_positions
   std::size_t vertex_bytes_ = 0;
+  std::size_t pattern_bytes_ = 0;
   std::size_t index_bytes_ = 0;
   int index_count_ = 0;
 };

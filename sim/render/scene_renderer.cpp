@@ -41,15 +41,19 @@ void main() {
 constexpr const char* lit_vertex_source = R"(#version 330 core
 layout(location = 0) in vec3 position;
 layout(location = 1) in vec3 normal;
+layout(location = 2) in vec3 pattern_position;
 uniform mat4 model;
 uniform mat3 normal_matrix;
 uniform mat4 view_projection;
+uniform int pattern_attribute;
 out vec3 world_position;
 out vec3 world_normal;
+out vec3 pattern;
 void main() {
   vec4 world = model * vec4(position, 1.0);
   world_position = world.xyz;
   world_normal = normal_matrix * normal;
+  pattern = pattern_attribute != 0 ? pattern_position : position;
   gl_Position = view_projection * world;
 }
 )";
@@ -57,9 +61,17 @@ void main() {
 // The formula documented on SceneStyle. The triangle's own normal, from the screen-space
 // derivatives of the position, tells which side the camera sees; testing the interpolated
 // normal against the view direction instead would flip it wrongly near silhouettes.
+// The vessels (SurfaceLook::vessels): lines where a smooth value noise of the rest position crosses
+// one half, so they wind and branch without ending; a hash of the lattice point (no texture to
+// build or sample) keeps the pattern the same on every frame and machine.
 constexpr const char* lit_fragment_source = R"(#version 330 core
 in vec3 world_position;
 in vec3 world_normal;
+in vec3 pattern;
+uniform float vessels;
+uniform float vessel_scale;
+uniform vec3 vessel_albedo;
+uniform float opacity;
 uniform vec3 eye;
 uniform vec3 to_light;
 uniform float ambient;
@@ -77,7 +89,42 @@ uniform vec3 caster_centre[max_casters];
 uniform float caster_radius[max_casters];
 uniform vec3 shadow_light;
 out vec4 colour;
+float lattice_hash(vec3 p) {
+  p = fract(p * vec3(0.1031, 0.1030, 0.0973));
+  p += dot(p, p.yxz + 33.33);
+  return fract((p.x + p.y) * p.z);
+}
+float value_noise(vec3 x) {
+  vec3 i = floor(x);
+  vec3 f = fract(x);
+  vec3 u = f * f * (3.0 - 2.0 * f);
+  float a = mix(lattice_hash(i), lattice_hash(i + vec3(1.0, 0.0, 0.0)), u.x);
+  float b = mix(lattice_hash(i + vec3(0.0, 1.0, 0.0)), lattice_hash(i + vec3(1.0, 1.0, 0.0)), u.x);
+  float c = mix(lattice_hash(i + vec3(0.0, 0.0, 1.0)), lattice_hash(i + vec3(1.0, 0.0, 1.0)), u.x);
+  float d = mix(lattice_hash(i + vec3(0.0, 1.0, 1.0)), lattice_hash(i + vec3(1.0, 1.0, 1.0)), u.x);
+  return mix(mix(a, b, u.y), mix(c, d, u.y), u.z);
+}
+// 1 on a line where |n - 1/2| < width (n a noise value), 0 off it; the edge is a pixel wide, and
+// a line thinner than a pixel fades out rather than flicker.
+float vessel_line(float n, float width) {
+  float d = abs(n - 0.5);
+  float pixel = max(fwidth(d), 1e-6);
+  float line = 1.0 - smoothstep(width - 0.5 * pixel, width + 0.5 * pixel, d);
+  return line * clamp(2.0 * width / pixel - 1.0, 0.0, 1.0);
+}
 void main() {
+  vec3 base = albedo;
+  if (vessels > 0.0) {
+    // Two noises: the first's contour is the vessels, the second (finer) varies their calibre
+    // along them, and its own contour where the first is above one half is the capillaries,
+    // which end where that patch ends.
+    vec3 p = pattern * vessel_scale;
+    float coarse = value_noise(p);
+    float fine = value_noise(2.3 * p + vec3(17.0, 5.0, 11.0));
+    float w = max(vessel_line(coarse, 0.03 * (0.3 + 1.4 * fine)),
+                  0.6 * smoothstep(0.5, 0.6, coarse) * vessel_line(fine, 0.012));
+    base = mix(albedo, vessel_albedo, vessels * w);
+  }
   vec3 to_eye = eye - world_position;
   vec3 v = normalize(to_eye);
   vec3 face = cross(dFdx(world_position), dFdy(world_position));
@@ -106,8 +153,8 @@ void main() {
   float lambert = max(dot(n, l), 0.0);
   float highlight = 0.0;
   if (lambert > 0.0) highlight = pow(max(dot(n, normalize(l + v)), 0.0), shininess);
-  colour = vec4(clamp(albedo * (ambient + reach * diffuse * lambert) + reach * specular * highlight,
-                      0.0, 1.0), 1.0);
+  colour = vec4(clamp(base * (ambient + reach * diffuse * lambert) + reach * specular * highlight,
+                      0.0, 1.0), opacity);
 }
 )";
 
@@ -130,9 +177,15 @@ void complete_basis(const Eigen::Vector3d& w, Eigen::Vector3d& u, Eigen::Vector3
   v = w.cross(u);
 }
 
-void validate_look(const SurfaceLook& look, const char* name) {
+void validate_look(const SurfaceLook& look, const std::string& name) {
   if (!(look.shininess > 0.0f)) {
-    throw std::invalid_argument(std::string("scene style ") + name + ".shininess must be positive");
+    throw std::invalid_argument("scene style " + name + ".shininess must be positive");
+  }
+  if (!(look.vessels >= 0.0f && look.vessels <= 1.0f)) {
+    throw std::invalid_argument("scene style " + name + ".vessels must be in [0, 1]");
+  }
+  if (!(look.vessel_spacing_m > 0.0f) || !std::isfinite(look.vessel_spacing_m)) {
+    throw std::invalid_argument("scene style " + name + ".vessel_spacing_m must be positive");
   }
 }
 
@@ -156,6 +209,14 @@ SceneStyle normalised(SceneStyle style) {
   validate_look(style.lining, "lining");
   validate_look(style.organ, "organ");
   validate_look(style.fat, "fat");
+  validate_look(style.target, "target");
+  validate_look(style.protected_zone, "protected_zone");
+  validate_look(style.never_zone, "never_zone");
+  for (const auto& [label, look] : style.tissue_by_label)
+    validate_look(look, "tissue_by_label[" + std::to_string(label) + "]");
+  if (!(style.zone_opacity > 0.0f && style.zone_opacity <= 1.0f)) {
+    throw std::invalid_argument("scene style zone_opacity must be in (0, 1]");
+  }
   style.up.normalize();
   style.to_light.normalize();
   return style;
@@ -223,7 +284,12 @@ SceneRenderer::SceneRenderer(const SceneStyle& style)
       casters_location_(lit_program_.uniform_location("casters")),
       caster_centre_location_(lit_program_.uniform_location("caster_centre")),
       caster_radius_location_(lit_program_.uniform_location("caster_radius")),
-      shadow_light_location_(lit_program_.uniform_location("shadow_light")) {
+      shadow_light_location_(lit_program_.uniform_location("shadow_light")),
+      vessels_location_(lit_program_.uniform_location("vessels")),
+      vessel_scale_location_(lit_program_.uniform_location("vessel_scale")),
+      vessel_albedo_location_(lit_program_.uniform_location("vessel_albedo")),
+      pattern_attribute_location_(lit_program_.uniform_location("pattern_attribute")),
+      opacity_location_(lit_program_.uniform_location("opacity")) {
   glGenVertexArrays(1, &empty_vertex_array_);
   upload(sphere_, unit_sphere(sphere_slices, sphere_stacks));
   upload(cylinder_, unit_cylinder(cylinder_slices));
@@ -310,6 +376,16 @@ bool SceneRenderer::upload_tissue(const TissueView& tissue) {
     throw std::invalid_argument("tissue has " + std::to_string(F.rows()) + " faces but " +
                                 std::to_string(cut->size()) + " cut-face flags");
   }
+  const std::vector<std::uint8_t>* labels = tissue.face_labels;
+  if (labels != nullptr && labels->empty()) labels = nullptr;
+  if (labels != nullptr && static_cast<Eigen::Index>(labels->size()) != F.rows()) {
+    throw std::invalid_argument("tissue has " + std::to_string(F.rows()) + " faces but " +
+                                std::to_string(labels->size()) + " face labels");
+  }
+  if (tissue.rest != nullptr && tissue.rest->rows() != V.rows()) {
+    throw std::invalid_argument("tissue has " + std::to_string(V.rows()) + " vertices but " +
+                                std::to_string(tissue.rest->rows()) + " rest positions");
+  }
   if (V.rows() == 0) return false;
 
   // Validate all faces before touching the cached ones, so that a rejected frame leaves the
@@ -324,15 +400,30 @@ bool SceneRenderer::upload_tissue(const TissueView& tissue) {
                                   std::to_string(vertex_count) + ")");
     }
   }
-  // The capsule's faces first, then the cut walls (two draws, two looks), each in F's order.
-  int capsule = static_cast<int>(F.rows());
-  if (cut != nullptr)
-    capsule -=
-        static_cast<int>(std::count_if(cut->begin(), cut->end(), [](std::uint8_t c) { return c; }));
+  // The capsule's faces by label (a draw per look), then the cut walls, each group in F's order:
+  // a counting sort, slot 256 for the walls.
+  constexpr std::size_t kWalls = 256;
+  std::array<int, kWalls + 1> count{};
+  const auto slot_of = [&](Eigen::Index f) -> std::size_t {
+    const auto i = static_cast<std::size_t>(f);
+    if (cut != nullptr && (*cut)[i]) return kWalls;
+    return labels != nullptr ? (*labels)[i] : 0;
+  };
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    ++count[slot_of(f)];
+  std::array<std::size_t, kWalls + 1> at{};
+  ordered_groups_.clear();
+  std::size_t first = 0;
+  for (std::size_t slot = 0; slot <= kWalls; ++slot) {
+    at[slot] = 3 * first;
+    if (count[slot] == 0) continue;
+    ordered_groups_.push_back(
+        {slot == kWalls ? -1 : static_cast<int>(slot), static_cast<int>(first), count[slot]});
+    first += static_cast<std::size_t>(count[slot]);
+  }
   ordered_indices_.resize(static_cast<std::size_t>(F.size()));
-  std::size_t at[2] = {0, 3 * static_cast<std::size_t>(capsule)};
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    std::size_t& a = at[cut != nullptr && (*cut)[static_cast<std::size_t>(f)] ? 1 : 0];
+    std::size_t& a = at[slot_of(f)];
     for (int k = 0; k < 3; ++k)
       ordered_indices_[a++] = static_cast<std::uint32_t>(face_data[3 * f + k]);
   }
@@ -342,13 +433,23 @@ bool SceneRenderer::upload_tissue(const TissueView& tissue) {
   Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d high = -low;
   double lowest = std::numeric_limits<double>::infinity();
+  tissue_pattern_.resize(static_cast<std::size_t>(V.rows()) * 3);
   float* out = tissue_vertices_.data();
+  float* pattern_out = tissue_pattern_.data();
   for (Eigen::Index v = 0; v < V.rows(); ++v) {
     const Eigen::Vector3d p = V.row(v).transpose();
     if (!p.allFinite()) {
       throw std::invalid_argument("tissue vertex " + std::to_string(v) +
                                   " has a non-finite position");
     }
+    const Eigen::Vector3d r = tissue.rest != nullptr ? Eigen::Vector3d(tissue.rest->row(v)) : p;
+    if (!r.allFinite()) {
+      throw std::invalid_argument("tissue vertex " + std::to_string(v) +
+                                  " has a non-finite rest position");
+    }
+    for (int k = 0; k < 3; ++k)
+      pattern_out[k] = static_cast<float>(r[k]);
+    pattern_out += 3;
     low = low.cwiseMin(p);
     high = high.cwiseMax(p);
     lowest = std::min(lowest, style_.up.dot(p));
@@ -363,17 +464,18 @@ bool SceneRenderer::upload_tissue(const TissueView& tissue) {
   tissue_lowest_ = lowest;
 
   tissue_.set_vertices(tissue_vertices_);
+  tissue_.set_pattern_positions(tissue_pattern_);
   if (faces_changed) {
     tissue_indices_.swap(ordered_indices_);
     tissue_.set_indices(tissue_indices_);
   }
-  capsule_triangles_ = capsule;
+  tissue_groups_.swap(ordered_groups_);
   return true;
 }
 
 void SceneRenderer::draw_lit(const GlMesh& mesh, const Eigen::Affine3d& model,
-                             const SurfaceLook& look, int first_triangle,
-                             int triangle_count) const {
+                             const SurfaceLook& look, int first_triangle, int triangle_count,
+                             bool pattern_attribute) const {
   const Eigen::Matrix4f model_matrix = model.matrix().cast<float>();
   // Normals transform with the inverse transpose, which differs from the rotation when the
   // model scales unevenly (the shaft: radius across, length along).
@@ -383,6 +485,10 @@ void SceneRenderer::draw_lit(const GlMesh& mesh, const Eigen::Affine3d& model,
   glUniform3fv(albedo_location_, 1, look.albedo.data());
   glUniform1f(specular_location_, look.specular);
   glUniform1f(shininess_location_, look.shininess);
+  glUniform1f(vessels_location_, look.vessels);
+  glUniform1f(vessel_scale_location_, 1.0f / look.vessel_spacing_m);
+  glUniform3fv(vessel_albedo_location_, 1, look.vessel_albedo.data());
+  glUniform1i(pattern_attribute_location_, pattern_attribute ? 1 : 0);
   if (triangle_count < 0) {
     mesh.draw();
   } else {
@@ -550,11 +656,13 @@ void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
   glUniform1i(headlight_location_, camera.headlight ? 1 : 0);
   glUniform1f(falloff_location_, static_cast<float>(camera.light_falloff_m));
   glUniform1i(casters_location_, 0);  // the instruments and marks receive no shadows
+  glUniform1f(opacity_location_, 1.0f);
 
   // Nearest first, so that the depth test spares shading hidden pixels of the larger shapes.
   for (const ToolView& tool : tools)
     draw_tool(tool);
   for (const MarkView& mark : marks) {
+    if (mark.kind != MarkKind::ink) continue;  // zones: translucent, after everything opaque
     Eigen::Affine3d sphere = Eigen::Affine3d::Identity();
     sphere.translate(mark.centre).scale(mark.radius);
     draw_lit(sphere_, sphere, style_.marker);
@@ -578,11 +686,12 @@ void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
     glUniform1fv(caster_radius_location_, kMaxCasters, radius.data());
     glUniform3fv(shadow_light_location_, 1, light.data());
     if (has_tissue) {
-      const int faces = tissue_.index_count() / 3;
-      draw_lit(tissue_, Eigen::Affine3d::Identity(), style_.tissue, 0, capsule_triangles_);
-      if (capsule_triangles_ < faces) {
-        draw_lit(tissue_, Eigen::Affine3d::Identity(), style_.cut_wall, capsule_triangles_,
-                 faces - capsule_triangles_);
+      for (const FaceGroup& group : tissue_groups_) {
+        const auto labelled = style_.tissue_by_label.find(group.label);
+        const SurfaceLook& look = group.label < 0                            ? style_.cut_wall
+                                  : labelled != style_.tissue_by_label.end() ? labelled->second
+                                                                             : style_.tissue;
+        draw_lit(tissue_, Eigen::Affine3d::Identity(), look, group.first, group.count, true);
       }
     }
     for (const Surroundings& s : surroundings_) {
@@ -618,6 +727,35 @@ void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
   glBindVertexArray(0);
   glDepthMask(GL_TRUE);
   glDepthFunc(GL_LESS);
+  draw_zones(marks);
+}
+
+void SceneRenderer::draw_zones(std::span<const MarkView> marks) const {
+  const auto zone = [](const MarkView& m) { return m.kind != MarkKind::ink; };
+  if (std::none_of(marks.begin(), marks.end(), zone)) return;
+  // Each ball's near half only (back faces culled), blended over what was drawn, without hiding
+  // what comes after it: a zone inside the tissue shows where it breaks the surface.
+  lit_program_.use();
+  glUniform1i(casters_location_, 0);
+  glUniform1f(opacity_location_, style_.zone_opacity);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glEnable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
+  glDepthMask(GL_FALSE);
+  for (const MarkView& mark : marks) {
+    if (!zone(mark)) continue;
+    const SurfaceLook& look = mark.kind == MarkKind::target           ? style_.target
+                              : mark.kind == MarkKind::protected_zone ? style_.protected_zone
+                                                                      : style_.never_zone;
+    Eigen::Affine3d sphere = Eigen::Affine3d::Identity();
+    sphere.translate(mark.centre).scale(mark.radius);
+    draw_lit(sphere_, sphere, look);
+  }
+  glDepthMask(GL_TRUE);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  glUniform1f(opacity_location_, 1.0f);
 }
 
 }  // namespace incise::render

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <memory>
 #include <span>
 #include <vector>
@@ -29,6 +30,13 @@ struct TissueView {
   // Per face, non-zero for a wall a cut opened (drawn in SceneStyle::cut_wall); null or empty:
   // none. Its size must be #F otherwise.
   const std::vector<std::uint8_t>* cut_faces = nullptr;
+  // Per face, the tissue label of its tet: a face of a label in SceneStyle::tissue_by_label is
+  // drawn in that look, any other in SceneStyle::tissue. Null or empty: all in tissue. Its size
+  // must be #F otherwise.
+  const std::vector<std::uint8_t>* face_labels = nullptr;
+  // #V by 3: each vertex's rest position [m], to which the looks' vessel patterns are fixed, so
+  // that they move with the tissue rather than swim over it. Null: the current positions V.
+  const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>* rest = nullptr;
 };
 
 // A tool's working end. The pose drawn is the pose simulated (sim/surgery/surgical_scene.h's tool
@@ -59,11 +67,21 @@ struct ToolView {
   double blade_length = 0.01;  // scalpel [m], > 0
 };
 
-// A mark drawn on the tissue, e.g. a dot of the line a surgeon marks to cut along: a small sphere
-// in SceneStyle::marker.
+// What a mark shows: the ink of a marked line (an opaque dot), or a task's zone, drawn as a
+// translucent ball (SceneStyle::zone_opacity) so that the tissue shows through it.
+enum class MarkKind {
+  ink,             // SceneStyle::marker
+  target,          // a landmark to reach: SceneStyle::target
+  protected_zone,  // a structure to keep off: SceneStyle::protected_zone
+  never_zone,      // one never to touch: SceneStyle::never_zone
+};
+
+// A mark in the scene, e.g. a dot of the line a surgeon marks to cut along (a small sphere in
+// SceneStyle::marker), or a task's target or protected zone.
 struct MarkView {
   Eigen::Vector3d centre{0, 0, 0};  // [m], finite
   double radius = 0.0015;           // [m], > 0
+  MarkKind kind = MarkKind::ink;
 };
 
 // How one kind of surface looks under the scene's light (see SceneStyle for the formula).
@@ -71,6 +89,14 @@ struct SurfaceLook {
   Eigen::Vector3f albedo;  // linear RGB in [0, 1]
   float specular = 0.0f;   // strength of the highlight, 0 for matte
   float shininess = 1.0f;  // Blinn-Phong exponent, > 0
+  // A procedural pattern of vessels: the albedo becomes mix(albedo, vessel_albedo, vessels * w),
+  // w in [0, 1] the weight of a winding network of vessels of varying calibre, vessel_spacing_m
+  // apart on average, with patches of finer capillaries between them, a function of the rest
+  // position (TissueView::rest; a surrounding's own position), antialiased and faded out where
+  // its lines are thinner than a pixel. vessels in [0, 1], 0: none (and no cost).
+  float vessels = 0.0f;
+  float vessel_spacing_m = 0.01f;  // > 0
+  Eigen::Vector3f vessel_albedo{0.42f, 0.04f, 0.06f};
 };
 
 // A surface that does not move (a bone, the cavity's wall, a neighbouring organ), world
@@ -106,6 +132,8 @@ struct SceneStyle {
   Eigen::Vector3f backdrop_top{0.30f, 0.34f, 0.40f};
   Eigen::Vector3f backdrop_bottom{0.08f, 0.09f, 0.11f};
   SurfaceLook tissue{{0.80f, 0.45f, 0.40f}, 0.25f, 40.0f};  // wet: a tight highlight
+  // Looks of tissue labels (TissueView::face_labels) other than `tissue`'s.
+  std::map<int, SurfaceLook> tissue_by_label;
   SurfaceLook tool{{0.62f, 0.65f, 0.70f}, 0.45f, 48.0f};
   SurfaceLook tool_in_contact{{0.95f, 0.72f, 0.15f}, 0.45f, 48.0f};
   SurfaceLook floor{{0.30f, 0.31f, 0.30f}, 0.0f, 1.0f};
@@ -120,6 +148,12 @@ struct SceneStyle {
   SurfaceLook lining{{0.70f, 0.34f, 0.32f}, 0.20f, 24.0f};
   SurfaceLook organ{{0.66f, 0.46f, 0.47f}, 0.25f, 32.0f};
   SurfaceLook fat{{0.86f, 0.70f, 0.36f}, 0.30f, 32.0f};
+  // A task's zones (MarkKind), blended over what lies behind them at zone_opacity in (0, 1]:
+  // targets green, protected structures amber, never-zones red.
+  SurfaceLook target{{0.20f, 0.85f, 0.35f}, 0.30f, 24.0f};
+  SurfaceLook protected_zone{{0.95f, 0.70f, 0.10f}, 0.30f, 24.0f};
+  SurfaceLook never_zone{{0.95f, 0.15f, 0.15f}, 0.30f, 24.0f};
+  float zone_opacity = 0.4f;
   // Behind everything an endoscope sees (Camera::headlight): the unlit cavity.
   Eigen::Vector3f cavity{0.035f, 0.012f, 0.010f};
   // The floor is a square perpendicular to up, floor_gap below the lowest point (along up) of the
@@ -173,9 +207,14 @@ class SceneRenderer {
  private:
   // Validates and uploads the tissue; returns false when there is none.
   bool upload_tissue(const TissueView& tissue);
-  // Draws mesh (triangles [first, first + count) of it, or all for a negative count).
+  // Draws mesh (triangles [first, first + count) of it, or all for a negative count); its vessel
+  // pattern (if the look has one) from the mesh's pattern positions if pattern_attribute, else
+  // from its positions.
   void draw_lit(const GlMesh& mesh, const Eigen::Affine3d& model, const SurfaceLook& look,
-                int first_triangle = 0, int triangle_count = -1) const;
+                int first_triangle = 0, int triangle_count = -1,
+                bool pattern_attribute = false) const;
+  // The translucent zones among marks, after everything opaque.
+  void draw_zones(std::span<const MarkView> marks) const;
   void draw_tool(const ToolView& tool) const;
   // The unit box scaled to half-extents along the orthonormal axes a, b, c, centred at centre.
   void draw_box(const Eigen::Vector3d& centre, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
@@ -203,6 +242,11 @@ class SceneRenderer {
   int caster_centre_location_;
   int caster_radius_location_;
   int shadow_light_location_;
+  int vessels_location_;
+  int vessel_scale_location_;
+  int vessel_albedo_location_;
+  int pattern_attribute_location_;
+  int opacity_location_;
 
   unsigned int empty_vertex_array_ = 0;  // the backdrop's triangle comes from gl_VertexID alone
   GlMesh sphere_;
@@ -221,9 +265,17 @@ class SceneRenderer {
   // The tissue as last uploaded, kept so that frames reuse memory and unchanged faces are not
   // sent again.
   std::vector<float> tissue_vertices_;
-  std::vector<std::uint32_t> tissue_indices_;   // the capsule's faces first, then the cut walls
-  int capsule_triangles_ = 0;                   // how many of tissue_indices_' faces are capsule
+  std::vector<float> tissue_pattern_;  // the vertices' rest positions (TissueView::rest)
+  // The capsule's faces grouped by label in ascending order, then the cut walls.
+  std::vector<std::uint32_t> tissue_indices_;
+  struct FaceGroup {
+    int label = 0;  // -1: the cut walls
+    int first = 0;  // triangle
+    int count = 0;
+  };
+  std::vector<FaceGroup> tissue_groups_;
   std::vector<std::uint32_t> ordered_indices_;  // this frame's order, compared with the last
+  std::vector<FaceGroup> ordered_groups_;
   Eigen::Vector3d tissue_min_ = Eigen::Vector3d::Zero();  // bounding box of the last tissue
   Eigen::Vector3d tissue_max_ = Eigen::Vector3d::Zero();
   double tissue_lowest_ = 0.0;  // min over vertices of up . position [m]

@@ -120,6 +120,7 @@ SurgicalSceneSetup make_block_surgery(const Scene& block, const BlockSceneOption
   }
   SurgicalSceneSetup setup;
   setup.name = "block";
+  setup.tissue_names = {{0, "tissue"}};
   setup.view = block.view;
   setup.tools_stand_for_any = true;
   SurgicalSceneSpec& spec = setup.spec;
@@ -170,6 +171,7 @@ SurgicalSceneSetup make_liver_surgery(const LiverSceneOptions& options) {
   LiverAnatomy liver = make_liver_scene(options.anatomy);
   SurgicalSceneSetup setup;
   setup.name = "liver";
+  setup.tissue_names = {{kLiverLabel, "liver"}, {kGallbladderBedLabel, "gallbladder bed"}};
   SurgicalSceneSpec& spec = setup.spec;
   std::map<int, Material> materials = {{kLiverLabel, options.liver},
                                        {kGallbladderBedLabel, options.liver}};
@@ -206,6 +208,9 @@ SurgicalSceneSetup make_knee_surgery(const KneeSceneOptions& options) {
   KneeAnatomy knee = make_knee(options.anatomy);
   SurgicalSceneSetup setup;
   setup.name = "knee";
+  setup.tissue_names = {{kMedialMeniscusLabel, "meniscus"},
+                        {kLateralMeniscusLabel, "meniscus"},
+                        {kLigamentLabel, "ligament"}};
   SurgicalSceneSpec& spec = setup.spec;
   std::map<int, Material> materials = {{kMedialMeniscusLabel, options.meniscus},
                                        {kLateralMeniscusLabel, options.meniscus},

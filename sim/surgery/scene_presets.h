@@ -15,6 +15,7 @@
 // simulated. The time step is the tissue's stable step (stable_time_step, kExplicitSafety); the
 // wave speed and damping time for TissueBody's sliver guard follow the materials.
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -46,6 +47,9 @@ struct SurgicalSceneSetup {
   // What frames the tissue in the picture (the knee's bones and capsule, the liver's neighbours
   // and the abdominal wall); none for the block.
   std::vector<Surrounding> surroundings;
+  // What each tissue label of the mesh is, for the picture's looks: "liver", "gallbladder bed",
+  // "meniscus", "ligament"; the block's label 0 "tissue".
+  std::map<int, std::string> tissue_names;
 };
 
 struct LiverSceneOptions {

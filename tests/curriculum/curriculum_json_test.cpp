@@ -121,15 +121,17 @@ TEST(CurriculumJson, RoundTripIsExact) {
   EXPECT_EQ(to_json(curriculum), full);
 }
 
-// The sample's first task with two protected zones (one never), a target and both forces.
+// The sample's first task with two protected zones (one never, shown), a shown target and both
+// forces.
 json with_zones() {
   return changed([](json& value) {
     json& task = value["modules"][0]["tasks"][0];
     task["protected_zones"] = json::parse(R"([
       {"name": "vessel", "center_m": [0.01, -0.02, 0.1], "radius_m": 0.004},
-      {"name": "nerve", "center_m": [0, 0, 0.05], "radius_m": 0.002, "never": true}])");
+      {"name": "nerve", "center_m": [0, 0, 0.05], "radius_m": 0.002, "visible": true,
+       "never": true}])");
     task["targets"] = json::parse(R"([{"name": "polyp", "center_m": [0.02, 0, 0.08],
-                                       "radius_m": 0.005}])");
+                                       "radius_m": 0.005, "visible": true}])");
     task["safe_force_n"] = 2.5;
     task["never_force_n"] = 6;
   });
@@ -138,10 +140,10 @@ json with_zones() {
 TEST(CurriculumJson, ZonesTargetsAndForcesAreRead) {
   const Curriculum curriculum = parse_curriculum(with_zones());
   const Task& task = curriculum.modules[0].tasks[0];
-  const std::vector<ProtectedZone> zones = {{{"vessel", {0.01, -0.02, 0.1}, 0.004}, false},
-                                            {{"nerve", {0, 0, 0.05}, 0.002}, true}};
+  const std::vector<ProtectedZone> zones = {{{"vessel", {0.01, -0.02, 0.1}, 0.004, false}, false},
+                                            {{"nerve", {0, 0, 0.05}, 0.002, true}, true}};
   EXPECT_EQ(task.protected_zones, zones);
-  EXPECT_EQ(task.targets, (std::vector<Zone>{{"polyp", {0.02, 0, 0.08}, 0.005}}));
+  EXPECT_EQ(task.targets, (std::vector<Zone>{{"polyp", {0.02, 0, 0.08}, 0.005, true}}));
   EXPECT_EQ(task.safe_force_n, 2.5);
   EXPECT_EQ(task.never_force_n, 6.0);
   EXPECT_TRUE(task.has_never_events());
@@ -161,8 +163,11 @@ TEST(CurriculumJson, RoundTripKeepsZonesTargetsAndForces) {
   curriculum.modules[1].tasks[0].safe_force_n = 1.0 / 3;
   EXPECT_EQ(parse_curriculum(to_json(curriculum)), curriculum);
   EXPECT_EQ(parse_curriculum_text(to_json(curriculum).dump()), curriculum);
-  // never is written out even when false.
-  EXPECT_EQ(to_json(curriculum)["modules"][0]["tasks"][0]["protected_zones"][0]["never"], false);
+  // never is written out even when false; visible only when true (hidden is the default).
+  const json zones = to_json(curriculum)["modules"][0]["tasks"][0]["protected_zones"];
+  EXPECT_EQ(zones[0]["never"], false);
+  EXPECT_FALSE(zones[0].contains("visible"));
+  EXPECT_EQ(zones[1]["visible"], true);
 }
 
 // The portal is left out when a task has none, and read back exactly when it has one.
@@ -253,7 +258,9 @@ TEST(CurriculumJson, ZoneShapeErrorsNameTheirPath) {
        task + ".protected_zones: must be an array"},
       {[](json& t) { t["protected_zones"][1] = "nerve"; }, zone + ": must be an object"},
       {[](json& t) { t["protected_zones"][1]["colour"] = "red"; },
-       zone + ".colour: unknown key (expected one of: name, center_m, radius_m, never)"},
+       zone + ".colour: unknown key (expected one of: name, center_m, radius_m, visible, never)"},
+      {[](json& t) { t["protected_zones"][1]["visible"] = "yes"; },
+       zone + ".visible: must be true or false"},
       {[](json& t) { t["protected_zones"][1].erase("name"); }, zone + ".name: is required"},
       {[](json& t) { t["protected_zones"][1].erase("center_m"); }, zone + ".center_m: is required"},
       {[](json& t) {
@@ -273,7 +280,8 @@ TEST(CurriculumJson, ZoneShapeErrorsNameTheirPath) {
       {[](json& t) { t["protected_zones"][1]["never"] = 1; },
        zone + ".never: must be true or false"},
       {[](json& t) { t["targets"][0]["never"] = true; },
-       task + ".targets[0].never: unknown key (expected one of: name, center_m, radius_m)"},
+       task +
+           ".targets[0].never: unknown key (expected one of: name, center_m, radius_m, visible)"},
       {[](json& t) { t["targets"][0].erase("radius_m"); },
        task + ".targets[0].radius_m: is required"},
       {[](json& t) { t["safe_force_n"] = "3"; }, task + ".safe_force_n: must be a number"},

@@ -12,6 +12,7 @@
 #include "curriculum/curriculum_json.h"
 #include "devices/eigen_conversions.h"
 #include "devices/simulated_scope.h"
+#include "server/live/frame_streamer.h"
 #include "server/live/scene_library.h"
 #include "server/live/session_scene.h"
 #include "sim/solve/stable_time_step.h"
@@ -97,6 +98,47 @@ TEST(KneeStation, ItsStepIsTheOneItAsksForByMassScaling) {
       sim::element_lengths(setup.spec.tissue.rest, setup.spec.tissue.tets).min_altitude / c;
   EXPECT_NEAR(setup.mass_scale, (2e-4 / stable) * (2e-4 / stable), 1e-9 * setup.mass_scale);
   EXPECT_GT(setup.mass_scale, 1);
+}
+
+// What the arthroscope shows of the knee: each soft tissue in its own look (menisci white, the
+// ACL's sheath with vessels, the synovium's vessels), and the tour's four landmarks as the
+// trainee's visible targets, where the task puts them.
+TEST(KneeStation, ItsTissuesHaveTheirLooksAndTheTourShowsItsLandmarks) {
+  const render::SceneStyle style = scene_style(knee_station().setup());
+  for (const int label :
+       {sim::kMedialMeniscusLabel, sim::kLateralMeniscusLabel, sim::kLigamentLabel}) {
+    ASSERT_TRUE(style.tissue_by_label.contains(label)) << label;
+    EXPECT_GT(style.tissue_by_label.at(label).albedo.minCoeff(), 0.75f) << label;  // white
+    EXPECT_GT(style.tissue_by_label.at(label).vessels, 0.0f) << label;
+  }
+  EXPECT_GT(style.tissue_by_label.at(sim::kLigamentLabel).vessels,
+            style.tissue_by_label.at(sim::kMedialMeniscusLabel).vessels);
+  EXPECT_GT(style.lining.vessels, 0.0f);
+  EXPECT_EQ(style.bone.vessels, 0.0f);
+
+  const curriculum::Curriculum demo =
+      curriculum::parse_curriculum_text(read_text(INCISE_DEMO_CURRICULUM));
+  const curriculum::Task* tour = curriculum::find_task(demo, "knee_tour");
+  ASSERT_NE(tour, nullptr);
+  const std::vector<render::MarkView> zones = task_zones(*tour);
+  ASSERT_EQ(zones.size(), tour->targets.size());
+  for (std::size_t k = 0; k < zones.size(); ++k) {
+    const auto& c = tour->targets[k].center_m;
+    EXPECT_EQ(zones[k].kind, render::MarkKind::target);
+    EXPECT_EQ(zones[k].centre, Eigen::Vector3d(c[0], c[1], c[2]));
+    EXPECT_EQ(zones[k].radius, tour->targets[k].radius_m);
+  }
+  // Hidden zones are not drawn; a protected zone is amber, a never-zone red.
+  curriculum::Task task = *tour;
+  task.targets[1].visible = false;
+  task.protected_zones = {{{"ACL", {0, 0, 0}, 0.003, true}, false},
+                          {{"artery", {0, 0, 0}, 0.003, true}, true},
+                          {{"nerve", {0, 0, 0}, 0.003, false}, true}};
+  const std::vector<render::MarkView> shown = task_zones(task);
+  ASSERT_EQ(shown.size(), 5u);
+  EXPECT_EQ(shown[1].centre, zones[2].centre);
+  EXPECT_EQ(shown[3].kind, render::MarkKind::protected_zone);
+  EXPECT_EQ(shown[4].kind, render::MarkKind::never_zone);
 }
 
 }  // namespace

@@ -138,6 +138,19 @@ TEST(SurgeryEngine, AStrokeAlongTheMarkedLineCutsOnTargetAndReplaysBitForBit) {
     wall_area += 0.5 * (corner(1) - corner(0)).cross(corner(2) - corner(0)).norm();
   }
   EXPECT_NEAR(wall_area, 2 * damage.cut_area, 0.2 * 2 * damage.cut_area);
+  // The picture's looks and vessels follow the new surface too: each face's label is its tet's
+  // (the liver's and the gallbladder bed's), each vertex's rest position its node's.
+  const auto& labels = *engine.world().face_labels();
+  const sim::Points& surface_rest = *engine.world().surface_rest();
+  const sim::TetMesh& mesh = engine.world().scene().tissue().mesh();
+  ASSERT_EQ(labels.size(), surface.tets.size());
+  for (std::size_t f = 0; f < labels.size(); ++f)
+    ASSERT_EQ(labels[f], mesh.labels[surface.tets[f]]) << f;
+  EXPECT_GT(std::count(labels.begin(), labels.end(), sim::kGallbladderBedLabel), 0);
+  EXPECT_GT(std::count(labels.begin(), labels.end(), sim::kLiverLabel), 0);
+  ASSERT_EQ(surface_rest.rows(), static_cast<Eigen::Index>(surface.nodes.size()));
+  for (std::size_t j = 0; j < surface.nodes.size(); ++j)
+    ASSERT_EQ(surface_rest.row(static_cast<Eigen::Index>(j)), rest.row(surface.nodes[j])) << j;
   SimEngine fresh(liver(), kTickS, 2);
   const auto& none = *fresh.world().cut_faces();
   EXPECT_EQ(std::count(none.begin(), none.end(), 1), 0);
