@@ -25,7 +25,12 @@ int consecutive_passes(const std::vector<bool>& attempt_passed) {
 }
 
 bool task_mastered(const Task& task, const std::vector<bool>& attempt_passed) {
-  return consecutive_passes(attempt_passed) >= task.consecutive_passes_required;
+  int run = 0;
+  for (const bool passed : attempt_passed) {
+    run = passed ? run + 1 : 0;
+    if (run >= task.consecutive_passes_required) return true;
+  }
+  return false;
 }
 
 }  // namespace incise::curriculum

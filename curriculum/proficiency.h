@@ -23,7 +23,10 @@ bool attempt_passes(const Task& task, const std::map<std::string, double>& metri
 // Number of passing attempts at the end of attempt_passed (oldest first), i.e. the current run.
 int consecutive_passes(const std::vector<bool>& attempt_passed);
 
-// True if the last consecutive_passes_required attempts all passed (attempt_passed: oldest first).
+// True once consecutive_passes_required attempts in a row have passed, at any point of
+// attempt_passed (oldest first): proficiency once shown is kept, so a later failure (practice after
+// moving on) neither un-masters the task nor locks again what it unlocked; the current run
+// (consecutive_passes) starts again.
 bool task_mastered(const Task& task, const std::vector<bool>& attempt_passed);
 
 }  // namespace incise::curriculum

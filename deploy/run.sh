@@ -69,7 +69,8 @@ cat <<MSG
   Incise is running: http://$host:$port/
 
   Demo logins (username / password):
-    trainee     / incise-trainee-demo
+    trainee     / incise-trainee-demo   (at the start of the course)
+    resident    / incise-resident-demo  (palpation mastered: the liver and knee tasks are open)
     instructor  / incise-instructor-demo
     admin       / incise-admin-demo
 

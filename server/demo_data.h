@@ -1,8 +1,9 @@
 #pragma once
-// The demo data of a first run: three logins, three stations (the palpation bench, a surgical
-// station with a scalpel and a grasper, an arthroscopy station with a scope and a probe), one
-// curriculum, and one finished practice session with
-// its scores (so every dashboard page has something to show).
+// The demo data of a first run: four logins (an admin, an instructor, a trainee at the start of the
+// course and one who has mastered its palpation tasks), three stations (the palpation bench, a
+// surgical station with a scalpel and a grasper, an arthroscopy station with a scope and a probe),
+// one curriculum, one finished practice session with its scores (so every dashboard page has
+// something to show), and the resident's passing palpation attempts.
 #include <string>
 
 #include "db/database.h"
@@ -19,6 +20,8 @@ inline constexpr DemoLogin kDemoLogins[] = {
     {"admin", "incise-admin-demo", "admin"},
     {"instructor", "incise-instructor-demo", "instructor"},
     {"trainee", "incise-trainee-demo", "trainee"},
+    // A trainee who has mastered the palpation tasks: the stations' tasks are unlocked for her.
+    {"resident", "incise-resident-demo", "trainee"},
 };
 inline constexpr const char* kDemoStationToken = "incise-demo-station-token";
 inline constexpr const char* kDemoSurgicalStationName = "Surgical station";

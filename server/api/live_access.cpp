@@ -1,7 +1,11 @@
 #include "server/api/live_access.h"
 
+#include <algorithm>
+#include <map>
+
 #include "curriculum/curriculum_json.h"
 #include "db/curricula_repo.h"
+#include "db/reviews_repo.h"
 #include "server/api/api_error.h"
 
 namespace incise::server::api {
@@ -44,6 +48,37 @@ db::SessionRecord visible_session(ApiContext& ctx) {
   }
   check_session_access(ctx.app.db(), ctx.user(), *record);
   return *record;
+}
+
+std::optional<curriculum::Curriculum> curriculum_with_task(db::Database& db,
+                                                           const std::string& key) {
+  for (const auto& record : db::CurriculaRepo(db).list()) {
+    auto c = curriculum::parse_curriculum_text(record.definition_json);
+    if (curriculum::find_task(c, key) != nullptr) return c;
+  }
+  return std::nullopt;
+}
+
+std::vector<curriculum::AttemptRecord> attempt_records(db::Database& db, std::int64_t trainee_id) {
+  db::TrainingRepo training(db);
+  std::map<std::int64_t, std::vector<bool>> scores;
+  for (const auto& score : training.scores(trainee_id))
+    scores[score.session_id].push_back(score.passed);
+  std::map<std::int64_t, bool> adjusted;
+  for (const auto& adjustment : db::ReviewsRepo(db).latest_adjustments(trainee_id))
+    adjusted[adjustment.session_id] = adjustment.passed;
+  auto sessions = training.sessions(trainee_id);  // newest first
+  std::reverse(sessions.begin(), sessions.end());
+  std::vector<curriculum::AttemptRecord> out;
+  for (const auto& s : sessions) {
+    curriculum::AttemptRecord a;
+    a.task = s.task;
+    a.finished = s.state == "finished";
+    if (const auto it = scores.find(s.id); it != scores.end()) a.scores = it->second;
+    if (const auto it = adjusted.find(s.id); it != adjusted.end()) a.adjusted = it->second;
+    out.push_back(std::move(a));
+  }
+  return out;
 }
 
 std::optional<curriculum::Task> find_curriculum_task(db::Database& db, const std::string& key) {

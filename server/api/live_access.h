@@ -5,6 +5,7 @@
 #include <string>
 
 #include "curriculum/curriculum.h"
+#include "curriculum/progress.h"
 #include "db/trainee_scope.h"
 #include "db/training_repo.h"
 #include "db/users_repo.h"
@@ -32,5 +33,13 @@ db::SessionRecord visible_session(ApiContext& ctx);
 
 // The curriculum task with this key, from the first curriculum that has it.
 std::optional<curriculum::Task> find_curriculum_task(db::Database& db, const std::string& key);
+
+// The first curriculum that has the task with this key.
+std::optional<curriculum::Curriculum> curriculum_with_task(db::Database& db,
+                                                           const std::string& key);
+
+// The trainee's sessions as the progress rules read them (curriculum/progress.h), oldest first:
+// task, whether finished, each score's pass, the latest adjustment.
+std::vector<curriculum::AttemptRecord> attempt_records(db::Database& db, std::int64_t trainee_id);
 
 }  // namespace incise::server::api

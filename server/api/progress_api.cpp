@@ -1,18 +1,10 @@
-// A trainee's proficiency-based progression: per task of the curriculum the
-// sessions run, the attempts, the current run of passes, whether it is mastered and whether it
-// is unlocked (every prerequisite mastered). An attempt is a finished session of that task; it
-// passed when every metric the task scores passed (curriculum/proficiency.h).
-
-#include <algorithm>
-#include <map>
-#include <set>
-#include <vector>
+// A trainee's proficiency-based progression: per task of the curriculum the attempts, the current
+// run of passes, whether it is mastered and whether it is unlocked, with what locks it. The rules
+// are curriculum/progress.h's; this serialises them.
 
 #include "curriculum/curriculum_json.h"
-#include "curriculum/proficiency.h"
+#include "curriculum/progress.h"
 #include "db/curricula_repo.h"
-#include "db/reviews_repo.h"
-#include "db/training_repo.h"
 #include "db/users_repo.h"
 #include "server/api/api_error.h"
 #include "server/api/handlers.h"
@@ -27,52 +19,21 @@ nlohmann::json progress_of(db::Database& db, std::int64_t trainee_id) {
   // Sessions run the tasks of the first curriculum (docs/api.md, "Live sessions").
   const curriculum::Curriculum plan =
       curriculum::parse_curriculum_text(curricula.front().definition_json);
-
-  db::TrainingRepo training(db);
-  // Whether each session passed: it has scores and all of them passed.
-  std::map<std::int64_t, bool> passed;
-  for (const auto& score : training.scores(trainee_id)) {
-    auto [it, fresh] = passed.try_emplace(score.session_id, score.passed);
-    if (!fresh) it->second = it->second && score.passed;
-  }
-  // An instructor's adjustment overrides the computed result.
-  for (const auto& adjustment : db::ReviewsRepo(db).latest_adjustments(trainee_id)) {
-    passed[adjustment.session_id] = adjustment.passed;
-  }
-  // Finished attempts per task, oldest first (the repo lists newest first).
-  auto sessions = training.sessions(trainee_id);
-  std::reverse(sessions.begin(), sessions.end());
-  std::map<std::string, std::vector<bool>> attempts;
-  for (const auto& s : sessions) {
-    if (s.state != "finished") continue;
-    const auto it = passed.find(s.id);
-    attempts[s.task].push_back(it != passed.end() && it->second);
-  }
-
-  std::set<std::string> mastered;
-  for (const auto& module : plan.modules) {
-    for (const auto& task : module.tasks) {
-      if (curriculum::task_mastered(task, attempts[task.key])) mastered.insert(task.key);
-    }
-  }
   auto tasks = nlohmann::json::array();
-  for (const auto& module : plan.modules) {
-    for (const auto& task : module.tasks) {
-      const auto& history = attempts[task.key];
-      const bool unlocked =
-          std::all_of(task.prerequisites.begin(), task.prerequisites.end(),
-                      [&](const std::string& key) { return mastered.contains(key); });
-      tasks.push_back({{"key", task.key},
-                       {"name", task.name},
-                       {"module", module.name},
-                       {"prerequisites", task.prerequisites},
-                       {"attempts", history.size()},
-                       {"passed_attempts", std::count(history.begin(), history.end(), true)},
-                       {"consecutive_passes", curriculum::consecutive_passes(history)},
-                       {"required_passes", task.consecutive_passes_required},
-                       {"mastered", mastered.contains(task.key)},
-                       {"unlocked", unlocked}});
-    }
+  for (const auto& p : curriculum::curriculum_progress(plan, attempt_records(db, trainee_id))) {
+    const curriculum::Task& task = *curriculum::find_task(plan, p.key);
+    tasks.push_back({{"key", p.key},
+                     {"name", task.name},
+                     {"module", p.module},
+                     {"prerequisites", task.prerequisites},
+                     {"attempts", p.attempts},
+                     {"passed_attempts", p.passed_attempts},
+                     {"consecutive_passes", p.consecutive_passes},
+                     {"required_passes", p.required_passes},
+                     {"mastered", p.mastered},
+                     {"unlocked", p.unlocked()},
+                     {"missing_prerequisites", p.missing_prerequisites},
+                     {"locked_reason", curriculum::locked_reason(plan, p)}});
   }
   return {{"trainee_id", trainee_id}, {"curriculum", plan.name}, {"tasks", std::move(tasks)}};
 }

@@ -44,6 +44,16 @@ scenario(
     const start_form = region(page, 'Train now').getByRole('form', { name: 'Start a session at Station 1' });
     await sees(start_form, 'a form to start a session at the booked station');
     assert.equal(await start_form.getByLabel('Task').inputValue(), first_task.key, 'the first task is preselected');
+    // A task whose prerequisite is not mastered is offered disabled, with the server's reason, and
+    // the server refuses it whatever the page sends.
+    const locked_option = start_form.getByLabel('Task', { exact: true }).locator('option', { hasText: 'Two-handed palpation (locked)' });
+    await locked_option.waitFor({ state: 'attached' });
+    assert.equal(await locked_option.isDisabled(), true, 'a locked task cannot be chosen');
+    const reason = 'task "Two-handed palpation" is locked: master "Palpation" first';
+    await sees(start_form.getByRole('list', { name: 'Prerequisites to master first' }).filter({ hasText: 'Task "Two-handed palpation" is locked: master "Palpation" first.' }), 'why it is locked');
+    const refused = await api_call(page, 'POST', '/api/sessions', { station_id: station.id, task: 'bimanual_palpation' });
+    assert.equal(refused.status, 409);
+    assert.equal(refused.body.error, reason);
 
     const started = await click_for_response(
       page,

@@ -27,6 +27,7 @@ export const demo = {
   admin: { username: 'admin', password: 'incise-admin-demo' },
   instructor: { username: 'instructor', password: 'incise-instructor-demo' },
   trainee: { username: 'trainee', password: 'incise-trainee-demo' },
+  resident: { username: 'resident', password: 'incise-resident-demo' },
   station_token: 'incise-demo-station-token',
   surgical_station_token: 'incise-demo-surgical-station-token',
   arthroscopy_station_token: 'incise-demo-arthroscopy-station-token',

@@ -74,11 +74,14 @@ TEST(Proficiency, MasteredOnExactlyNConsecutivePasses) {
   EXPECT_TRUE(task_mastered(task, {true, true, true, true, true}));
 }
 
-TEST(Proficiency, FailureResetsTheRun) {
+TEST(Proficiency, FailureResetsTheRunButNotMastery) {
   const Task task = palpation();
   EXPECT_FALSE(task_mastered(task, {true, true, false}));
   EXPECT_FALSE(task_mastered(task, {true, true, false, true, true}));
-  EXPECT_FALSE(task_mastered(task, {true, true, true, false}));  // the last attempts count
+  // Once N in a row passed, the task stays mastered: a later failure only restarts the run.
+  EXPECT_TRUE(task_mastered(task, {true, true, true, false}));
+  EXPECT_TRUE(task_mastered(task, {false, true, true, true, false, false}));
+  EXPECT_EQ(consecutive_passes({true, true, true, false}), 0);
   EXPECT_EQ(consecutive_passes({true, true, false, true, true}), 2);
   EXPECT_EQ(consecutive_passes({true, false}), 0);
   EXPECT_EQ(consecutive_passes({}), 0);
@@ -88,7 +91,8 @@ TEST(Proficiency, SinglePassMastersWhenNIsOne) {
   Task task = palpation();
   task.consecutive_passes_required = 1;
   EXPECT_TRUE(task_mastered(task, {false, true}));
-  EXPECT_FALSE(task_mastered(task, {true, false}));
+  EXPECT_TRUE(task_mastered(task, {true, false}));  // mastered at the first pass, and kept
+  EXPECT_FALSE(task_mastered(task, {false, false}));
 }
 
 }  // namespace

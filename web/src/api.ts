@@ -117,6 +117,10 @@ export interface TaskProgress {
   required_passes: number;
   mastered: boolean;
   unlocked: boolean;
+  /** The prerequisites not yet mastered; empty when unlocked. */
+  missing_prerequisites: string[];
+  /** Why the task may not start ("task \"…\" is locked: master \"…\" first"), "" when it may. */
+  locked_reason: string;
 }
 
 export interface Progress {

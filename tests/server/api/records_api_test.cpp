@@ -16,6 +16,11 @@
 namespace incise::server::test {
 namespace {
 
+// The demo resident's mastered palpation tasks (server/demo_data.cpp): three attempts of
+// palpation, scored on its six metrics, and three of the two-handed task, on its four.
+constexpr std::size_t kResidentSessions = 6;
+constexpr std::size_t kResidentScores = 3 * 6 + 3 * 4;
+
 class RecordsApi : public ApiTest {
  protected:
   // A second trainee with one finished session, a recording and a score (the demo trainee has
@@ -46,9 +51,9 @@ TEST_F(RecordsApi, TraineesSeeOnlyTheirOwnRecords) {
 TEST_F(RecordsApi, InstructorsAndAdminsSeeEveryone) {
   for (const Who who : {Who::instructor, Who::admin}) {
     const auto token = session_of(who);
-    for (const auto& [path, size] :
-         {std::pair{"/api/sessions", 2u}, std::pair{"/api/recordings", 2u},
-          std::pair{"/api/scores", 4u}}) {
+    for (const auto& [path, size] : {std::pair{"/api/sessions", 2u + kResidentSessions},
+                                     std::pair{"/api/recordings", std::size_t{2}},
+                                     std::pair{"/api/scores", 4u + kResidentScores}}) {
       const auto list = json_of(get(path, token));
       ASSERT_TRUE(list.is_array()) << path;
       EXPECT_EQ(list.size(), size) << name_of(who) << " " << path << ": " << list;
@@ -58,19 +63,24 @@ TEST_F(RecordsApi, InstructorsAndAdminsSeeEveryone) {
 
 TEST_F(RecordsApi, SessionShape) {
   const auto list = json_of(get("/api/sessions", session_of(Who::instructor)));
-  ASSERT_EQ(list.size(), 2u);
+  ASSERT_EQ(list.size(), 2u + kResidentSessions);
   for (const auto& s : list) {
     for (const char* key : {"id", "trainee_id", "trainee", "station_id", "station", "task", "state",
                             "started_at", "ended_at"}) {
       EXPECT_TRUE(s.contains(key)) << key << " in " << s;
     }
   }
-  const auto& demo = list[0]["trainee"] == "trainee" ? list[0] : list[1];
+  const auto by = [&](const char* trainee) {
+    for (const auto& s : list)
+      if (s["trainee"] == trainee) return s;
+    return nlohmann::json();
+  };
+  const auto demo = by("trainee");
   EXPECT_EQ(demo["state"], "finished");
   EXPECT_EQ(demo["station"], "Station 1");
   EXPECT_EQ(demo["started_at"], "2030-01-06T08:00:00Z");
   EXPECT_EQ(demo["ended_at"], "2030-01-06T08:01:35Z");
-  const auto& other = list[0]["trainee"] == "trainee2" ? list[0] : list[1];
+  const auto other = by("trainee2");
   EXPECT_TRUE(other["station_id"].is_null());
 }
 
@@ -171,11 +181,12 @@ TEST_F(RecordsApi, AdminsExportEveryScoreAsCsvThatReadsBackExactly) {
   EXPECT_EQ(response[http::field::content_type], "text/csv; charset=utf-8");
   EXPECT_EQ(response["Content-Disposition"], "attachment; filename=\"incise-scores.csv\"");
   const auto rows = parse_csv(response.body());
-  ASSERT_EQ(rows.size(), 1u + 5u);  // the header, the demo trainee's 3, trainee2's 1, this one
+  // The header, the demo trainee's 3, the resident's, trainee2's 1, this one.
+  ASSERT_EQ(rows.size(), 1u + 5u + kResidentScores);
   EXPECT_EQ(rows[0], (std::vector<std::string>{"score_id", "session_id", "trainee", "task",
                                                "metric", "value", "unit", "passed", "created_at"}));
   const auto scores = training.scores();
-  ASSERT_EQ(scores.size(), 5u);
+  ASSERT_EQ(scores.size(), 5u + kResidentScores);
   for (std::size_t i = 0; i < scores.size(); ++i) {
     const auto& row = rows[i + 1];
     ASSERT_EQ(row.size(), 9u) << i;
@@ -235,6 +246,16 @@ TEST_F(RecordsApi, ProgressUnlocksTheNextTaskAfterEnoughConsecutivePasses) {
   };
   EXPECT_TRUE(task_of("palpation")["unlocked"].get<bool>());
   EXPECT_FALSE(task_of("bimanual_palpation")["unlocked"].get<bool>());
+  EXPECT_EQ(task_of("bimanual_palpation")["missing_prerequisites"],
+            nlohmann::json::array({"palpation"}));
+  const std::string locked = "task \"Two-handed palpation\" is locked: master \"Palpation\" first";
+  EXPECT_EQ(task_of("bimanual_palpation")["locked_reason"], locked);
+  EXPECT_EQ(task_of("palpation")["locked_reason"], "");
+  // The server refuses to start a locked task, whatever the browser offers, and stores nothing.
+  const nlohmann::json start = {{"station_id", demo_station_id()}, {"task", "bimanual_palpation"}};
+  const auto sessions_before = training.sessions(tess).size();
+  EXPECT_TRUE(is_error(post("/api/sessions", start, token), http::status::conflict, locked));
+  EXPECT_EQ(training.sessions(tess).size(), sessions_before);
 
   attempt(true);
   attempt(true);
@@ -256,6 +277,10 @@ TEST_F(RecordsApi, ProgressUnlocksTheNextTaskAfterEnoughConsecutivePasses) {
   const auto next = task_of("bimanual_palpation");
   EXPECT_TRUE(next["unlocked"].get<bool>());
   EXPECT_EQ(next["prerequisites"], nlohmann::json::array({"palpation"}));
+  // Unlocked, the same start gets past the lock to the next rule (tess has no booking).
+  EXPECT_TRUE(
+      is_error(post("/api/sessions", start, token), http::status::forbidden,
+               "no booking of station " + std::to_string(demo_station_id()) + " covers now"));
 
   // Instructors read any trainee's; a trainee only their own.
   const auto path = "/api/trainees/" + std::to_string(tess) + "/progress";

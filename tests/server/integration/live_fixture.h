@@ -98,6 +98,10 @@ constexpr Station kSurgical{2, "incise-demo-surgical-station-token"};
 
 class LiveSession : public ServerTest {
  protected:
+  // Who books, starts, stops and watches by default: the demo trainee; a test of a task that
+  // palpation unlocks sets the resident, who has mastered it (the server refuses locked tasks).
+  Login trainee_ = kTrainee;
+
   // The real agent for a station (Station 1 unless said); extra arguments (devices) after the
   // defaults, and the port it connects to (the server's unless a proxy sits between).
   std::unique_ptr<ChildProcess> start_agent(std::vector<std::string> extra = {}, int port = 0,
@@ -119,7 +123,7 @@ class LiveSession : public ServerTest {
   }
 
   bool station_online(int station_id = kBench.id) {
-    for (const auto& s : as(kTrainee).get("/api/stations").json()) {
+    for (const auto& s : as(trainee_).get("/api/stations").json()) {
       if (s["id"] == station_id) return s["online"].get<bool>();
     }
     return false;
@@ -131,7 +135,7 @@ class LiveSession : public ServerTest {
                          std::chrono::system_clock::now().time_since_epoch())
                          .count();
     const auto start = now - now % 900;
-    const auto response = as(kTrainee).post("/api/bookings", {{"station_id", station_id},
+    const auto response = as(trainee_).post("/api/bookings", {{"station_id", station_id},
                                                               {"starts_at", utc_text(start)},
                                                               {"ends_at", utc_text(start + 3600)}});
     EXPECT_EQ(response.status, 201) << response.body;
@@ -139,7 +143,7 @@ class LiveSession : public ServerTest {
   }
 
   void cancel(std::int64_t booking) {
-    as(kTrainee).del("/api/bookings/" + std::to_string(booking));
+    as(trainee_).del("/api/bookings/" + std::to_string(booking));
   }
 
   // The real agent for Station 1, a trainee's booking covering now, and a running session on it.
@@ -156,7 +160,7 @@ class LiveSession : public ServerTest {
     ASSERT_TRUE(station_online(station.id)) << out.agent->stderr_text();
     out.booking = book_now(station.id);
     const auto started =
-        as(kTrainee).post("/api/sessions", {{"station_id", station.id}, {"task", task}});
+        as(trainee_).post("/api/sessions", {{"station_id", station.id}, {"task", task}});
     ASSERT_EQ(started.status, 201) << started.body;
     EXPECT_EQ(started.json()["live"]["state"], "running");
     out.session = started.json()["id"].get<std::int64_t>();
@@ -169,15 +173,16 @@ class LiveSession : public ServerTest {
     LiveSession& test;
     const Running& run;
     ~EndRun() {
-      test.as(kTrainee).post("/api/sessions/" + std::to_string(run.session) + "/stop",
-                             nlohmann::json::object());
+      test.as(test.trainee_)
+          .post("/api/sessions/" + std::to_string(run.session) + "/stop", nlohmann::json::object());
       test.cancel(run.booking);
     }
   };
 
   std::string cookie(const Login& login) { return *as(login).cookie("incise_session"); }
 
-  std::unique_ptr<Viewer> view(const std::string& target, const Login& login = kTrainee) {
+  std::unique_ptr<Viewer> view(const std::string& target) { return view(target, trainee_); }
+  std::unique_ptr<Viewer> view(const std::string& target, const Login& login) {
     return std::make_unique<Viewer>(server().port(), target, cookie(login));
   }
 

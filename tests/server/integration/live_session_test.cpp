@@ -322,6 +322,7 @@ std::string write_holding_script(const TempDir& dir) {
 
 TEST_F(LiveSession, TwoHandedSessionsSimulateRecordAndReplayBothDevices) {
   TempDir dir{"incise-two-hands"};
+  trainee_ = kResident;  // the two-handed task opens once palpation is mastered
   Running run;
   ASSERT_NO_FATAL_FAILURE(start_booked_session(
       run, "bimanual_palpation",
@@ -350,7 +351,7 @@ TEST_F(LiveSession, TwoHandedSessionsSimulateRecordAndReplayBothDevices) {
     EXPECT_EQ(m["link"]["devices"][1]["index"], 1);
   }
   const auto stopped =
-      as(kTrainee).post("/api/sessions/" + session + "/stop", nlohmann::json::object());
+      as(trainee_).post("/api/sessions/" + session + "/stop", nlohmann::json::object());
   ASSERT_EQ(stopped.status, 200) << stopped.body;
   const auto rid = std::to_string(run.recording);
   EXPECT_EQ(db_text("SELECT state FROM recordings WHERE id = " + rid), "complete");
@@ -508,6 +509,7 @@ double grey_share(const render::RgbImage& picture) {
 }
 
 TEST_F(LiveSession, TheSurgicalStationCutsTheLiverLiveScoresTheCutAndReplaysIt) {
+  trainee_ = kResident;  // the liver task opens once the palpation tasks are mastered
   Running run;
   const std::string script = std::string(INCISE_SOURCE_DIR) + "/deploy/agent/liver_cut_demo.json";
   ASSERT_NO_FATAL_FAILURE(
@@ -552,7 +554,7 @@ TEST_F(LiveSession, TheSurgicalStationCutsTheLiverLiveScoresTheCutAndReplaysIt) 
     EXPECT_GT(grey_share(render::decode_jpeg(watcher->frames.back().jpeg)), 0.15);
   }
   const auto stopped =
-      as(kTrainee).post("/api/sessions/" + sid + "/stop", nlohmann::json::object());
+      as(trainee_).post("/api/sessions/" + sid + "/stop", nlohmann::json::object());
   ASSERT_EQ(stopped.status, 200) << stopped.body;
 
   // Scored on the task's metrics: the cut from the simulation, never events from both.

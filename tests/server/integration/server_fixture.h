@@ -27,6 +27,8 @@ struct Login {
 inline constexpr Login kAdmin{"admin", "incise-admin-demo"};
 inline constexpr Login kInstructor{"instructor", "incise-instructor-demo"};
 inline constexpr Login kTrainee{"trainee", "incise-trainee-demo"};
+// The demo trainee who has mastered the palpation tasks, for whom the stations' tasks are open.
+inline constexpr Login kResident{"resident", "incise-resident-demo"};
 inline constexpr const char* kStationToken = "incise-demo-station-token";
 inline constexpr const char* kIndexHtml = "<!doctype html><title>Incise test dashboard</title>\n";
 inline constexpr const char* kListening = "incise-server: listening on http://127.0.0.1:";

@@ -44,7 +44,7 @@ TEST_F(Users, AdminCreatesAUserWhoCanLogIn) {
   EXPECT_TRUE(is_error(client->get("/api/users"), 403));
 
   const auto users = admin.get("/api/users").json();
-  EXPECT_EQ(users.size(), 4u) << users;
+  EXPECT_EQ(users.size(), 5u) << users;  // the four demo logins and the new instructor
 }
 
 }  // namespace

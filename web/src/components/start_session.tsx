@@ -26,8 +26,11 @@ export function StartSession({ bookings, on_booked }: { bookings: Booking[] | nu
   const now = useNow(15_000);
   const curricula = useResource(api.curricula);
   const stations = useResource(api.stations);
+  // What the server says locks each task (its rule, curriculum/progress.h); it refuses them too.
+  const progress = useResource(api.progress);
   // Sessions run tasks of the first curriculum (docs/api.md, "Live sessions").
   const tasks = curricula.data?.[0]?.definition.modules.flatMap((m) => m.tasks) ?? [];
+  const locked = new Map((progress.data?.tasks ?? []).map((t) => [t.key, t.locked_reason]));
   if (bookings === null) {
     return (
       <p className="muted" role="status">
@@ -44,7 +47,13 @@ export function StartSession({ bookings, on_booked }: { bookings: Booking[] | nu
     <>
       <ErrorAlert message={curricula.error && `Could not load the tasks: ${curricula.error}`} />
       {current.map((b) => (
-        <StartSessionForm key={b.id} booking={b} tasks={tasks} station={stations.data?.find((s) => s.id === b.station_id)} />
+        <StartSessionForm
+          key={b.id}
+          booking={b}
+          tasks={tasks}
+          locked={locked}
+          station={stations.data?.find((s) => s.id === b.station_id)}
+        />
       ))}
     </>
   );
@@ -53,17 +62,21 @@ export function StartSession({ bookings, on_booked }: { bookings: Booking[] | nu
 function StartSessionForm({
   booking,
   tasks,
+  locked,
   station,
 }: {
   booking: Booking;
   tasks: CurriculumTask[];
+  /** Per task key, why it is locked ("" or absent: it may start). */
+  locked: Map<string, string>;
   station: Station | undefined;
 }) {
   const [task, set_task] = useState('');
   const [error, set_error] = useState<string | null>(null);
   const [busy, set_busy] = useState(false);
-  // Until the person picks one, the first task is selected.
-  const chosen_task = task || (tasks[0]?.key ?? '');
+  // Until the person picks one, the first task that may start is selected.
+  const chosen_task = task || (tasks.find((t) => !locked.get(t.key))?.key ?? '');
+  const locked_reasons = tasks.map((t) => locked.get(t.key)).filter((reason): reason is string => !!reason);
   const instructions = tasks.find((t) => t.key === chosen_task)?.instructions;
 
   async function on_submit(event: FormEvent<HTMLFormElement>) {
@@ -104,11 +117,18 @@ function StartSessionForm({
       >
         {tasks.length === 0 && <option value="">No tasks available</option>}
         {tasks.map((t) => (
-          <option key={t.key} value={t.key}>
-            {t.name}
+          <option key={t.key} value={t.key} disabled={!!locked.get(t.key)}>
+            {locked.get(t.key) ? `${t.name} (locked)` : t.name}
           </option>
         ))}
       </select>
+      {locked_reasons.length > 0 && (
+        <ul className="hint" aria-label="Prerequisites to master first">
+          {locked_reasons.map((reason) => (
+            <li key={reason}>{reason.charAt(0).toUpperCase() + reason.slice(1)}.</li>
+          ))}
+        </ul>
+      )}
       {instructions && <p className="hint">{instructions}</p>}
       <ErrorAlert message={error} />
       <button type="submit" className="button-primary" disabled={busy || !chosen_task}>
