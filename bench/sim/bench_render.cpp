@@ -215,23 +215,23 @@ void run_liver_station(const std::string& save_dir, bool vessels) {
   const Vec3 start = line.front(), end = line.back();
   const Vec3 depth(0, 0, 0.006), above(0, 0, 0.01);
   const Vec3 lobe = 0.5 * (start + end) + Vec3(-0.005, 0.012, 0.0005);
-  run_station(scene, engine,
-              vessels ? "liver station (laparoscope)" : "liver station, no vessels", save_dir,
-              vessels ? "liver_station" : "liver_station_plain",
-              [&](int frame) {
-                // Into the tissue over the first tenth, along the line over six, out over one
-                // (the cut is made as the blade leaves), and the opened cut seen for the last
-                // fifth; the grasper's jaws close on the lobe over the first tenth. The stroke
-                // takes 3 s, at the demo agent's pace.
-                const double in = std::clamp((frame + warm_up_frames) / (0.1 * frames), 0.0, 1.0);
-                const double along = std::clamp((frame - 0.1 * frames) / (0.6 * frames), 0.0, 1.0);
-                const double out = std::clamp((frame - 0.7 * frames) / (0.1 * frames), 0.0, 1.0);
-                const double s = in - out;  // how deep the blade is, 0 above .. 1 at depth
-                const Vec3 blade = (1 - along) * start + along * end - s * depth + (1 - s) * above;
-                return std::array<devices::DeviceState, 2>{
-                    bench::down(blade), bench::along_x(lobe, static_cast<float>(1 - in))};
-              },
-              {}, vessels);
+  run_station(
+      scene, engine, vessels ? "liver station (laparoscope)" : "liver station, no vessels",
+      save_dir, vessels ? "liver_station" : "liver_station_plain",
+      [&](int frame) {
+        // Into the tissue over the first tenth, along the line over six, out over one
+        // (the cut is made as the blade leaves), and the opened cut seen for the last
+        // fifth; the grasper's jaws close on the lobe over the first tenth. The stroke
+        // takes 3 s, at the demo agent's pace.
+        const double in = std::clamp((frame + warm_up_frames) / (0.1 * frames), 0.0, 1.0);
+        const double along = std::clamp((frame - 0.1 * frames) / (0.6 * frames), 0.0, 1.0);
+        const double out = std::clamp((frame - 0.7 * frames) / (0.1 * frames), 0.0, 1.0);
+        const double s = in - out;  // how deep the blade is, 0 above .. 1 at depth
+        const Vec3 blade = (1 - along) * start + along * end - s * depth + (1 - s) * above;
+        return std::array<devices::DeviceState, 2>{
+            bench::down(blade), bench::along_x(lobe, static_cast<float>(1 - in))};
+      },
+      {}, vessels);
   std::printf("  (the stroke cut %.0f mm^2; %s)\n", engine.damage().cut_area * 1e6,
               engine.state_finite() ? "finite" : "NOT FINITE");
 }

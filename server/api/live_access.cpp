@@ -82,11 +82,9 @@ std::vector<curriculum::AttemptRecord> attempt_records(db::Database& db, std::in
 }
 
 std::optional<curriculum::Task> find_curriculum_task(db::Database& db, const std::string& key) {
-  for (const auto& record : db::CurriculaRepo(db).list()) {
-    const auto c = curriculum::parse_curriculum_text(record.definition_json);
-    if (const auto* task = curriculum::find_task(c, key)) return *task;
-  }
-  return std::nullopt;
+  const auto c = curriculum_with_task(db, key);
+  if (!c) return std::nullopt;
+  return *curriculum::find_task(*c, key);
 }
 
 }  // namespace incise::server::api

@@ -66,15 +66,14 @@ ApiResponse start_session(ApiContext& ctx) {
   if (!station) {
     throw ApiError(http::status::not_found, "no station " + std::to_string(station_id));
   }
-  const auto task = find_curriculum_task(db, task_key);
-  if (!task) throw ApiError(http::status::not_found, "no task \"" + task_key + "\"");
+  const auto plan = curriculum_with_task(db, task_key);
+  if (!plan) throw ApiError(http::status::not_found, "no task \"" + task_key + "\"");
+  const curriculum::Task* task = curriculum::find_task(*plan, task_key);
   if (user.role == db::Role::trainee) {
     // A trainee starts only what their progress has unlocked (curriculum/progress.h).
-    if (const auto plan = curriculum_with_task(db, task_key)) {
-      const auto progress = curriculum::curriculum_progress(*plan, attempt_records(db, user.id));
-      if (const auto* p = curriculum::find_progress(progress, task_key); p && !p->unlocked()) {
-        throw ApiError(http::status::conflict, curriculum::locked_reason(*plan, *p));
-      }
+    const auto progress = curriculum::curriculum_progress(*plan, attempt_records(db, user.id));
+    if (const auto* p = curriculum::find_progress(progress, task_key); p && !p->unlocked()) {
+      throw ApiError(http::status::conflict, curriculum::locked_reason(*plan, *p));
     }
     bool booked = false;
     for (const auto& b : db::BookingsRepo(db).list(user.id)) {

@@ -124,21 +124,28 @@ render::SurfaceLook with_vessels(render::SurfaceLook look, float strength, float
 }
 
 // The look of a tissue by its name (SurgicalSceneSetup::tissue_names); nullopt: the default.
+// Glisson's capsule over the parenchyma shows a fine net of vessels; the fibrocartilage of a
+// meniscus is white with a few vessels at its rim; the ACL's synovial sheath is vascular.
 std::optional<render::SurfaceLook> tissue_look(const std::string& name) {
-  // Glisson's capsule over the parenchyma shows a fine net of vessels; the fibrocartilage of a
-  // meniscus is white with a few vessels at its rim; the ACL's synovial sheath is vascular.
-  if (name == "liver")
-    return with_vessels({{0.72f, 0.30f, 0.24f}, 0.30f, 40.0f}, 0.45f, 0.012f,
-                        {0.38f, 0.05f, 0.10f});
-  if (name == "gallbladder bed")
-    return with_vessels({{0.62f, 0.52f, 0.30f}, 0.30f, 40.0f}, 0.35f, 0.010f,
-                        {0.30f, 0.22f, 0.10f});
-  if (name == "meniscus")
-    return with_vessels({{0.93f, 0.92f, 0.90f}, 0.35f, 40.0f}, 0.15f, 0.006f,
-                        {0.78f, 0.42f, 0.42f});
-  if (name == "ligament")
-    return with_vessels({{0.92f, 0.87f, 0.78f}, 0.35f, 40.0f}, 0.35f, 0.004f,
-                        {0.72f, 0.25f, 0.24f});
+  struct Named {
+    const char* name;
+    render::SurfaceLook look;
+    float vessels, spacing_m;
+    Eigen::Vector3f vessel;
+  };
+  static const Named kLooks[] = {
+      {"liver", {{0.72f, 0.30f, 0.24f}, 0.30f, 40.0f}, 0.45f, 0.012f, {0.38f, 0.05f, 0.10f}},
+      {"gallbladder bed",
+       {{0.62f, 0.52f, 0.30f}, 0.30f, 40.0f},
+       0.35f,
+       0.010f,
+       {0.30f, 0.22f, 0.10f}},
+      {"meniscus", {{0.93f, 0.92f, 0.90f}, 0.35f, 40.0f}, 0.15f, 0.006f, {0.78f, 0.42f, 0.42f}},
+      {"ligament", {{0.92f, 0.87f, 0.78f}, 0.35f, 40.0f}, 0.35f, 0.004f, {0.72f, 0.25f, 0.24f}},
+  };
+  for (const Named& n : kLooks) {
+    if (name == n.name) return with_vessels(n.look, n.vessels, n.spacing_m, n.vessel);
+  }
   return std::nullopt;
 }
 

@@ -60,11 +60,8 @@ Real labelled_tet_volume(const TetMesh& mesh, int label) {
   Real total = 0;
   for (int t = 0; t < mesh.num_tets(); ++t) {
     if (mesh.labels[t] != label) continue;
-    const Vec3 a = mesh.rest.row(mesh.tets(t, 0)).transpose();
-    const Vec3 b = mesh.rest.row(mesh.tets(t, 1)).transpose();
-    const Vec3 c = mesh.rest.row(mesh.tets(t, 2)).transpose();
-    const Vec3 d = mesh.rest.row(mesh.tets(t, 3)).transpose();
-    total += (b - a).cross(c - a).dot(d - a) / 6;
+    const auto corner = [&](int k) -> Vec3 { return mesh.rest.row(mesh.tets(t, k)).transpose(); };
+    total += signed_volume(corner(0), corner(1), corner(2), corner(3));
   }
   return total;
 }

@@ -433,23 +433,26 @@ bool SceneRenderer::upload_tissue(const TissueView& tissue) {
   Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d high = -low;
   double lowest = std::numeric_limits<double>::infinity();
-  tissue_pattern_.resize(static_cast<std::size_t>(V.rows()) * 3);
+  const auto* rest = tissue.rest;
+  ordered_pattern_.resize(rest != nullptr ? static_cast<std::size_t>(V.rows()) * 3 : 0);
   float* out = tissue_vertices_.data();
-  float* pattern_out = tissue_pattern_.data();
+  float* pattern_out = ordered_pattern_.data();
   for (Eigen::Index v = 0; v < V.rows(); ++v) {
     const Eigen::Vector3d p = V.row(v).transpose();
     if (!p.allFinite()) {
       throw std::invalid_argument("tissue vertex " + std::to_string(v) +
                                   " has a non-finite position");
     }
-    const Eigen::Vector3d r = tissue.rest != nullptr ? Eigen::Vector3d(tissue.rest->row(v)) : p;
-    if (!r.allFinite()) {
-      throw std::invalid_argument("tissue vertex " + std::to_string(v) +
-                                  " has a non-finite rest position");
+    if (rest != nullptr) {
+      const Eigen::Vector3d r = rest->row(v).transpose();
+      if (!r.allFinite()) {
+        throw std::invalid_argument("tissue vertex " + std::to_string(v) +
+                                    " has a non-finite rest position");
+      }
+      for (int k = 0; k < 3; ++k)
+        pattern_out[k] = static_cast<float>(r[k]);
+      pattern_out += 3;
     }
-    for (int k = 0; k < 3; ++k)
-      pattern_out[k] = static_cast<float>(r[k]);
-    pattern_out += 3;
     low = low.cwiseMin(p);
     high = high.cwiseMax(p);
     lowest = std::min(lowest, style_.up.dot(p));
@@ -464,7 +467,13 @@ bool SceneRenderer::upload_tissue(const TissueView& tissue) {
   tissue_lowest_ = lowest;
 
   tissue_.set_vertices(tissue_vertices_);
-  tissue_.set_pattern_positions(tissue_pattern_);
+  // The rest shape changes only with the topology: sent again only when it differs. Without one
+  // the pattern comes from the positions themselves (pattern_attribute off).
+  tissue_has_rest_ = rest != nullptr;
+  if (tissue_has_rest_ && ordered_pattern_ != tissue_pattern_) {
+    tissue_pattern_.swap(ordered_pattern_);
+    tissue_.set_pattern_positions(tissue_pattern_);
+  }
   if (faces_changed) {
     tissue_indices_.swap(ordered_indices_);
     tissue_.set_indices(tissue_indices_);
@@ -691,7 +700,8 @@ void SceneRenderer::render(const Framebuffer& target, const Camera& camera,
         const SurfaceLook& look = group.label < 0                            ? style_.cut_wall
                                   : labelled != style_.tissue_by_label.end() ? labelled->second
                                                                              : style_.tissue;
-        draw_lit(tissue_, Eigen::Affine3d::Identity(), look, group.first, group.count, true);
+        draw_lit(tissue_, Eigen::Affine3d::Identity(), look, group.first, group.count,
+                 tissue_has_rest_);
       }
     }
     for (const Surroundings& s : surroundings_) {

@@ -265,7 +265,9 @@ class SceneRenderer {
   // The tissue as last uploaded, kept so that frames reuse memory and unchanged faces are not
   // sent again.
   std::vector<float> tissue_vertices_;
-  std::vector<float> tissue_pattern_;  // the vertices' rest positions (TissueView::rest)
+  std::vector<float> tissue_pattern_;   // the rest positions on the GPU (TissueView::rest)
+  std::vector<float> ordered_pattern_;  // this frame's, compared with them
+  bool tissue_has_rest_ = false;        // the last tissue came with rest positions
   // The capsule's faces grouped by label in ascending order, then the cut walls.
   std::vector<std::uint32_t> tissue_indices_;
   struct FaceGroup {
