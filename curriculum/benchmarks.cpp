@@ -50,4 +50,19 @@ double relative_score(double value, const BenchmarkStats& stats) {
   return (value - stats.mean) / stats.sd;
 }
 
+std::map<std::pair<std::string, std::string>, Benchmark> group_benchmarks(
+    std::span<const ExpertScore> scores) {
+  std::map<std::pair<std::string, std::string>, std::pair<std::string, std::vector<double>>> groups;
+  for (const ExpertScore& s : scores) {
+    if (!std::isfinite(s.value)) continue;
+    auto& [unit, values] = groups[{s.task, s.metric}];
+    if (values.empty()) unit = s.unit;
+    values.push_back(s.value);
+  }
+  std::map<std::pair<std::string, std::string>, Benchmark> out;
+  for (const auto& [key, group] : groups)
+    out[key] = {group.first, summarize(group.second)};
+  return out;
+}
+
 }  // namespace incise::curriculum

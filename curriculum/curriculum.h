@@ -57,6 +57,21 @@ struct ProtectedZone {
   bool operator==(const ProtectedZone&) const = default;
 };
 
+// What an attempt must have done to count, whatever its metrics: a task that can be passed without
+// doing it proves nothing. Each criterion set here is scored as one more requirement on a metric
+// every attempt reports (completion_requirements, metrics.h), and the result shows it apart from
+// the thresholds. Zero (false) leaves a criterion out.
+struct Completion {
+  // The tools on the tissue at least this long, all tools together (tissue_contact_s) [s].
+  double min_contact_s = 0;
+  // Every one of the task's targets reached (targets_fraction = 1).
+  bool all_targets = false;
+  // At least this area cut inside the marked line's band (cut_on_line_m2) [m^2].
+  double min_cut_on_line_m2 = 0;
+
+  bool operator==(const Completion&) const = default;
+};
+
 // One exercise: a scene to run, the tools it needs, and the metric thresholds an attempt must
 // meet. A task is mastered after consecutive_passes_required passing attempts in a row.
 struct Task {
@@ -66,6 +81,10 @@ struct Task {
   std::string instructions;        // shown before and during the attempt
   std::vector<std::string> tools;  // tool ids the station must provide, e.g. "probe"
   std::vector<MetricRequirement> metrics;
+  Completion completion;
+  // The kind of station the task needs ("bench", "laparoscopy", "arthroscopy": what its devices
+  // and scenes are); empty: any station.
+  std::string station_kind;
   int consecutive_passes_required = 1;
   std::vector<std::string> prerequisites;  // keys of tasks to master first
   std::vector<ProtectedZone> protected_zones;

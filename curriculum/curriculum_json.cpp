@@ -169,6 +169,15 @@ json zone_json(const Zone& zone) {
   return item;
 }
 
+Completion parse_completion(const json& value, const std::string& path) {
+  const ObjectReader reader(value, path, {"min_contact_s", "all_targets", "min_cut_on_line_m2"});
+  Completion completion;
+  completion.min_contact_s = reader.number("min_contact_s", optional);
+  completion.all_targets = reader.boolean("all_targets", optional);
+  completion.min_cut_on_line_m2 = reader.number("min_cut_on_line_m2", optional);
+  return completion;
+}
+
 int parse_consecutive_passes(const json& value, const std::string& path) {
   const std::string message =
       "must be an integer from 1 to " + std::to_string(max_consecutive_passes);
@@ -184,18 +193,22 @@ int parse_consecutive_passes(const json& value, const std::string& path) {
 Task parse_task(const json& value, const std::string& path) {
   const ObjectReader reader(
       value, path,
-      {"key", "name", "scene", "instructions", "tools", "metrics", "consecutive_passes_required",
-       "prerequisites", "protected_zones", "targets", "safe_force_n", "never_force_n", "portal_m"});
+      {"key", "name", "scene", "station_kind", "instructions", "tools", "metrics", "completion",
+       "consecutive_passes_required", "prerequisites", "protected_zones", "targets", "safe_force_n",
+       "never_force_n", "portal_m"});
   Task task;
   task.key = reader.string("key", required);
   task.name = reader.string("name", required);
   task.scene = reader.string("scene", required);
+  task.station_kind = reader.string("station_kind", optional);
   task.instructions = reader.string("instructions", optional);
   task.tools = reader.strings("tools", optional);
   const json::array_t& metrics = reader.array("metrics", required);
   for (std::size_t i = 0; i < metrics.size(); ++i) {
     task.metrics.push_back(parse_metric(metrics[i], element(reader.path("metrics"), i)));
   }
+  if (const json* completion = reader.find("completion", optional))
+    task.completion = parse_completion(*completion, reader.path("completion"));
   task.consecutive_passes_required =
       parse_consecutive_passes(*reader.find("consecutive_passes_required", required),
                                reader.path("consecutive_passes_required"));
@@ -289,6 +302,16 @@ json to_json(const Curriculum& curriculum) {
                        {"safe_force_n", task.safe_force_n},
                        {"never_force_n", task.never_force_n}});
       if (task.portal_m) tasks.back()["portal_m"] = *task.portal_m;
+      // Absent when unset, as curricula written before them leave them out.
+      if (!task.station_kind.empty()) tasks.back()["station_kind"] = task.station_kind;
+      const Completion& c = task.completion;
+      if (c != Completion{}) {
+        json completion = json::object();
+        if (c.min_contact_s > 0) completion["min_contact_s"] = c.min_contact_s;
+        if (c.all_targets) completion["all_targets"] = true;
+        if (c.min_cut_on_line_m2 > 0) completion["min_cut_on_line_m2"] = c.min_cut_on_line_m2;
+        tasks.back()["completion"] = std::move(completion);
+      }
     }
     modules.push_back({{"key", module.key}, {"name", module.name}, {"tasks", tasks}});
   }

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "curriculum/metric_catalogue.h"
 #include "curriculum/metrics.h"
 #include "curriculum/number_text.h"
 
@@ -82,6 +83,30 @@ void check_forces(const Task& task, const std::string& path) {
   }
 }
 
+// The criteria are finite and not negative, all_targets has targets to reach, and no metric
+// threshold repeats a criterion's metric (a result holds one value per key).
+void check_completion(const Task& task, const std::string& path) {
+  const std::string completion_path = member(path, "completion");
+  const Completion& c = task.completion;
+  for (const auto& [name, value] : {std::pair("min_contact_s", c.min_contact_s),
+                                    std::pair("min_cut_on_line_m2", c.min_cut_on_line_m2)}) {
+    if (!std::isfinite(value) || value < 0) {
+      throw CurriculumError(member(completion_path, name), "must be a finite number, 0 or more");
+    }
+  }
+  if (c.all_targets && task.targets.empty()) {
+    throw CurriculumError(member(completion_path, "all_targets"),
+                          "needs targets: the task has none to reach");
+  }
+  for (const MetricRequirement& criterion : completion_requirements(task)) {
+    for (std::size_t m = 0; m < task.metrics.size(); ++m) {
+      if (task.metrics[m].key != criterion.key) continue;
+      throw CurriculumError(member(element(member(path, "metrics"), m), "key"),
+                            "\"" + criterion.key + "\" is already a completion criterion");
+    }
+  }
+}
+
 struct TaskRef {
   const Task* task;
   std::string path;  // "modules[i].tasks[j]"
@@ -91,6 +116,7 @@ void check_task(const Task& task, const std::string& path) {
   require_key(member(path, "key"), task.key);
   require_text(member(path, "name"), task.name);
   require_text(member(path, "scene"), task.scene);
+  if (!task.station_kind.empty()) require_key(member(path, "station_kind"), task.station_kind);
   require_distinct_names(member(path, "tools"), task.tools);
   const std::string metrics_path = member(path, "metrics");
   if (task.metrics.empty()) throw CurriculumError(metrics_path, "must list at least one metric");
@@ -106,6 +132,19 @@ void check_task(const Task& task, const std::string& path) {
     if (!std::isfinite(metric.threshold.value)) {
       throw CurriculumError(member(member(metric_path, "threshold"), "value"),
                             "must be a finite number");
+    }
+    // Within the values the metric can take (metric_catalogue.h): a negative time or a share
+    // above 1 is a typing error that would pass or fail every attempt. Keys the catalogue does
+    // not know are left to score_attempt (unmeasured: failed).
+    if (const auto info = find_metric(metric.key);
+        info && (metric.threshold.value < info->min || metric.threshold.value > info->max)) {
+      const std::string unit = info->unit.empty() || info->unit == "count" ? "" : " " + info->unit;
+      throw CurriculumError(
+          member(member(metric_path, "threshold"), "value"),
+          std::isinf(info->max)
+              ? "must be " + shortest_text(info->min) + unit + " or more for " + metric.key
+              : "must be from " + shortest_text(info->min) + " to " + shortest_text(info->max) +
+                    unit + " for " + metric.key);
     }
     // A never event fails the attempt outright (metrics.h): no task may tolerate one.
     if (metric.key == kNeverEventsKey &&
@@ -128,6 +167,7 @@ void check_task(const Task& task, const std::string& path) {
   for (std::size_t t = 0; t < task.targets.size(); ++t)
     check_zone(task.targets[t], element(member(path, "targets"), t), zone_names);
   check_forces(task, path);
+  check_completion(task, path);
   if (task.portal_m) {
     for (std::size_t i = 0; i < task.portal_m->size(); ++i) {
       if (!std::isfinite((*task.portal_m)[i])) {

@@ -72,17 +72,26 @@ std::vector<MetricValue> basic_metrics(std::span<const ToolSample> samples) {
   const double rms_force = duration > 0 ? std::sqrt(force_squared_integral / duration) : 0.0;
 
   return {
-      {"completion_time_s", duration, "s", "Time from the first to the last recorded sample."},
-      {"path_length_m", path_length, "m", "Total distance travelled by the tool tip."},
-      {"peak_force_n", peak_force, "N", "Largest force on the tool at any sample."},
-      {"rms_force_n", rms_force, "N", "Root mean square of the force on the tool over time."},
-      {"contact_time_s", contact_time, "s",
-       "Time the tool touched tissue (force on the tool above 1 mN)."},
+      {"completion_time_s", duration, "s"},  {"path_length_m", path_length, "m"},
+      {"peak_force_n", peak_force, "N"},     {"rms_force_n", rms_force, "N"},
+      {"contact_time_s", contact_time, "s"},
   };
 }
 
+std::vector<MetricRequirement> completion_requirements(const Task& task) {
+  const Completion& c = task.completion;
+  std::vector<MetricRequirement> criteria;
+  if (c.min_contact_s > 0)
+    criteria.push_back({"tissue_contact_s", {ThresholdOp::at_least, c.min_contact_s}, "s"});
+  if (c.all_targets) criteria.push_back({"targets_fraction", {ThresholdOp::at_least, 1.0}, ""});
+  if (c.min_cut_on_line_m2 > 0)
+    criteria.push_back({"cut_on_line_m2", {ThresholdOp::at_least, c.min_cut_on_line_m2}, "m^2"});
+  return criteria;
+}
+
 std::vector<MetricRequirement> scored_requirements(const Task& task) {
-  std::vector<MetricRequirement> requirements = task.metrics;
+  std::vector<MetricRequirement> requirements = completion_requirements(task);
+  requirements.insert(requirements.end(), task.metrics.begin(), task.metrics.end());
   const bool names_never =
       std::any_of(requirements.begin(), requirements.end(),
                   [](const MetricRequirement& r) { return r.key == kNeverEventsKey; });
@@ -94,6 +103,7 @@ std::vector<MetricRequirement> scored_requirements(const Task& task) {
 
 std::vector<MetricResult> score_attempt(const Task& task, std::span<const MetricValue> values) {
   const auto requirements = scored_requirements(task);
+  const std::size_t criteria = completion_requirements(task).size();
   std::vector<MetricResult> results;
   results.reserve(requirements.size());
   for (const MetricRequirement& requirement : requirements) {
@@ -102,6 +112,7 @@ std::vector<MetricResult> score_attempt(const Task& task, std::span<const Metric
     MetricResult result;
     result.key = requirement.key;
     result.threshold = requirement.threshold;
+    result.criterion = results.size() < criteria;
     if (found == values.end()) {
       result.unit = requirement.unit;
       result.measured = false;

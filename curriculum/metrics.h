@@ -20,13 +20,13 @@ struct ToolSample {
   std::array<double, 3> force_n{};  // force on the tool [N]
 };
 
-// One computed metric, with what the dashboard needs to show it.
+// One computed metric. Its name, display unit and definition are in the catalogue
+// (metric_catalogue.h), keyed the same.
 struct MetricValue {
   std::string key;  // "completion_time_s", "path_length_m", "peak_force_n", "rms_force_n",
                     // "contact_time_s"
   double value = 0;
-  std::string unit;        // "s", "m", "N"
-  std::string definition;  // one line the dashboard shows, e.g. "Total distance travelled by..."
+  std::string unit;  // "s", "m", "N"
 
   bool operator==(const MetricValue&) const = default;
 };
@@ -56,19 +56,29 @@ struct MetricResult {
   std::string unit;  // the measured value's unit; the requirement's when not measured
   Threshold threshold;
   bool passed = false;
-  bool measured = true;  // false when the task asks for a metric the computation did not report
-                         // (then passed = false)
+  bool measured = true;    // false when the task asks for a metric the computation did not report
+                           // (then passed = false)
+  bool criterion = false;  // a completion criterion (Task::completion), not a threshold
 };
 
 // The metric counting never events (run_events.h).
 inline constexpr std::string_view kNeverEventsKey = "never_events";
 
-// The metrics an attempt at the task is scored on: the task's, in its order, and when the task can
-// have never events (Task::has_never_events) but does not name kNeverEventsKey, one more for
+// The metrics the completion criteria are scored on (Task::completion), in this order, each only
+// when set:
+//   tissue_contact_s >= min_contact_s       [s]   every tool's time on the tissue, added up
+//   targets_fraction >= 1                         when all_targets
+//   cut_on_line_m2   >= min_cut_on_line_m2  [m^2] the area cut inside the marked line's band
+std::vector<MetricRequirement> completion_requirements(const Task& task);
+
+// The metrics an attempt at the task is scored on: the completion criteria first
+// (completion_requirements), then the task's metrics in their order, and when the task can have
+// never events (Task::has_never_events) but does not name kNeverEventsKey, one more for
 // never_events <= 0 at the end: a never event fails the attempt outright.
 std::vector<MetricRequirement> scored_requirements(const Task& task);
 
-// One result per scored requirement (scored_requirements), in that order. For each requirement the
+// One result per scored requirement (scored_requirements), in that order; the criteria's results
+// have criterion set. For each requirement the
 // first value in #values with the same key is scored (meets_threshold: the boundary passes, NaN
 // fails); values the task does not ask for are ignored.
 std::vector<MetricResult> score_attempt(const Task& task, std::span<const MetricValue> values);

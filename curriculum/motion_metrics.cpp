@@ -304,25 +304,17 @@ std::vector<MetricValue> hand_metrics(std::span<const HandSample> hand,
   if (still_stretch >= thresholds.min_idle_s) idle_time += still_stretch;
 
   return {
-      {"path_length_m", length, "m", "Total distance travelled by the tool tip."},
-      {"angular_path_rad", angular_path, "rad", "Total angle through which the tool turned."},
-      {"economy_of_motion", economy, "",
-       "Straight distance from start to end divided by the path length (1 = straight line)."},
-      {"movements", movements, "count",
-       "Number of separate movements: the tip sped up after having come to rest."},
-      {"idle_time_s", idle_time, "s",
-       "Time the tip stood still in pauses of at least " + shortest_text(thresholds.min_idle_s) +
-           " s."},
-      {"mean_speed_m_s", duration > 0 ? length / duration : 0.0, "m/s",
-       "Path length divided by the duration of the run."},
-      {"log_dimensionless_jerk", log_dimensionless_jerk(profile.path, profile.raw), "",
-       "Smoothness of the tip's motion (log dimensionless jerk; higher is smoother)."},
-      {"peak_force_n", peak_force, "N", "Largest force on the tool at any sample."},
-      {"rms_force_n", duration > 0 ? std::sqrt(force_squared_integral / duration) : 0.0, "N",
-       "Root mean square of the force on the tool over time."},
-      {"integrated_force_ns", force_integral, "N s",
-       "Force on the tool summed over time (impulse of its magnitude)."},
-      {"jaw_closures", jaw_closures, "count", "Number of times the jaws closed."},
+      {"path_length_m", length, "m"},
+      {"angular_path_rad", angular_path, "rad"},
+      {"economy_of_motion", economy, ""},
+      {"movements", movements, "count"},
+      {"idle_time_s", idle_time, "s"},
+      {"mean_speed_m_s", duration > 0 ? length / duration : 0.0, "m/s"},
+      {"log_dimensionless_jerk", log_dimensionless_jerk(profile.path, profile.raw), ""},
+      {"peak_force_n", peak_force, "N"},
+      {"rms_force_n", duration > 0 ? std::sqrt(force_squared_integral / duration) : 0.0, "N"},
+      {"integrated_force_ns", force_integral, "N s"},
+      {"jaw_closures", jaw_closures, "count"},
   };
 }
 
@@ -364,10 +356,8 @@ std::vector<MetricValue> bimanual_metrics(std::span<const HandSample> right,
   const double right_length = path_length(right);
 
   return {
-      {"bimanual_dexterity", either_moving > 0 ? both_moving / either_moving : 0.0, "",
-       "Share of the time either hand moved during which both hands moved."},
-      {"path_length_ratio", right_length > 0 ? path_length(left) / right_length : kNaN, "",
-       "Path length of the left (non-dominant) hand divided by that of the right hand."},
+      {"bimanual_dexterity", either_moving > 0 ? both_moving / either_moving : 0.0, ""},
+      {"path_length_ratio", right_length > 0 ? path_length(left) / right_length : kNaN, ""},
   };
 }
 

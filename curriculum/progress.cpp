@@ -68,4 +68,11 @@ std::string locked_reason(const Curriculum& curriculum, const TaskProgress& prog
   return "task " + name_of(progress.key) + " is locked: master " + missing + " first";
 }
 
+std::string next_task(const std::vector<TaskProgress>& progress) {
+  for (const TaskProgress& p : progress) {
+    if (p.unlocked() && !p.mastered) return p.key;
+  }
+  return "";
+}
+
 }  // namespace incise::curriculum

@@ -51,6 +51,10 @@ std::vector<TaskProgress> curriculum_progress(const Curriculum& curriculum,
 const TaskProgress* find_progress(const std::vector<TaskProgress>& progress,
                                   const std::string& task_key);
 
+// The task to work on next: the first of the curriculum's order that is unlocked and not yet
+// mastered, "" when every task is mastered (or none is unlocked). progress: curriculum_progress.
+std::string next_task(const std::vector<TaskProgress>& progress);
+
 // Why the task may not start, "" if it may: "task \"Cut along the marked line\" is locked:
 // master \"Palpation\" first" (names from the curriculum, in the prerequisites' order).
 std::string locked_reason(const Curriculum& curriculum, const TaskProgress& progress);

@@ -111,6 +111,17 @@ double tissue_damage(const Task& task, std::span<const HandSample> right,
   return damage;
 }
 
+// Each hand's time on the tissue (|force| above kContactForceN at an interval's start), added up.
+double tissue_contact(std::span<const HandSample> right, std::span<const HandSample> left) {
+  double contact = 0;
+  for (const std::span<const HandSample> hand : {right, left}) {
+    for (std::size_t i = 1; i < hand.size(); ++i) {
+      if (norm(hand[i - 1].force_n) > kContactForceN) contact += hand[i].t_s - hand[i - 1].t_s;
+    }
+  }
+  return contact;
+}
+
 // The events of one hand that depend on that hand alone (all but target).
 void hand_events(const Task& task, std::span<const HandSample> hand, int h,
                  const EventThresholds& th, std::vector<RunEvent>& events) {
@@ -230,29 +241,19 @@ std::vector<MetricValue> event_metrics(const Task& task, std::span<const HandSam
   const double fraction =
       task.targets.empty() ? 1.0 : visited / static_cast<double>(task.targets.size());
   std::vector<MetricValue> values = {
-      {"protected_collisions", collisions, "count",
-       "Number of times the tool tip entered a protected structure (never zones included)."},
-      {"never_events", never_events, "count",
-       "Number of never events: a never zone entered or the never-event force exceeded."},
-      {"tissue_damage_ns", tissue_damage(task, right, left), "N s",
-       "Force above the safe force of " + shortest_text(task.safe_force_n) +
-           " N summed over time: how long and how far the tissue was overloaded."},
-      {"targets_visited", visited, "count", "Number of distinct targets the tool tip reached."},
-      {"targets_fraction", fraction, "",
-       "Share of the task's targets reached (1 when the task has none)."},
+      {"protected_collisions", collisions, "count"},
+      {"never_events", never_events, "count"},
+      {"tissue_damage_ns", tissue_damage(task, right, left), "N s"},
+      {"tissue_contact_s", tissue_contact(right, left), "s"},
+      {"targets_visited", visited, "count"},
+      {"targets_fraction", fraction, ""},
   };
   if (task.portal_m) {
     for (const auto& [hand, suffix] : {std::pair(right, ""), std::pair(left, "_left")}) {
       if (hand.empty() && suffix[0] != '\0') continue;
       const auto [deepest, mean] = shaft_depth(*task.portal_m, hand);
-      const std::string which = suffix[0] == '\0' ? "" : " (Left hand.)";
-      values.push_back(
-          {std::string("max_depth_m") + suffix, deepest, "m",
-           "Deepest insertion of the tool tip along its shaft beyond the portal." + which});
-      values.push_back({std::string("mean_depth_m") + suffix, mean, "m",
-                        "Time-averaged insertion of the tool tip along its shaft beyond the "
-                        "portal." +
-                            which});
+      values.push_back({std::string("max_depth_m") + suffix, deepest, "m"});
+      values.push_back({std::string("mean_depth_m") + suffix, mean, "m"});
     }
   }
   return values;

@@ -81,6 +81,9 @@ std::vector<RunEvent> run_events(const Task& task, std::span<const HandSample> r
 //   tissue_damage_ns      integral over the run of max(0, |force| - task.safe_force_n) dt,
 //                         summed over both hands, trapezoid rule on each interval [N s]: how long
 //                         and how far the tissue was overloaded
+//   tissue_contact_s      sum over both hands of t_{i+1} - t_i over the samples i with |force_i|
+//                         > kContactForceN [s]: the tools' time on the tissue (completion
+//                         criteria, Task::completion)
 //   targets_visited       number of distinct targets reached (target events) [count]
 //   targets_fraction      targets_visited / number of targets; 1 when the task has none
 // and, when task.portal_m is set, the depth along the shaft of each hand (the left hand's keys end

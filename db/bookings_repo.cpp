@@ -9,8 +9,9 @@ namespace incise::db {
 
 namespace {
 constexpr const char* kSelect =
-    "SELECT b.id, b.station_id, s.name, b.user_id, u.username, b.starts_at, b.ends_at, b.status, "
-    "b.created_at FROM bookings b JOIN stations s ON s.id = b.station_id JOIN users u ON u.id = "
+    "SELECT b.id, b.station_id, s.name, b.user_id, u.username, b.starts_at, b.ends_at, "
+    "CASE WHEN b.completed_at IS NOT NULL THEN 'completed' ELSE b.status END, b.created_at FROM "
+    "bookings b JOIN stations s ON s.id = b.station_id JOIN users u ON u.id = "
     "b.user_id ";
 
 Booking read_booking(const Statement& q) {
@@ -21,8 +22,11 @@ Booking read_booking(const Statement& q) {
 // Half-open intervals [a0, a1) and [b0, b1) overlap when a0 < b1 and b0 < a1.
 std::optional<Booking> first_overlap(Database& db, const char* owner_column, std::int64_t owner,
                                      std::int64_t starts_at, std::int64_t ends_at) {
-  auto q = db.prepare(std::string(kSelect) + "WHERE b.status = 'active' AND b." + owner_column +
-                      " = ? AND b.starts_at < ? AND ? < b.ends_at ORDER BY b.starts_at LIMIT 1");
+  // A completed booking ended when its session did, at a moment now past: the time it held is
+  // spent, so a walk-up slot that began before that moment may still be booked.
+  auto q = db.prepare(
+      std::string(kSelect) + "WHERE b.status = 'active' AND b.completed_at IS NULL " + "AND b." +
+      owner_column + " = ? AND b.starts_at < ? AND ? < b.ends_at ORDER BY b.starts_at LIMIT 1");
   q.bind(1, owner).bind(2, ends_at).bind(3, starts_at);
   if (!q.step()) return std::nullopt;
   return read_booking(q);
@@ -102,14 +106,37 @@ void BookingsRepo::cancel(std::int64_t id, std::int64_t now) {
   Transaction tx(db_);
   auto booking = find(id);
   if (!booking) throw NotFound("booking " + std::to_string(id) + " does not exist");
-  if (booking->status == "cancelled") {
-    throw Conflict("booking " + std::to_string(id) + " is already cancelled");
+  if (booking->status != "active") {
+    throw Conflict("booking " + std::to_string(id) + " is already " + booking->status);
   }
   db_.prepare("UPDATE bookings SET status = 'cancelled', cancelled_at = ? WHERE id = ?")
       .bind(1, now)
       .bind(2, id)
       .run();
   tx.commit();
+}
+
+std::optional<Booking> BookingsRepo::covering(std::int64_t user_id, std::int64_t station_id,
+                                              std::int64_t now) {
+  auto q = db_.prepare(std::string(kSelect) +
+                       "WHERE b.status = 'active' AND b.completed_at IS NULL AND b.user_id = ? AND "
+                       "b.station_id = ? AND b.starts_at <= ? AND ? < b.ends_at LIMIT 1");
+  q.bind(1, user_id).bind(2, station_id).bind(3, now).bind(4, now);
+  if (!q.step()) return std::nullopt;
+  return read_booking(q);
+}
+
+bool BookingsRepo::complete_for_session(std::int64_t session_id, std::int64_t now) {
+  // ends_at stays after starts_at (the table's CHECK) and never moves later.
+  db_.prepare(
+         "UPDATE bookings SET ends_at = MIN(ends_at, MAX(?, starts_at + 1)), completed_at = ? "
+         "WHERE id = (SELECT booking_id FROM sessions WHERE id = ?) AND status = 'active' AND "
+         "completed_at IS NULL")
+      .bind(1, now)
+      .bind(2, now)
+      .bind(3, session_id)
+      .run();
+  return db_.changes() > 0;
 }
 
 }  // namespace incise::db

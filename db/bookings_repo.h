@@ -1,7 +1,7 @@
 #pragma once
 // Bookings of station slots. A station slot and a person can each hold only one active booking
-// at a time; the check and the insert run in one IMMEDIATE transaction, so two concurrent
-// requests cannot both win.
+// at a time (a completed one no longer counts: its session ended and freed the rest); the check and
+// the insert run in one IMMEDIATE transaction, so two concurrent requests cannot both win.
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -21,7 +21,9 @@ struct Booking {
   std::string username;
   std::int64_t starts_at = 0;  // Unix seconds, inclusive
   std::int64_t ends_at = 0;    // Unix seconds, exclusive
-  std::string status;          // "active" or "cancelled"
+  // "active", "cancelled", or "completed": the session held in it ended, and ends_at was cut
+  // back to that moment (complete_for_session).
+  std::string status;
   std::int64_t created_at = 0;
 };
 
@@ -57,8 +59,15 @@ class BookingsRepo {
   std::vector<Booking> list(const TraineeScope& scope);
   // The active bookings of a station that end after #since, earliest first: its calendar.
   std::vector<Booking> station_schedule(std::int64_t station_id, std::int64_t since);
-  // Throws NotFound for an unknown id, Conflict when already cancelled.
+  // Throws NotFound for an unknown id, Conflict when already cancelled or completed.
   void cancel(std::int64_t id, std::int64_t now);
+  // The person's active booking of the station that covers #now (starts_at <= now < ends_at).
+  std::optional<Booking> covering(std::int64_t user_id, std::int64_t station_id, std::int64_t now);
+  // Bookings follow sessions: when the session started in a booking (sessions.booking_id) ends,
+  // the booking is completed and ends at #now (never later than it did, and after its start), so
+  // the rest of the slot is free and the person may book another station at once. False when the
+  // session has no booking or it is no longer active.
+  bool complete_for_session(std::int64_t session_id, std::int64_t now);
 
  private:
   Database& db_;

@@ -7,18 +7,21 @@ namespace incise::db {
 
 namespace {
 Station read_station(const Statement& q) {
-  return Station{q.int64(0), q.text(1), q.text(2), q.int64(3)};
+  return Station{q.int64(0), q.text(1), q.text(2), q.int64(3), q.text(4)};
 }
 }  // namespace
 
 Station StationsRepo::create(std::string_view name, std::string_view location,
-                             std::string_view token, std::int64_t now) {
+                             std::string_view token, std::int64_t now, std::string_view kind) {
   try {
-    db_.prepare("INSERT INTO stations (name, location, token_hash, created_at) VALUES (?, ?, ?, ?)")
+    db_.prepare(
+           "INSERT INTO stations (name, location, token_hash, created_at, kind) VALUES (?, ?, ?, "
+           "?, ?)")
         .bind(1, name)
         .bind(2, location)
         .bind_blob(3, token_hash(token))
         .bind(4, now)
+        .bind(5, kind)
         .run();
   } catch (const ConstraintError&) {
     for (const auto& s : list()) {
@@ -27,25 +30,27 @@ Station StationsRepo::create(std::string_view name, std::string_view location,
     }
     throw;
   }
-  return Station{db_.last_insert_id(), std::string(name), std::string(location), now};
+  return Station{db_.last_insert_id(), std::string(name), std::string(location), now,
+                 std::string(kind)};
 }
 
 std::optional<Station> StationsRepo::find(std::int64_t id) {
-  auto q = db_.prepare("SELECT id, name, location, created_at FROM stations WHERE id = ?");
+  auto q = db_.prepare("SELECT id, name, location, created_at, kind FROM stations WHERE id = ?");
   q.bind(1, id);
   if (!q.step()) return std::nullopt;
   return read_station(q);
 }
 
 std::optional<Station> StationsRepo::find_by_token(std::string_view token) {
-  auto q = db_.prepare("SELECT id, name, location, created_at FROM stations WHERE token_hash = ?");
+  auto q =
+      db_.prepare("SELECT id, name, location, created_at, kind FROM stations WHERE token_hash = ?");
   q.bind_blob(1, token_hash(token));
   if (!q.step()) return std::nullopt;
   return read_station(q);
 }
 
 std::vector<Station> StationsRepo::list() {
-  auto q = db_.prepare("SELECT id, name, location, created_at FROM stations ORDER BY name");
+  auto q = db_.prepare("SELECT id, name, location, created_at, kind FROM stations ORDER BY name");
   std::vector<Station> out;
   while (q.step())
     out.push_back(read_station(q));
@@ -62,6 +67,12 @@ std::string StationsRepo::calibration(std::int64_t id) {
 void StationsRepo::set_calibration(std::int64_t id, std::string_view json_text) {
   auto q = db_.prepare("UPDATE stations SET calibration = ? WHERE id = ?");
   q.bind(1, json_text).bind(2, id).run();
+  if (db_.changes() == 0) throw NotFound("station " + std::to_string(id) + " not found");
+}
+
+void StationsRepo::set_kind(std::int64_t id, std::string_view kind) {
+  auto q = db_.prepare("UPDATE stations SET kind = ? WHERE id = ?");
+  q.bind(1, kind).bind(2, id).run();
   if (db_.changes() == 0) throw NotFound("station " + std::to_string(id) + " not found");
 }
 

@@ -15,6 +15,9 @@ struct Station {
   std::string name;
   std::string location;
   std::int64_t created_at = 0;
+  // What it can run ("bench", "laparoscopy", "arthroscopy"; curriculum Task::station_kind): its
+  // devices and scenes. "" = not declared. db/ stores it; the curriculum's rules compare it.
+  std::string kind;
 };
 
 class StationsRepo {
@@ -24,7 +27,7 @@ class StationsRepo {
   // Creates the station with the given agent token (random_token() for a new one).
   // Throws Conflict when the name is taken.
   Station create(std::string_view name, std::string_view location, std::string_view token,
-                 std::int64_t now);
+                 std::int64_t now, std::string_view kind = "");
   std::optional<Station> find(std::int64_t id);
   std::optional<Station> find_by_token(std::string_view token);
   std::vector<Station> list();
@@ -33,6 +36,8 @@ class StationsRepo {
   // The caller validates it: db/ knows nothing of devices. Throws NotFound for an unknown id.
   std::string calibration(std::int64_t id);
   void set_calibration(std::int64_t id, std::string_view json_text);
+  // Throws NotFound for an unknown id.
+  void set_kind(std::int64_t id, std::string_view kind);
 
  private:
   Database& db_;

@@ -46,14 +46,16 @@ void check_scores(std::span<const ScoreInput> scores) {
 
 std::int64_t TrainingRepo::create_session(std::int64_t trainee_id,
                                           std::optional<std::int64_t> station_id,
-                                          const std::string& task, std::int64_t now) {
+                                          const std::string& task, std::int64_t now,
+                                          std::optional<std::int64_t> booking_id) {
   db_.prepare(
-         "INSERT INTO sessions (trainee_id, station_id, task, state, created_at) VALUES (?, ?, "
-         "?, 'created', ?)")
+         "INSERT INTO sessions (trainee_id, station_id, task, state, created_at, booking_id) "
+         "VALUES (?, ?, ?, 'created', ?, ?)")
       .bind(1, trainee_id)
       .bind(2, station_id)
       .bind(3, task)
       .bind(4, now)
+      .bind(5, booking_id)
       .run();
   return db_.last_insert_id();
 }
@@ -106,10 +108,10 @@ void TrainingRepo::add_scores(std::int64_t session_id, std::span<const ScoreInpu
     throw NotFound("session " + std::to_string(session_id) + " does not exist");
   auto insert = db_.prepare(
       "INSERT INTO scores (session_id, metric, value, unit, passed, created_at, threshold_op, "
-      "threshold_value) VALUES (?, ?, ?, ?, ?, ?, ?, ?) ON CONFLICT (session_id, metric) DO "
-      "UPDATE SET value = excluded.value, unit = excluded.unit, passed = excluded.passed, "
-      "created_at = excluded.created_at, threshold_op = excluded.threshold_op, threshold_value = "
-      "excluded.threshold_value");
+      "threshold_value, criterion) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?) ON CONFLICT (session_id, "
+      "metric) DO UPDATE SET value = excluded.value, unit = excluded.unit, passed = "
+      "excluded.passed, created_at = excluded.created_at, threshold_op = excluded.threshold_op, "
+      "threshold_value = excluded.threshold_value, criterion = excluded.criterion");
   for (const ScoreInput& s : scores) {
     const bool judged = !s.threshold_op.empty();
     insert.reset();
@@ -121,6 +123,7 @@ void TrainingRepo::add_scores(std::int64_t session_id, std::span<const ScoreInpu
         .bind(6, now)
         .bind(7, judged ? std::optional<std::string>(s.threshold_op) : std::nullopt)
         .bind(8, judged ? std::optional<double>(s.threshold_value) : std::nullopt)
+        .bind(9, s.criterion ? 1 : 0)
         .run();
   }
   tx.commit();
@@ -163,14 +166,16 @@ namespace {
 
 constexpr const char* kScoreSelect =
     "SELECT sc.id, sc.session_id, u.username, se.task, sc.metric, sc.value, sc.unit, sc.passed, "
-    "sc.created_at, COALESCE(sc.threshold_op, ''), COALESCE(sc.threshold_value, 0) FROM scores sc "
+    "sc.created_at, COALESCE(sc.threshold_op, ''), COALESCE(sc.threshold_value, 0), sc.criterion "
+    "FROM scores sc "
     "JOIN sessions se ON se.id = sc.session_id JOIN users u ON u.id = se.trainee_id ";
 
 std::vector<ScoreRecord> read_scores(Statement& q) {
   std::vector<ScoreRecord> out;
   while (q.step()) {
     out.push_back(ScoreRecord{q.int64(0), q.int64(1), q.text(2), q.text(3), q.text(4), q.real(5),
-                              q.text(6), q.int64(7) != 0, q.int64(8), q.text(9), q.real(10)});
+                              q.text(6), q.int64(7) != 0, q.int64(8), q.text(9), q.real(10),
+                              q.int64(11) != 0});
   }
   return out;
 }

@@ -45,6 +45,7 @@ struct ScoreRecord {
   std::int64_t created_at = 0;
   std::string threshold_op{};  // "<=" or ">=" it was judged against; "" when not known
   double threshold_value = 0;  // in the score's unit
+  bool criterion = false;      // a completion criterion of the task, not a metric's threshold
 };
 
 // One metric's score of an attempt, for add_scores.
@@ -55,6 +56,7 @@ struct ScoreInput {
   bool passed = false;
   std::string threshold_op{};  // "<=", ">=", or "" for none
   double threshold_value = 0;  // finite
+  bool criterion = false;      // a completion criterion of the task (Task::completion)
 };
 
 // A signal the simulation sampled during a session (session_signals), e.g. "damage_index".
@@ -67,8 +69,11 @@ class TrainingRepo {
  public:
   explicit TrainingRepo(Database& db) : db_(db) {}
 
+  // #booking_id: the booking the session runs in, which its end completes
+  // (BookingsRepo::complete_for_session); none for a session without one (an instructor's).
   std::int64_t create_session(std::int64_t trainee_id, std::optional<std::int64_t> station_id,
-                              const std::string& task, std::int64_t now);
+                              const std::string& task, std::int64_t now,
+                              std::optional<std::int64_t> booking_id = std::nullopt);
   // Throws ConstraintError for an unknown state name, NotFound for an unknown id.
   void set_session_state(std::int64_t id, const std::string& state, std::int64_t now);
   std::int64_t add_recording(std::int64_t session_id, double duration_s, std::int64_t now);

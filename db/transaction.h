@@ -1,7 +1,8 @@
 #pragma once
 // A transaction that rolls back unless committed (after SQLiteCpp's Transaction). IMMEDIATE takes
 // the write lock at the start, so a read-check-write sequence (e.g. booking conflict checks) cannot
-// interleave with another writer.
+// interleave with another writer. Inside another transaction it is a savepoint of it: committing
+// keeps its changes for the outer transaction to commit, destroying it undoes only its own.
 #include "db/database.h"
 
 namespace incise::db {
@@ -18,6 +19,7 @@ class Transaction {
 
  private:
   Database& db_;
+  bool nested_ = false;  // opened inside another transaction: a SAVEPOINT
   bool done_ = false;
 };
 

@@ -17,6 +17,11 @@ ApiResponse set_trainee_instructors(ApiContext& ctx);
 
 ApiResponse list_stations(ApiContext& ctx);
 ApiResponse create_station(ApiContext& ctx);
+// PATCH /api/stations/{id}: an admin sets what the station can run ({"kind": "laparoscopy"}).
+ApiResponse update_station(ApiContext& ctx);
+// GET /api/stations/{id}/tasks: the tasks the station can run, each with what locks it for the
+// trainee asking (curriculum/station_offer.h).
+ApiResponse station_tasks(ApiContext& ctx);
 ApiResponse get_station_calibration(ApiContext& ctx);  // admin, instructor
 ApiResponse put_station_calibration(ApiContext& ctx);  // admin; 422 with the first problem
 

@@ -21,6 +21,7 @@ nlohmann::json to_json(const db::Station& station, bool online) {
   return {{"id", station.id},
           {"name", station.name},
           {"location", station.location},
+          {"kind", station.kind},
           {"online", online}};
 }
 
@@ -54,9 +55,21 @@ nlohmann::json to_json(const db::RecordingRecord& r) {
 }
 
 nlohmann::json to_json(const db::ScoreRecord& s) {
-  return {{"id", s.id},     {"session_id", s.session_id}, {"trainee", s.trainee},
-          {"task", s.task}, {"metric", s.metric},         {"value", s.value},
-          {"unit", s.unit}, {"passed", s.passed},         {"created_at", format_utc(s.created_at)}};
+  nlohmann::json out = {{"id", s.id},
+                        {"session_id", s.session_id},
+                        {"trainee", s.trainee},
+                        {"task", s.task},
+                        {"metric", s.metric},
+                        {"value", s.value},
+                        {"unit", s.unit},
+                        {"passed", s.passed},
+                        {"created_at", format_utc(s.created_at)},
+                        {"criterion", s.criterion},
+                        {"threshold", nullptr}};
+  // What it was judged against when it was stored; null for scores stored before thresholds were.
+  if (!s.threshold_op.empty())
+    out["threshold"] = {{"op", s.threshold_op}, {"value", s.threshold_value}};
+  return out;
 }
 
 nlohmann::json to_json(const db::CurriculumRecord& c) {

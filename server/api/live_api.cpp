@@ -2,9 +2,11 @@
 #include <mutex>
 
 #include "curriculum/curriculum_json.h"
+#include "curriculum/station_offer.h"
 #include "db/bookings_repo.h"
 #include "db/curricula_repo.h"
 #include "db/recordings_repo.h"
+#include "db/stations_repo.h"
 #include "db/training_repo.h"
 #include "devices/protocol.h"
 #include "server/agent_session.h"
@@ -69,21 +71,24 @@ ApiResponse start_session(ApiContext& ctx) {
   const auto plan = curriculum_with_task(db, task_key);
   if (!plan) throw ApiError(http::status::not_found, "no task \"" + task_key + "\"");
   const curriculum::Task* task = curriculum::find_task(*plan, task_key);
+  // A task runs only at a station of the kind it needs (curriculum/station_offer.h).
+  if (const auto misfit = curriculum::station_misfit(*task, station->name, station->kind);
+      !misfit.empty()) {
+    throw ApiError(http::status::conflict, misfit);
+  }
+  std::optional<std::int64_t> booking_id;
   if (user.role == db::Role::trainee) {
     // A trainee starts only what their progress has unlocked (curriculum/progress.h).
     const auto progress = curriculum::curriculum_progress(*plan, attempt_records(db, user.id));
     if (const auto* p = curriculum::find_progress(progress, task_key); p && !p->unlocked()) {
       throw ApiError(http::status::conflict, curriculum::locked_reason(*plan, *p));
     }
-    bool booked = false;
-    for (const auto& b : db::BookingsRepo(db).list(user.id)) {
-      booked |= b.station_id == station_id && b.status == "active" && b.starts_at <= ctx.now &&
-                ctx.now < b.ends_at;
-    }
-    if (!booked) {
+    const auto booking = db::BookingsRepo(db).covering(user.id, station_id, ctx.now);
+    if (!booking) {
       throw ApiError(http::status::forbidden,
                      "no booking of station " + std::to_string(station_id) + " covers now");
     }
+    booking_id = booking->id;
   }
   if (const auto busy = ctx.app.live_sessions().active_at(station_id)) {
     throw ApiError(http::status::conflict, "station " + std::to_string(station_id) +
@@ -113,7 +118,7 @@ ApiResponse start_session(ApiContext& ctx) {
                    "task \"" + task_key + "\" does not fit its scene: " + mismatch);
   }
   db::TrainingRepo training(db);
-  params.session_id = training.create_session(user.id, station_id, task_key, ctx.now);
+  params.session_id = training.create_session(user.id, station_id, task_key, ctx.now, booking_id);
   training.set_session_state(params.session_id, "running", ctx.now);
   params.station_id = station_id;
   params.recording_id = db::RecordingsRepo(db).create(

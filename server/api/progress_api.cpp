@@ -15,12 +15,15 @@ namespace {
 
 nlohmann::json progress_of(db::Database& db, std::int64_t trainee_id) {
   const auto curricula = db::CurriculaRepo(db).list();
-  if (curricula.empty()) return {{"curriculum", nullptr}, {"tasks", nlohmann::json::array()}};
+  if (curricula.empty()) {
+    return {{"curriculum", nullptr}, {"tasks", nlohmann::json::array()}, {"next_task", nullptr}};
+  }
   // Sessions run the tasks of the first curriculum (docs/api.md, "Live sessions").
   const curriculum::Curriculum plan =
       curriculum::parse_curriculum_text(curricula.front().definition_json);
   auto tasks = nlohmann::json::array();
-  for (const auto& p : curriculum::curriculum_progress(plan, attempt_records(db, trainee_id))) {
+  const auto progress = curriculum::curriculum_progress(plan, attempt_records(db, trainee_id));
+  for (const auto& p : progress) {
     const curriculum::Task& task = *curriculum::find_task(plan, p.key);
     tasks.push_back({{"key", p.key},
                      {"name", task.name},
@@ -35,7 +38,11 @@ nlohmann::json progress_of(db::Database& db, std::int64_t trainee_id) {
                      {"missing_prerequisites", p.missing_prerequisites},
                      {"locked_reason", curriculum::locked_reason(plan, p)}});
   }
-  return {{"trainee_id", trainee_id}, {"curriculum", plan.name}, {"tasks", std::move(tasks)}};
+  const auto next = curriculum::next_task(progress);
+  return {{"trainee_id", trainee_id},
+          {"curriculum", plan.name},
+          {"tasks", std::move(tasks)},
+          {"next_task", next.empty() ? nlohmann::json(nullptr) : nlohmann::json(next)}};
 }
 
 }  // namespace

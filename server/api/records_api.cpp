@@ -4,6 +4,7 @@
 
 #include "curriculum/curriculum_error.h"
 #include "curriculum/curriculum_json.h"
+#include "curriculum/metric_catalogue.h"
 #include "db/audit_repo.h"
 #include "db/curricula_repo.h"
 #include "db/training_repo.h"
@@ -11,7 +12,6 @@
 #include "server/api/handlers.h"
 #include "server/api/json_views.h"
 #include "server/api/live_access.h"
-#include "server/live/scoring.h"
 #include "server/time_text.h"
 
 namespace incise::server::api {
@@ -158,8 +158,15 @@ ApiResponse export_curriculum(ApiContext& ctx) {
 ApiResponse list_metrics(ApiContext& ctx) {
   ctx.user();
   auto out = nlohmann::json::array();
-  for (const auto& m : live::metric_catalogue()) {
-    out.push_back({{"key", m.key}, {"unit", m.unit}, {"definition", m.definition}});
+  for (const auto& m : curriculum::metric_catalogue()) {
+    out.push_back({{"key", m.key},
+                   {"name", m.name},
+                   {"unit", m.unit},
+                   {"display_unit", m.display_unit},
+                   {"display_scale", m.display_scale},
+                   {"decimals", m.decimals},
+                   {"better", m.better},
+                   {"definition", m.definition}});
   }
   return {http::status::ok, std::move(out)};
 }

@@ -30,20 +30,12 @@ namespace {
 // force spike's time to a frame and small enough to send at once.
 constexpr double kTimelineInterval = 0.05;
 
-using BenchmarkKey = std::pair<std::string, std::string>;  // task, metric
-
-std::map<BenchmarkKey, std::pair<std::string, curriculum::BenchmarkStats>> benchmarks(
-    db::Database& db) {
-  std::map<BenchmarkKey, std::pair<std::string, std::vector<double>>> values;
-  for (const auto& s : db::ReviewsRepo(db).expert_scores()) {
-    auto& [unit, list] = values[{s.task, s.metric}];
-    unit = s.unit;
-    list.push_back(s.value);
-  }
-  std::map<BenchmarkKey, std::pair<std::string, curriculum::BenchmarkStats>> out;
-  for (const auto& [key, entry] : values)
-    out[key] = {entry.first, curriculum::summarize(entry.second)};
-  return out;
+// The experts' benchmarks from the stored expert runs (the grouping is curriculum/benchmarks.h's).
+std::map<std::pair<std::string, std::string>, curriculum::Benchmark> benchmarks(db::Database& db) {
+  std::vector<curriculum::ExpertScore> scores;
+  for (const auto& s : db::ReviewsRepo(db).expert_scores())
+    scores.push_back({s.task, s.metric, s.value, s.unit});
+  return curriculum::group_benchmarks(scores);
 }
 
 nlohmann::json to_json(const curriculum::BenchmarkStats& b) {
@@ -95,7 +87,7 @@ nlohmann::json results_json(db::Database& db, const db::SessionRecord& session,
     nlohmann::json row = {{"metric", score.metric}, {"value", score.value},
                           {"unit", score.unit},     {"passed", score.passed},
                           {"threshold", nullptr},   {"threshold_now", nullptr},
-                          {"expert", nullptr}};
+                          {"expert", nullptr},      {"criterion", score.criterion}};
     // The threshold the score was judged against; the task's today when it differs (the
     // curriculum changed since), or when the score predates stored thresholds.
     const auto r = static_cast<std::size_t>(rank(score.metric));
@@ -112,9 +104,9 @@ nlohmann::json results_json(db::Database& db, const db::SessionRecord& session,
     }
     const auto expert = experts.find({session.task, score.metric});
     if (expert != experts.end()) {
-      row["expert"] = to_json(expert->second.second);
+      row["expert"] = to_json(expert->second.stats);
       row["expert"]["z"] =
-          finite_or_null(curriculum::relative_score(score.value, expert->second.second));
+          finite_or_null(curriculum::relative_score(score.value, expert->second.stats));
     }
     out.push_back(std::move(row));
   }
@@ -207,10 +199,10 @@ ApiResponse list_benchmarks(ApiContext& ctx) {
   ctx.user();
   auto out = nlohmann::json::array();
   for (const auto& [key, entry] : benchmarks(ctx.app.db())) {
-    auto row = to_json(entry.second);
+    auto row = to_json(entry.stats);
     row["task"] = key.first;
     row["metric"] = key.second;
-    row["unit"] = entry.first;
+    row["unit"] = entry.unit;
     out.push_back(std::move(row));
   }
   return {http::status::ok, std::move(out)};

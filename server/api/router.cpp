@@ -35,6 +35,8 @@ constexpr std::array kRoutes = {
     Route{http::verb::put, "/api/users/{id}/instructors", api::set_trainee_instructors},
     Route{http::verb::get, "/api/stations", api::list_stations},
     Route{http::verb::post, "/api/stations", api::create_station},
+    Route{http::verb::patch, "/api/stations/{id}", api::update_station},
+    Route{http::verb::get, "/api/stations/{id}/tasks", api::station_tasks},
     Route{http::verb::get, "/api/stations/{id}/calibration", api::get_station_calibration},
     Route{http::verb::put, "/api/stations/{id}/calibration", api::put_station_calibration},
     Route{http::verb::get, "/api/stations/{id}/schedule", api::station_schedule},

@@ -1,4 +1,8 @@
+#include "curriculum/curriculum_json.h"
+#include "curriculum/curriculum_validation.h"
+#include "curriculum/station_offer.h"
 #include "db/audit_repo.h"
+#include "db/curricula_repo.h"
 #include "db/password.h"
 #include "devices/protocol.h"
 #include "devices/station_calibration.h"
@@ -7,11 +11,34 @@
 #include "server/api/api_error.h"
 #include "server/api/handlers.h"
 #include "server/api/json_views.h"
+#include "server/api/live_access.h"
 #include "server/api/request_fields.h"
 
 namespace incise::server::api {
 
 using devices::ParseResult;
+
+namespace {
+
+// A station kind as sent: "" (none declared) or a key like a task's station_kind.
+std::string station_kind(std::string kind) {
+  if (!kind.empty() && (kind.size() > 32 || !curriculum::is_valid_key(kind))) {
+    throw ApiError(http::status::unprocessable_entity,
+                   "kind must be empty or a key of at most 32 characters: a lowercase letter, then "
+                   "lowercase letters, digits or '_' (e.g. \"laparoscopy\")");
+  }
+  return kind;
+}
+
+db::Station existing_station(db::StationsRepo& stations, std::int64_t id) {
+  auto station = stations.find(id);
+  if (!station) {
+    throw ApiError(http::status::not_found, "station " + std::to_string(id) + " does not exist");
+  }
+  return *station;
+}
+
+}  // namespace
 
 ApiResponse list_stations(ApiContext& ctx) {
   ctx.user();
@@ -25,7 +52,7 @@ ApiResponse list_stations(ApiContext& ctx) {
 ApiResponse create_station(ApiContext& ctx) {
   const auto& admin = ctx.require_role({db::Role::admin});
   const auto body = ctx.json_body();
-  const RequestFields fields(body, {"name", "location"});
+  const RequestFields fields(body, {"name", "location", "kind"});
   const auto name = fields.string("name");
   if (name.empty() || name.size() > 64) {
     throw ApiError(http::status::unprocessable_entity, "name must be 1-64 characters");
@@ -34,8 +61,9 @@ ApiResponse create_station(ApiContext& ctx) {
   if (location.size() > 120) {
     throw ApiError(http::status::unprocessable_entity, "location must be at most 120 characters");
   }
+  const auto kind = station_kind(fields.string_or("kind", ""));
   const auto token = db::random_token();
-  const auto station = db::StationsRepo(ctx.app.db()).create(name, location, token, ctx.now);
+  const auto station = db::StationsRepo(ctx.app.db()).create(name, location, token, ctx.now, kind);
   db::AuditRepo(ctx.app.db()).record(admin.id, "station.create", station.name, ctx.now);
   return {http::status::created, {{"station", to_json(station, false)}, {"token", token}}, {}};
 }
@@ -94,6 +122,50 @@ ApiResponse put_station_calibration(ApiContext& ctx) {
           {{"station_id", ctx.path_id},
            {"default", false},
            {"calibration", nlohmann::json::parse(text)}},
+          {}};
+}
+
+ApiResponse update_station(ApiContext& ctx) {
+  const auto& admin = ctx.require_role({db::Role::admin});
+  const auto body = ctx.json_body();
+  const RequestFields fields(body, {"kind"});
+  const auto kind = station_kind(fields.string("kind"));
+  db::StationsRepo stations(ctx.app.db());
+  const auto before = existing_station(stations, ctx.path_id);
+  stations.set_kind(ctx.path_id, kind);
+  db::AuditRepo(ctx.app.db())
+      .record(admin.id, "station.update",
+              before.name + ": kind \"" + before.kind + "\" -> \"" + kind + "\"", ctx.now);
+  auto after = before;
+  after.kind = kind;
+  return {http::status::ok, to_json(after, ctx.app.station_online(after.id)), {}};
+}
+
+ApiResponse station_tasks(ApiContext& ctx) {
+  const auto& user = ctx.user();
+  auto& db = ctx.app.db();
+  db::StationsRepo stations(db);
+  const auto station = existing_station(stations, ctx.path_id);
+  const auto curricula = db::CurriculaRepo(db).list();
+  auto tasks = nlohmann::json::array();
+  if (!curricula.empty()) {
+    // Sessions run the tasks of the first curriculum (docs/api.md, "Live sessions").
+    const auto plan = curriculum::parse_curriculum_text(curricula.front().definition_json);
+    std::optional<std::vector<curriculum::TaskProgress>> progress;
+    if (user.role == db::Role::trainee)
+      progress = curriculum::curriculum_progress(plan, attempt_records(db, user.id));
+    for (const auto& offer :
+         curriculum::station_offer(plan, station.kind, progress ? &*progress : nullptr)) {
+      tasks.push_back({{"key", offer.task->key},
+                       {"name", offer.task->name},
+                       {"module", offer.module},
+                       {"instructions", offer.task->instructions},
+                       {"locked_reason", offer.locked_reason}});
+    }
+  }
+  return {http::status::ok,
+          {{"station", to_json(station, ctx.app.station_online(station.id))},
+           {"tasks", std::move(tasks)}},
           {}};
 }
 

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <iostream>
 
+#include "db/bookings_repo.h"
 #include "db/database.h"
 #include "db/recordings_repo.h"
 #include "db/session_events_repo.h"
@@ -303,7 +304,11 @@ void LiveSession::run() {
     }
     if (!db) return;
     try {
-      db::TrainingRepo(*db).set_session_state(params_.session_id, to_string(state), unix_now());
+      const auto now = unix_now();
+      db::TrainingRepo(*db).set_session_state(params_.session_id, to_string(state), now);
+      // Bookings follow sessions: the rest of the slot is free once the session ends.
+      if (state == LiveState::finished)
+        db::BookingsRepo(*db).complete_for_session(params_.session_id, now);
     } catch (const std::exception& e) {
       std::cerr << "incise-server: session " << params_.session_id << ": " << e.what() << "\n";
     }

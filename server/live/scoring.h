@@ -49,9 +49,6 @@ SessionReview review_session(const std::vector<TickRecord>& ticks, double tick_s
 // the protected structures it cut (sim_never_events; score_session counts them as never events).
 std::vector<curriculum::MetricValue> simulation_metrics(const sim::tools::DamageMetrics& damage);
 
-// Every metric a task may score: key, unit and the one-line definition (value 0).
-std::vector<curriculum::MetricValue> metric_catalogue();
-
 // Computes the task's metrics from the recording, adds #simulation_values (simulation_metrics of
 // the run; its sim_never_events add to never_events), and stores them as the session's scores
 // (one transaction). Returns the results.

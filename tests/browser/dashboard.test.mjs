@@ -141,9 +141,11 @@ scenario('an admin edits a pass threshold and downloads the scores as CSV', asyn
   await page.waitForURL('**/admin');
 
   const editor = page.getByRole('form', { name: 'Pass thresholds' });
-  const peak = editor.getByLabel('peak_force_n <=').first();
+  // Named as people read them, entered in the unit shown (a cut's area in mm², not m²).
+  const peak = editor.getByLabel('Peak force at most', { exact: true }).first();
   await sees(peak, 'the palpation peak force threshold');
   assert.equal(await peak.inputValue(), '4', 'the demo threshold is 4 N');
+  assert.equal(await editor.getByLabel('Cut area at least', { exact: true }).first().inputValue(), '60', 'the liver cut asks for 60 mm²');
 
   await peak.fill('3.5');
   const saved = await click_for_response(page, editor.getByRole('button', { name: 'Save thresholds' }), 'PUT', /^\/api\/curricula\/\d+$/);
@@ -154,8 +156,8 @@ scenario('an admin edits a pass threshold and downloads the scores as CSV', asyn
 
   // It sticks: after a reload the field shows it, and the curriculum the server holds has it.
   await page.reload();
-  await sees(editor.getByLabel('peak_force_n <=').first(), 'the threshold field after a reload');
-  assert.equal(await editor.getByLabel('peak_force_n <=').first().inputValue(), '3.5');
+  await sees(editor.getByLabel('Peak force at most', { exact: true }).first(), 'the threshold field after a reload');
+  assert.equal(await editor.getByLabel('Peak force at most', { exact: true }).first().inputValue(), '3.5');
 
   // The scores export downloads as CSV with its header row.
   const exports = region(page, 'Exports');
@@ -168,7 +170,7 @@ scenario('an admin edits a pass threshold and downloads the scores as CSV', asyn
   assert.ok(csv.text.startsWith('score_id,session_id,trainee,task,metric,value,unit,passed,created_at\r\n'), csv.text.slice(0, 80));
 
   // Back to the demo threshold for the other scenarios.
-  await editor.getByLabel('peak_force_n <=').first().fill('4');
+  await editor.getByLabel('Peak force at most', { exact: true }).first().fill('4');
   const restored = await click_for_response(page, editor.getByRole('button', { name: 'Save thresholds' }), 'PUT', /^\/api\/curricula\/\d+$/);
   assert.equal(restored.status(), 200);
 });
@@ -345,9 +347,22 @@ scenario('an admin imports a curriculum, calibrates a station and assigns instru
   assert.equal(restored.status(), 200);
   assert.equal((await restored.json()).instructor_ids.length, 1);
 
-  // Every change is in the audit log.
+  // What a station can run: Station 1 becomes a laparoscopy station and a bench again.
+  const kind = page.getByLabel('Kind of Station 1', { exact: true });
+  assert.equal(await kind.inputValue(), 'bench', 'the demo Station 1 is a bench station');
+  for (const value of ['laparoscopy', 'bench']) {
+    const [changed] = await Promise.all([
+      page.waitForResponse((r) => r.request().method() === 'PATCH' && /^\/api\/stations\/\d+$/.test(new URL(r.url()).pathname)),
+      kind.selectOption(value),
+    ]);
+    assert.equal(changed.status(), 200, await changed.text());
+    await page.waitForFunction((v) => document.querySelector('[aria-label="Kind of Station 1"]')?.value === v, value);
+  }
+
+  // Every change is in the audit log, a station's kind with its before and after.
   const audit = page.getByTestId('audit-log');
   await audit.getByRole('button', { name: 'Refresh' }).click();
+  await sees(audit.getByRole('row').filter({ hasText: 'Station 1: kind "laparoscopy" -> "bench"' }), 'the kind change in the audit log');
   for (const action of ['curriculum.import', 'curriculum.update', 'station.calibrate', 'user.instructors']) {
     await sees(audit.getByRole('row').filter({ hasText: action }), `"${action}" in the audit log`);
   }

@@ -62,7 +62,9 @@ scenario(
     const stopped = await click_for_response(page, page.getByRole('button', { name: 'Stop' }), 'POST', new RegExp(`^/api/sessions/${session.id}/stop$`));
     assert.equal(stopped.status(), 200, await stopped.text());
     const result = region(page, 'Result');
-    await sees(result.getByRole('row').filter({ hasText: 'targets_fraction' }), 'the landmark visits in the result');
+    // Every landmark reached is a completion criterion of the tour, listed apart from the metrics.
+    const criteria = result.getByRole('region', { name: 'Completion criteria' });
+    await sees(criteria.getByRole('listitem').filter({ hasText: /^Met Share of targets reached: 100 %/ }), 'the landmark visits in the result');
     const scores = (await api_call(page, 'GET', '/api/scores')).body;
     const visited = scores.find((s) => s.session_id === session.id && s.metric === 'targets_fraction');
     assert.ok(visited, JSON.stringify(scores).slice(0, 2000));

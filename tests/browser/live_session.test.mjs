@@ -132,9 +132,16 @@ scenario(
     assert.ok(recording_id > 0, 'the link names the recording');
     const scores = (await api_call(page, 'GET', '/api/scores')).body.filter((s) => s.session_id === session.id);
     assert.ok(scores.length > 0, 'stopping stored the scores of the session');
+    // Each metric by its name and key, against its threshold; the completion criteria apart.
+    const metrics = (await api_call(page, 'GET', '/api/metrics')).body;
+    const criteria = result.getByRole('region', { name: 'Completion criteria' });
     for (const score of scores) {
-      await sees(result.getByRole('row').filter({ hasText: score.metric }), `the score "${score.metric}" in the result`);
+      const name = metrics.find((m) => m.key === score.metric)?.name;
+      assert.ok(name, `the catalogue names ${score.metric}`);
+      const shown = score.criterion ? criteria.getByRole('listitem') : result.getByRole('row');
+      await sees(shown.filter({ hasText: name }).filter({ hasText: score.criterion ? '' : score.metric }), `the score "${score.metric}" in the result`);
     }
+    await sees(result.getByTestId('attempt-standing').filter({ hasText: /^Palpation: \d of 3 passes in a row/ }), 'where the trainee stands');
     await snap(page, 'trainee-session-result');
 
     // --- The instructor opens the recording from the recordings list. ---
@@ -282,6 +289,14 @@ scenario(
     const curriculum = region(page, 'My curriculum');
     await sees(curriculum.getByTestId('task-status-bimanual_palpation').filter({ hasText: 'Locked' }), 'the two-handed task locked');
     const required = (await api_call(page, 'GET', '/api/progress')).body.tasks.find((t) => t.key === 'palpation').required_passes;
+    // Stopped after a second, the attempt has not done the task (the tools barely touched the
+    // tissue, no landmark reached): it fails on its completion criteria, and says so.
+    const { verdict: undone } = await train_once(page, 1);
+    assert.match(undone, /^Not passed: the task was not done \(.*tools on the tissue/, undone);
+    await sees(
+      region(page, 'Result').getByRole('region', { name: 'Completion criteria' }).getByRole('listitem').filter({ hasText: /^Not met Tools on the tissue/ }),
+      'the contact criterion not met',
+    );
     // The simulated device loops a 20 s script that touches the tissue for about 8 s, visits the
     // three landmarks and crosses the nerve once: a 21 s attempt passes every threshold.
     for (let attempt = 1; attempt <= required; ++attempt) {

@@ -198,7 +198,7 @@ export async function click_for_response(page, button, method, path_pattern) {
  * "Train now"), books it from now, picks the task `task_key`, sees `instructions` and starts it.
  * Returns the session the server started, the page on its live view.
  */
-export async function walk_up_and_start(page, station_name, task_key, instructions) {
+export async function walk_up_and_start(page, station_name, task_key, instructions, offered = null) {
   const stations = (await api_call(page, 'GET', '/api/stations')).body;
   const station = stations.find((s) => s.name === station_name);
   assert.ok(station?.online, `the ${station_name}'s agent is connected: ${JSON.stringify(stations)}`);
@@ -211,6 +211,11 @@ export async function walk_up_and_start(page, station_name, task_key, instructio
   const start_form = train.getByRole('form', { name: `Start a session at ${station_name}` });
   await sees(start_form, `a form to start a session at the ${station_name}`);
   await start_form.getByLabel('Task').selectOption(task_key);
+  if (offered) {
+    // Only the tasks this kind of station can run are offered (the server's list).
+    const keys = await start_form.getByLabel('Task').locator('option').evaluateAll((options) => options.map((o) => o.value));
+    assert.deepEqual(keys, offered, `the tasks offered at the ${station_name}`);
+  }
   await sees(start_form.filter({ hasText: instructions }), `the instructions of ${task_key}`);
   const started = await click_for_response(page, start_form.getByRole('button', { name: 'Start session' }), 'POST', /^\/api\/sessions$/);
   assert.equal(started.status(), 201, await started.text());

@@ -42,7 +42,8 @@ scenario(
     assert.equal((await log_in(page, demo.resident)).status(), 200);
     await page.waitForURL('**/trainee');
     // Walk up to the Surgical station (the only one online), then start the liver task there.
-    const session = await walk_up_and_start(page, 'Surgical station', 'liver_cut', 'Cut the liver along the line');
+    // Only the liver task is offered there: the palpation tasks need a bench station.
+    const session = await walk_up_and_start(page, 'Surgical station', 'liver_cut', 'Cut the liver along the line', ['liver_cut']);
 
     // Live: the picture, the two hands, and the cut growing as the blade moves along the line.
     await wait_for_canvas(page, 'live-canvas', {}, 'a first live frame');
@@ -70,7 +71,15 @@ scenario(
     for (const key of ['cut_area_m2', 'cut_on_target_fraction', 'never_events']) {
       await sees(result.getByRole('row').filter({ hasText: key }), `the score "${key}" in the result`);
     }
+    const criteria = result.getByRole('region', { name: 'Completion criteria' });
+    await sees(criteria.getByRole('listitem').filter({ hasText: /^Met Cut on the line/ }), 'the cut criterion met');
+    await sees(criteria.getByRole('listitem').filter({ hasText: /^Met Tools on the tissue/ }), 'the contact criterion met');
     await snap(page, 'trainee-liver-result');
+    // Bookings follow sessions: the end of the session completed the walk-up booking, so the rest
+    // of the slot is free.
+    const bookings = (await api_call(page, 'GET', '/api/bookings')).body;
+    const surgical = bookings.filter((b) => b.station_name === 'Surgical station');
+    assert.equal(surgical[0]?.status, 'completed', JSON.stringify(surgical));
 
     // --- The instructor reviews it: the simulation's cut is a marker that jumps the replay. ---
     await click_for_response(page, page.getByRole('button', { name: 'Log out' }), 'POST', /^\/api\/logout$/);

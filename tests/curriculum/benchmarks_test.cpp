@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -54,6 +55,26 @@ TEST(Benchmarks, BadInputIsRefused) {
   EXPECT_THROW(percentile(sorted, 1.5), std::invalid_argument);
   EXPECT_THROW(percentile(sorted, -0.1), std::invalid_argument);
   EXPECT_DOUBLE_EQ(percentile(sorted, 1.0), 2.0);
+}
+
+TEST(Benchmarks, ExpertScoresAreGroupedByTaskAndMetricAndSummarised) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<ExpertScore> scores = {{"palpation", "peak_force_n", 2.0, "N"},
+                                           {"cut", "cut_area_m2", 1e-4, "m^2"},
+                                           {"palpation", "peak_force_n", 4.0, "N"},
+                                           {"palpation", "log_dimensionless_jerk", nan, ""},
+                                           {"palpation", "peak_force_n", 3.0, "N"}};
+  const auto groups = group_benchmarks(scores);
+  ASSERT_EQ(groups.size(), 2u);  // the unmeasurable jerk is left out, and its empty group
+  const auto& peak = groups.at({"palpation", "peak_force_n"});
+  EXPECT_EQ(peak.unit, "N");
+  EXPECT_EQ(peak.stats.n, 3);
+  EXPECT_DOUBLE_EQ(peak.stats.mean, 3.0);
+  EXPECT_DOUBLE_EQ(peak.stats.sd, 1.0);
+  EXPECT_DOUBLE_EQ(peak.stats.median, 3.0);
+  EXPECT_EQ(groups.at({"cut", "cut_area_m2"}).stats.n, 1);
+  EXPECT_EQ(groups.begin()->first.first, "cut");  // in key order
+  EXPECT_TRUE(group_benchmarks({}).empty());
 }
 
 }  // namespace

@@ -182,7 +182,7 @@ TEST(CurriculumJson, RoundTripKeepsThePortal) {
 TEST(CurriculumJson, RoundTripKeepsAwkwardValues) {
   Curriculum curriculum = parse_curriculum(sample_curriculum_json());
   curriculum.modules[0].tasks[1].metrics[0].threshold.value = 0.1 + 0.2;  // not a short decimal
-  curriculum.modules[0].tasks[0].metrics[0].threshold.value = -1e-300;
+  curriculum.modules[0].tasks[0].metrics[0].threshold.value = 1e-300;     // a force: not negative
   curriculum.modules[1].tasks[0].instructions = "Quote \" and unicode \u00b5m";
   EXPECT_EQ(parse_curriculum_text(to_json(curriculum).dump()), curriculum);
 }
@@ -217,8 +217,8 @@ TEST(CurriculumJson, ShapeErrorsNameTheirPath) {
       {[](json& v) { v["modules"][0].erase("tasks"); }, "modules[0].tasks: is required"},
       {[](json& v) { v["modules"][0]["tasks"][1]["scenery"] = "x"; },
        "modules[0].tasks[1].scenery: unknown key (expected one of: key, name, scene, "
-       "instructions, tools, metrics, consecutive_passes_required, prerequisites, "
-       "protected_zones, targets, safe_force_n, never_force_n, portal_m)"},
+       "station_kind, instructions, tools, metrics, completion, consecutive_passes_required, "
+       "prerequisites, protected_zones, targets, safe_force_n, never_force_n, portal_m)"},
       {[](json& v) { v["modules"][0]["tasks"][1]["tools"][1] = nullptr; },
        "modules[0].tasks[1].tools[1]: must be a string"},
       {[](json& v) { v["modules"][0]["tasks"][1]["prerequisites"] = "palpation"; },

@@ -162,5 +162,30 @@ TEST(CurriculumValidation, KeySyntax) {
   EXPECT_FALSE(is_valid_key("peak-force"));
 }
 
+// A threshold outside the values its metric can take (metric_catalogue.h) is a typing error: a
+// time of -5 s would fail every attempt, a share above 1 too.
+TEST(CurriculumValidation, ThresholdsStayWithinTheirMetricsRange) {
+  Curriculum curriculum = sample();
+  Task& task = curriculum.modules[0].tasks[0];
+  task.metrics = {{"completion_time_s", {ThresholdOp::at_most, -5}, "s"}};
+  expect_error(curriculum,
+               "modules[0].tasks[0].metrics[0].threshold.value: must be 0 s or more for "
+               "completion_time_s");
+  task.metrics = {{"economy_of_motion", {ThresholdOp::at_least, 1.5}, ""}};
+  expect_error(curriculum,
+               "modules[0].tasks[0].metrics[0].threshold.value: must be from 0 to 1 for "
+               "economy_of_motion");
+  task.metrics = {{"path_length_m_left", {ThresholdOp::at_most, -0.1}, "m"}};
+  expect_error(curriculum,
+               "modules[0].tasks[0].metrics[0].threshold.value: must be 0 m or more for "
+               "path_length_m_left");
+  // The boundaries are values; smoothness has no bound; unknown keys are not judged here.
+  task.metrics = {{"economy_of_motion", {ThresholdOp::at_least, 1}, ""},
+                  {"completion_time_s", {ThresholdOp::at_most, 0}, "s"},
+                  {"log_dimensionless_jerk", {ThresholdOp::at_least, -12}, ""},
+                  {"some_new_metric", {ThresholdOp::at_least, -3}, ""}};
+  EXPECT_NO_THROW(validate(curriculum));
+}
+
 }  // namespace
 }  // namespace incise::curriculum

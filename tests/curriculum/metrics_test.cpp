@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "curriculum/metric_catalogue.h"
 #include "metric_test_helpers.h"
 
 namespace incise::curriculum {
@@ -44,8 +45,10 @@ TEST(BasicMetrics, ReportsTheFiveMetricsInOrderWithUnitsAndDefinitions) {
   for (std::size_t i = 0; i < expected.size(); ++i) {
     EXPECT_EQ(values[i].key, expected[i].first);
     EXPECT_EQ(values[i].unit, expected[i].second);
-    EXPECT_FALSE(values[i].definition.empty()) << values[i].key;
-    EXPECT_EQ(values[i].definition.find('\n'), std::string::npos) << "one line";
+    // Named and defined in the catalogue, in the unit it is computed in.
+    const auto info = find_metric(values[i].key);
+    ASSERT_TRUE(info) << values[i].key;
+    EXPECT_EQ(info->unit, values[i].unit) << values[i].key;
     EXPECT_EQ(values[i].value, 0.0) << "an empty run measures nothing: " << values[i].key;
   }
 }
@@ -216,10 +219,10 @@ Task probing_task() {
 
 TEST(ScoreAttempt, OneResultPerRequiredMetricInTheTasksOrder) {
   // Values in another order, plus one the task does not score.
-  const std::vector<MetricValue> values = {{"targets_reached", 0.9, "", ""},
-                                           {"path_length_m", 9.0, "m", ""},
-                                           {"peak_force_n", 3.0, "N", ""},
-                                           {"completion_time_s", 75.0, "s", ""}};
+  const std::vector<MetricValue> values = {{"targets_reached", 0.9, ""},
+                                           {"path_length_m", 9.0, "m"},
+                                           {"peak_force_n", 3.0, "N"},
+                                           {"completion_time_s", 75.0, "s"}};
   const auto results = score_attempt(probing_task(), values);
   ASSERT_EQ(results.size(), 3u);
   EXPECT_EQ(results[0].key, "completion_time_s");
@@ -236,9 +239,8 @@ TEST(ScoreAttempt, OneResultPerRequiredMetricInTheTasksOrder) {
 }
 
 TEST(ScoreAttempt, ValuesExactlyAtTheThresholdsPass) {
-  const std::vector<MetricValue> at_boundary = {{"completion_time_s", 60.0, "s", ""},
-                                                {"peak_force_n", 4.0, "N", ""},
-                                                {"targets_reached", 0.8, "", ""}};
+  const std::vector<MetricValue> at_boundary = {
+      {"completion_time_s", 60.0, "s"}, {"peak_force_n", 4.0, "N"}, {"targets_reached", 0.8, ""}};
   const auto results = score_attempt(probing_task(), at_boundary);
   for (const auto& r : results)
     EXPECT_TRUE(r.passed) << r.key;
@@ -257,8 +259,8 @@ TEST(ScoreAttempt, ValuesExactlyAtTheThresholdsPass) {
 }
 
 TEST(ScoreAttempt, MissingMetricIsUnmeasuredAndFails) {
-  const std::vector<MetricValue> values = {{"completion_time_s", 10.0, "s", ""},
-                                           {"peak_force_n", 1.0, "N", ""}};
+  const std::vector<MetricValue> values = {{"completion_time_s", 10.0, "s"},
+                                           {"peak_force_n", 1.0, "N"}};
   const auto results = score_attempt(probing_task(), values);
   ASSERT_EQ(results.size(), 3u);
   EXPECT_TRUE(results[0].measured && results[0].passed);
@@ -272,9 +274,9 @@ TEST(ScoreAttempt, MissingMetricIsUnmeasuredAndFails) {
 
 TEST(ScoreAttempt, NanValueFails) {
   const std::vector<MetricValue> values = {
-      {"completion_time_s", std::numeric_limits<double>::quiet_NaN(), "s", ""},
-      {"peak_force_n", 1.0, "N", ""},
-      {"targets_reached", 1.0, "", ""}};
+      {"completion_time_s", std::numeric_limits<double>::quiet_NaN(), "s"},
+      {"peak_force_n", 1.0, "N"},
+      {"targets_reached", 1.0, ""}};
   const auto results = score_attempt(probing_task(), values);
   EXPECT_TRUE(results[0].measured);
   EXPECT_FALSE(results[0].passed);
@@ -284,9 +286,8 @@ TEST(ScoreAttempt, NanValueFails) {
 // A never event fails the attempt outright: a task that can have one is scored on never_events
 // <= 0 as well, whether it names that metric or not; a task that cannot have one is not.
 TEST(ScoreAttempt, ANeverEventFailsAnAttemptWhoseNamedMetricsPass) {
-  const std::vector<MetricValue> passing = {{"completion_time_s", 30.0, "s", ""},
-                                            {"peak_force_n", 3.0, "N", ""},
-                                            {"targets_reached", 1.0, "", ""}};
+  const std::vector<MetricValue> passing = {
+      {"completion_time_s", 30.0, "s"}, {"peak_force_n", 3.0, "N"}, {"targets_reached", 1.0, ""}};
   EXPECT_TRUE(attempt_passed(score_attempt(probing_task(), passing)));
 
   for (const bool never_zone : {true, false}) {
@@ -300,7 +301,7 @@ TEST(ScoreAttempt, ANeverEventFailsAnAttemptWhoseNamedMetricsPass) {
     ASSERT_TRUE(task.has_never_events());
     for (const double never_events : {0.0, 1.0}) {
       auto values = passing;
-      values.push_back({"never_events", never_events, "count", ""});
+      values.push_back({"never_events", never_events, "count"});
       const auto results = score_attempt(task, values);
       ASSERT_EQ(results.size(), 4u);
       EXPECT_EQ(results[3].key, "never_events");
@@ -312,7 +313,7 @@ TEST(ScoreAttempt, ANeverEventFailsAnAttemptWhoseNamedMetricsPass) {
     // Named by the task: scored once, on the task's own threshold.
     task.metrics.push_back({"never_events", {ThresholdOp::at_most, 0.0}, "count"});
     auto values = passing;
-    values.push_back({"never_events", 1.0, "count", ""});
+    values.push_back({"never_events", 1.0, "count"});
     const auto named = score_attempt(task, values);
     EXPECT_EQ(named.size(), 4u);
     EXPECT_FALSE(attempt_passed(named));
@@ -327,7 +328,7 @@ TEST(ScoreAttempt, ANeverEventFailsAnAttemptWhoseNamedMetricsPass) {
 TEST(ScoreAttempt, AnAttemptScoredOnNothingDoesNotPass) {
   Task no_metrics;
   no_metrics.key = "empty";
-  const std::vector<MetricValue> values = {{"completion_time_s", 1.0, "s", ""}};
+  const std::vector<MetricValue> values = {{"completion_time_s", 1.0, "s"}};
   const auto results = score_attempt(no_metrics, values);
   EXPECT_TRUE(results.empty());
   EXPECT_FALSE(attempt_passed(results));

@@ -97,5 +97,19 @@ TEST(Progress, LockedUntilEveryPrerequisiteIsMasteredInARow) {
   EXPECT_EQ(find_progress(p, "nothing"), nullptr);
 }
 
+TEST(Progress, TheNextTaskIsTheFirstUnlockedOneNotYetMastered) {
+  const Curriculum c = three_steps();
+  EXPECT_EQ(next_task(curriculum_progress(c, {})), "palpation");
+  // Palpation mastered (2 in a row): the two-handed task comes next, before the cut it unlocked.
+  const auto after = curriculum_progress(c, {passed("palpation"), passed("palpation")});
+  EXPECT_EQ(next_task(after), "two_hands");
+  const auto most = curriculum_progress(
+      c, {passed("palpation"), passed("palpation"), passed("two_hands"), passed("cut")});
+  EXPECT_EQ(next_task(most), "tour");
+  const auto all = curriculum_progress(c, {passed("palpation"), passed("palpation"),
+                                           passed("two_hands"), passed("cut"), passed("tour")});
+  EXPECT_EQ(next_task(all), "");
+}
+
 }  // namespace
 }  // namespace incise::curriculum

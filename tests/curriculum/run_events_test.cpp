@@ -17,6 +17,7 @@
 #include <tuple>
 #include <vector>
 
+#include "curriculum/metric_catalogue.h"
 #include "metric_test_helpers.h"
 
 namespace incise::curriculum {
@@ -359,17 +360,16 @@ TEST(RunEvents, TwoHandsEventsCarryTheirHandAndAreSortedByTimeHandKind) {
 TEST(RunEvents, EventMetricsAreTheFiveInOrderWithUnitsAndDefinitions) {
   const auto values = event_metrics(Task{}, {}, {}, {});
   const std::vector<std::pair<std::string, std::string>> expected = {
-      {"protected_collisions", "count"},
-      {"never_events", "count"},
-      {"tissue_damage_ns", "N s"},
-      {"targets_visited", "count"},
-      {"targets_fraction", ""}};
+      {"protected_collisions", "count"}, {"never_events", "count"},    {"tissue_damage_ns", "N s"},
+      {"tissue_contact_s", "s"},         {"targets_visited", "count"}, {"targets_fraction", ""}};
   ASSERT_EQ(values.size(), expected.size());
   for (std::size_t i = 0; i < expected.size(); ++i) {
     EXPECT_EQ(values[i].key, expected[i].first);
     EXPECT_EQ(values[i].unit, expected[i].second);
-    EXPECT_FALSE(values[i].definition.empty());
-    EXPECT_EQ(values[i].definition.find('\n'), std::string::npos);
+    // Named and defined in the catalogue, in the unit it is computed in.
+    const auto info = find_metric(values[i].key);
+    ASSERT_TRUE(info) << values[i].key;
+    EXPECT_EQ(info->unit, values[i].unit) << values[i].key;
   }
 }
 

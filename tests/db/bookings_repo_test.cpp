@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <exception>
+#include <optional>
 #include <type_traits>
 #include <utility>
 
@@ -178,6 +179,77 @@ TEST_F(BookingsRepoTest, ListIsNewestFirstAndIncludesCancelled) {
   EXPECT_EQ(all[1].id, middle.id);
   EXPECT_EQ(all[1].status, "cancelled");
   EXPECT_EQ(all[2].id, early.id);
+}
+
+TEST_F(BookingsRepoTest, CoveringFindsThePersonsActiveBookingOfTheStationAtThatMoment) {
+  const Booking b = bookings_.create(s1_, ann_, 100, 200, 50);
+  bookings_.create(s2_, bob_, 100, 200, 50);
+  EXPECT_EQ(bookings_.covering(ann_, s1_, 100)->id, b.id);  // the start is inside
+  EXPECT_EQ(bookings_.covering(ann_, s1_, 199)->id, b.id);
+  EXPECT_FALSE(bookings_.covering(ann_, s1_, 200));  // the end is not
+  EXPECT_FALSE(bookings_.covering(ann_, s1_, 99));
+  EXPECT_FALSE(bookings_.covering(ann_, s2_, 150));  // bob's
+  EXPECT_FALSE(bookings_.covering(bob_, s1_, 150));
+  bookings_.cancel(b.id, 120);
+  EXPECT_FALSE(bookings_.covering(ann_, s1_, 150));
+}
+
+// Bookings follow sessions: the session's end completes its booking and frees the rest of the
+// slot, so the person may book another station at once.
+TEST_F(BookingsRepoTest, ASessionsEndCompletesItsBookingAndFreesTheRestOfTheSlot) {
+  const Booking b = bookings_.create(s1_, ann_, 100, 200, 50);
+  const auto session_in = [&](std::optional<std::int64_t> booking) {
+    db().prepare(
+            "INSERT INTO sessions (trainee_id, station_id, task, state, created_at, booking_id) "
+            "VALUES (?, ?, 't', 'finished', 0, ?)")
+        .bind(1, ann_)
+        .bind(2, s1_)
+        .bind(3, booking)
+        .run();
+    return db().last_insert_id();
+  };
+  const auto session = session_in(b.id);
+  // Without the completion, another station in the same slot is an overlap of the same person.
+  EXPECT_FALSE(expect_conflict(s2_, ann_, 150, 200).same_station());
+
+  EXPECT_TRUE(bookings_.complete_for_session(session, 140));
+  const auto done = bookings_.find(b.id);
+  EXPECT_EQ(done->status, "completed");
+  EXPECT_EQ(done->starts_at, 100);
+  EXPECT_EQ(done->ends_at, 140);
+  EXPECT_FALSE(bookings_.covering(ann_, s1_, 150));
+  // The rest of the slot is free, for her at another station and for bob at this one.
+  EXPECT_NO_THROW(bookings_.create(s2_, ann_, 150, 200, 141));
+  EXPECT_NO_THROW(bookings_.create(s1_, bob_, 140, 200, 141));
+  // Also a walk-up slot that began before the end (the quarter hour in progress): that time is
+  // spent.
+  EXPECT_NO_THROW(bookings_.create(s1_, ann_, 100, 110, 142));
+  // Completed once: a second end, or a cancel, changes nothing.
+  EXPECT_FALSE(bookings_.complete_for_session(session, 160));
+  EXPECT_EQ(bookings_.find(b.id)->ends_at, 140);
+  EXPECT_THROW(bookings_.cancel(b.id, 170), Conflict);
+  // A session without a booking completes none.
+  EXPECT_FALSE(bookings_.complete_for_session(session_in(std::nullopt), 170));
+}
+
+TEST_F(BookingsRepoTest, AnEndAtTheStartOrAfterTheSlotKeepsTheBookingAnInterval) {
+  const Booking early = bookings_.create(s1_, ann_, 100, 200, 50);
+  const Booking late = bookings_.create(s1_, ann_, 300, 400, 50);
+  const auto session_in = [&](std::int64_t booking) {
+    db().prepare(
+            "INSERT INTO sessions (trainee_id, station_id, task, state, created_at, booking_id) "
+            "VALUES (?, ?, 't', 'finished', 0, ?)")
+        .bind(1, ann_)
+        .bind(2, s1_)
+        .bind(3, booking)
+        .run();
+    return db().last_insert_id();
+  };
+  EXPECT_TRUE(bookings_.complete_for_session(session_in(early.id), 100));
+  EXPECT_EQ(bookings_.find(early.id)->ends_at, 101);  // still after its start
+  EXPECT_TRUE(bookings_.complete_for_session(session_in(late.id), 450));
+  EXPECT_EQ(bookings_.find(late.id)->ends_at, 400);  // never later than booked
+  EXPECT_EQ(bookings_.find(late.id)->status, "completed");
 }
 
 }  // namespace

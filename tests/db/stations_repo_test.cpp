@@ -35,6 +35,18 @@ TEST_F(StationsRepoTest, CreateThenFind) {
   EXPECT_FALSE(stations_.find(created.id + 1));
 }
 
+TEST_F(StationsRepoTest, AStationDeclaresItsKindAndAnAdminMayChangeIt) {
+  const Station plain = stations_.create("Station 1", "", random_token(), 500);
+  EXPECT_EQ(plain.kind, "");
+  const Station lap = stations_.create("Surgical", "", random_token(), 500, "laparoscopy");
+  EXPECT_EQ(lap.kind, "laparoscopy");
+  EXPECT_EQ(stations_.find(lap.id)->kind, "laparoscopy");
+  stations_.set_kind(plain.id, "bench");
+  EXPECT_EQ(stations_.find(plain.id)->kind, "bench");
+  EXPECT_EQ(stations_.list().front().kind, "bench");
+  EXPECT_THROW(stations_.set_kind(lap.id + 100, "bench"), NotFound);
+}
+
 TEST_F(StationsRepoTest, FindByTokenAcceptsOnlyTheRightToken) {
   const std::string token_a = random_token();
   const std::string token_b = random_token();

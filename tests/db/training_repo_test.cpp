@@ -239,6 +239,20 @@ TEST_F(TrainingRepoTest, AddScoresStoresEveryScore) {
   EXPECT_EQ(row_count(db(), "scores"), 3) << "no scores is a no-op";
 }
 
+TEST_F(TrainingRepoTest, AScoreKeepsWhetherItIsACompletionCriterionAndItsThreshold) {
+  const auto s = training_.create_session(ann_, std::nullopt, "palpation", 1);
+  const std::vector<ScoreInput> scores = {{"tissue_contact_s", 0.0, "s", false, ">=", 2.0, true},
+                                          {"peak_force_n", 1.5, "N", true, "<=", 4.0, false}};
+  training_.add_scores(s, scores, 50);
+  const auto stored = training_.session_scores(s);
+  ASSERT_EQ(stored.size(), 2u);
+  EXPECT_TRUE(stored[0].criterion);
+  EXPECT_EQ(stored[0].threshold_op, ">=");
+  EXPECT_EQ(stored[0].threshold_value, 2.0);
+  EXPECT_FALSE(stored[1].criterion);
+  EXPECT_EQ(stored[1].threshold_value, 4.0);
+}
+
 TEST_F(TrainingRepoTest, AddScoresReplacesTheSameMetricsAndKeepsTheOthers) {
   const auto s = training_.create_session(ann_, std::nullopt, "suture", 1);
   const auto other = training_.create_session(ann_, std::nullopt, "suture", 2);

@@ -94,18 +94,6 @@ TEST_F(TransactionTest, ConstraintErrorInsideTheScopeUndoesEarlierWrites) {
   EXPECT_EQ(row_count(db(), "t"), 1);
 }
 
-// There are no savepoints: a Transaction cannot start inside another, and the refusal does not
-// disturb the outer one.
-TEST_F(TransactionTest, NestedTransactionIsRefusedAndTheOuterOneSurvives) {
-  Transaction outer(db());
-  insert(1);
-  EXPECT_THROW({ Transaction inner(db()); }, DbError);
-  insert(2);
-  outer.commit();
-  EXPECT_TRUE(has(1));
-  EXPECT_TRUE(has(2));
-}
-
 TEST_F(TransactionTest, CommitEndsTheTransaction) {
   Transaction tx(db());
   EXPECT_FALSE(sqlite3_get_autocommit(db().handle()));
@@ -133,6 +121,40 @@ TEST_F(TransactionTest, DeferredTakesNoLockUntilItWrites) {
   Transaction competing(*other, Transaction::Mode::immediate);
   other->prepare("INSERT INTO t VALUES (7)").run();
   competing.commit();
+}
+
+// Inside another transaction a Transaction is a savepoint: committed, its changes wait for the
+// outer commit (and an outer rollback undoes them); destroyed, it undoes only its own.
+TEST_F(TransactionTest, NestedIsASavepointOfTheOuterTransaction) {
+  {
+    Transaction outer(db());
+    insert(1);
+    {
+      Transaction inner(db());
+      insert(2);
+    }  // rolled back: 2 only
+    EXPECT_TRUE(has(1));
+    EXPECT_FALSE(has(2));
+    {
+      Transaction inner(db());
+      insert(3);
+      inner.commit();
+    }
+    EXPECT_TRUE(has(3));
+    outer.commit();
+  }
+  EXPECT_TRUE(has(1));
+  EXPECT_TRUE(has(3));
+  {
+    Transaction outer(db());
+    {
+      Transaction inner(db());
+      insert(4);
+      inner.commit();
+    }
+  }  // the outer rollback undoes the committed savepoint too
+  EXPECT_FALSE(has(4));
+  EXPECT_NE(sqlite3_get_autocommit(db().handle()), 0) << "no transaction left open";
 }
 
 }  // namespace

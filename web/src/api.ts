@@ -14,7 +14,33 @@ export interface Station {
   id: number;
   name: string;
   location: string;
+  /** What it can run ("bench", "laparoscopy", "arthroscopy"; "" = not declared). */
+  kind: string;
   online: boolean;
+}
+
+/** A metric as the whole dashboard shows it (GET /api/metrics; curriculum/metric_catalogue.h). */
+export interface MetricInfo {
+  key: string;
+  name: string;
+  /** The unit values and thresholds are stored in ("N", "m^2", "count", ""). */
+  unit: string;
+  /** How people read it and enter thresholds: shown = value × display_scale, in display_unit. */
+  display_unit: string;
+  display_scale: number;
+  decimals: number;
+  better: 'lower' | 'higher' | '';
+  definition: string;
+}
+
+/** A task a station can run, with what locks it for the person asking (GET /api/stations/{id}/tasks). */
+export interface StationTask {
+  key: string;
+  name: string;
+  module: string;
+  instructions: string;
+  /** Why it may not start yet ("" when it may). */
+  locked_reason: string;
 }
 
 export interface Booking {
@@ -25,7 +51,8 @@ export interface Booking {
   username: string;
   starts_at: string;
   ends_at: string;
-  status: 'active' | 'cancelled';
+  /** 'completed': the session held in it ended, and the slot with it. */
+  status: 'active' | 'cancelled' | 'completed';
   created_at: string;
 }
 
@@ -63,6 +90,10 @@ export interface Score {
   unit: string;
   passed: boolean;
   created_at: string;
+  /** A completion criterion of the task rather than a metric's threshold. */
+  criterion: boolean;
+  /** What it was judged against when stored (null: not known). */
+  threshold: { op: '<=' | '>='; value: number } | null;
 }
 
 /** What the server holds of a session that is still live (docs/api.md, "Live sessions"). */
@@ -102,6 +133,8 @@ export interface CurriculumTask {
   key: string;
   name: string;
   instructions: string;
+  /** The kind of station it needs ("" or absent: any). */
+  station_kind?: string;
   metrics?: MetricRequirement[];
 }
 
@@ -127,6 +160,8 @@ export interface Progress {
   trainee_id: number;
   curriculum: string | null;
   tasks: TaskProgress[];
+  /** The first unlocked task not yet mastered (null: all mastered). */
+  next_task: string | null;
 }
 
 /** One trainee's progress with their name (GET /api/trainees/progress, for instructors). */
@@ -304,8 +339,12 @@ export const api = {
   me: () => request<User>('GET', '/api/me'),
 
   stations: () => request<Station[]>('GET', '/api/stations'),
-  create_station: (name: string, location: string) =>
-    request<{ station: Station; token: string }>('POST', '/api/stations', { name, location }),
+  create_station: (name: string, location: string, kind: string) =>
+    request<{ station: Station; token: string }>('POST', '/api/stations', { name, location, kind }),
+  set_station_kind: (station_id: number, kind: string) =>
+    request<Station>('PATCH', `/api/stations/${station_id}`, { kind }),
+  station_tasks: (station_id: number) =>
+    request<{ station: Station; tasks: StationTask[] }>('GET', `/api/stations/${station_id}/tasks`),
 
   bookings: () => request<Booking[]>('GET', '/api/bookings'),
   station_schedule: (station_id: number) => request<ScheduleEntry[]>('GET', `/api/stations/${station_id}/schedule`),
@@ -334,7 +373,9 @@ export const api = {
   recordings: () => request<Recording[]>('GET', '/api/recordings'),
   scores: () => request<Score[]>('GET', '/api/scores'),
   curricula: () => request<CurriculumEntry[]>('GET', '/api/curricula'),
+  metrics: () => request<MetricInfo[]>('GET', '/api/metrics'),
   progress: () => request<Progress>('GET', '/api/progress'),
+  trainee_progress: (trainee_id: number) => request<Progress>('GET', `/api/trainees/${trainee_id}/progress`),
   progress_overview: () => request<TraineeProgress[]>('GET', '/api/trainees/progress'),
   benchmarks: () => request<Benchmark[]>('GET', '/api/benchmarks'),
   review: (session_id: number) => request<Review>('GET', `/api/sessions/${session_id}/review`),

@@ -100,6 +100,8 @@ TEST_F(AccessMatrix, EveryEndpointRoleAndOwnership) {
       {http::verb::get, "/api/stations/" + station + "/calibration", "", kStaff},
       {http::verb::put, "/api/stations/" + station + "/calibration", calibration, kAdmin},
       {http::verb::get, "/api/stations/" + station + "/schedule", "", kAnyone},
+      {http::verb::get, "/api/stations/" + station + "/tasks", "", kAnyone},
+      {http::verb::patch, "/api/stations/" + station, R"({"kind": "bench"})", kAdmin},
       {http::verb::get, "/api/bookings", "", kAnyone},
       {http::verb::get, "/api/sessions", "", kAnyone},
       {http::verb::get, "/api/sessions/" + own, "", kAnyone},

@@ -17,9 +17,14 @@ namespace incise::server::test {
 namespace {
 
 // The demo resident's mastered palpation tasks (server/demo_data.cpp): three attempts of
-// palpation, scored on its six metrics, and three of the two-handed task, on its four.
+// palpation, scored on its two completion criteria, six metrics and never events, and three of
+// the two-handed task, on its criterion and four metrics.
 constexpr std::size_t kResidentSessions = 6;
-constexpr std::size_t kResidentScores = 3 * 6 + 3 * 4;
+constexpr std::size_t kResidentScores = 3 * (2 + 6 + 1) + 3 * (1 + 4);
+// The instructor's expert runs: three of each of the five demo tasks, scored on every scored
+// requirement (palpation 9, two-handed 5, liver cut 2 + 5, knee tour 2 + 3, meniscectomy 2 + 4).
+constexpr std::size_t kExpertSessions = 15;
+constexpr std::size_t kExpertScores = 3 * (9 + 5 + 7 + 5 + 6);
 
 class RecordsApi : public ApiTest {
  protected:
@@ -51,9 +56,10 @@ TEST_F(RecordsApi, TraineesSeeOnlyTheirOwnRecords) {
 TEST_F(RecordsApi, InstructorsAndAdminsSeeEveryone) {
   for (const Who who : {Who::instructor, Who::admin}) {
     const auto token = session_of(who);
-    for (const auto& [path, size] : {std::pair{"/api/sessions", 2u + kResidentSessions},
-                                     std::pair{"/api/recordings", std::size_t{2}},
-                                     std::pair{"/api/scores", 4u + kResidentScores}}) {
+    for (const auto& [path, size] :
+         {std::pair{"/api/sessions", 2u + kResidentSessions + kExpertSessions},
+          std::pair{"/api/recordings", std::size_t{2}},
+          std::pair{"/api/scores", 4u + kResidentScores + kExpertScores}}) {
       const auto list = json_of(get(path, token));
       ASSERT_TRUE(list.is_array()) << path;
       EXPECT_EQ(list.size(), size) << name_of(who) << " " << path << ": " << list;
@@ -63,7 +69,7 @@ TEST_F(RecordsApi, InstructorsAndAdminsSeeEveryone) {
 
 TEST_F(RecordsApi, SessionShape) {
   const auto list = json_of(get("/api/sessions", session_of(Who::instructor)));
-  ASSERT_EQ(list.size(), 2u + kResidentSessions);
+  ASSERT_EQ(list.size(), 2u + kResidentSessions + kExpertSessions);
   for (const auto& s : list) {
     for (const char* key : {"id", "trainee_id", "trainee", "station_id", "station", "task", "state",
                             "started_at", "ended_at"}) {
@@ -93,6 +99,7 @@ TEST_F(RecordsApi, StationsShowWhetherAnAgentIsOnline) {
   EXPECT_EQ(list[1], (nlohmann::json{{"id", demo_station_id()},
                                      {"name", "Station 1"},
                                      {"location", "Skills lab, room 2"},
+                                     {"kind", "bench"},
                                      {"online", false}}));
   EXPECT_EQ(list[2]["name"], "Surgical station");
   EXPECT_EQ(list[2]["online"], false);
@@ -181,12 +188,12 @@ TEST_F(RecordsApi, AdminsExportEveryScoreAsCsvThatReadsBackExactly) {
   EXPECT_EQ(response[http::field::content_type], "text/csv; charset=utf-8");
   EXPECT_EQ(response["Content-Disposition"], "attachment; filename=\"incise-scores.csv\"");
   const auto rows = parse_csv(response.body());
-  // The header, the demo trainee's 3, the resident's, trainee2's 1, this one.
-  ASSERT_EQ(rows.size(), 1u + 5u + kResidentScores);
+  // The header, the demo trainee's 3, the resident's, the experts', trainee2's 1, this one.
+  ASSERT_EQ(rows.size(), 1u + 5u + kResidentScores + kExpertScores);
   EXPECT_EQ(rows[0], (std::vector<std::string>{"score_id", "session_id", "trainee", "task",
                                                "metric", "value", "unit", "passed", "created_at"}));
   const auto scores = training.scores();
-  ASSERT_EQ(scores.size(), 5u + kResidentScores);
+  ASSERT_EQ(scores.size(), 5u + kResidentScores + kExpertScores);
   for (std::size_t i = 0; i < scores.size(); ++i) {
     const auto& row = rows[i + 1];
     ASSERT_EQ(row.size(), 9u) << i;

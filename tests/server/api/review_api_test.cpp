@@ -51,6 +51,9 @@ class ReviewApi : public ApiTest {
 
   void SetUp() override {
     ApiTest::SetUp();
+    // The benchmarks here are the test's own: the demo's expert runs are unmarked (they are
+    // checked in DemoExpertRunsGiveEveryTaskItsBand).
+    db().exec("DELETE FROM expert_runs");
     tess_ = add_trainee("tess");
     tess_token_ = db::AuthSessionsRepo(db()).create(tess_, now(), 3600);
   }
@@ -157,6 +160,31 @@ TEST_F(ReviewApi, AdminsMarkExpertRunsWhoseScoresMakeTheBenchmark) {
           .result_int(),
       200);
   EXPECT_EQ(json_of(get("/api/benchmarks", tess_token_))[0]["n"], 2);
+}
+
+// The demo's expert runs (server/demo_data.cpp): three per task, every scored metric with its
+// band, so a trainee's chart and result show the experts from the first day.
+TEST_F(ApiTest, DemoExpertRunsGiveEveryTaskItsBand) {
+  const auto benchmarks = json_of(get("/api/benchmarks", session_of(Who::trainee)));
+  ASSERT_TRUE(benchmarks.is_array()) << benchmarks;
+  const auto band = [&](const std::string& task, const std::string& metric) {
+    for (const auto& b : benchmarks)
+      if (b["task"] == task && b["metric"] == metric) return b;
+    return nlohmann::json();
+  };
+  for (const auto& [task, metric] :
+       {std::pair{"palpation", "peak_force_n"}, std::pair{"palpation", "tissue_contact_s"},
+        std::pair{"bimanual_palpation", "completion_time_s"}, std::pair{"liver_cut", "cut_area_m2"},
+        std::pair{"knee_tour", "targets_fraction"},
+        std::pair{"knee_meniscectomy", "never_events"}}) {
+    const auto b = band(task, metric);
+    ASSERT_FALSE(b.is_null()) << task << " " << metric;
+    EXPECT_EQ(b["n"], 3) << task << " " << metric;
+  }
+  // Better than the threshold, and spread: a band, not a line.
+  EXPECT_LT(band("palpation", "peak_force_n")["mean"].get<double>(), 4.0);
+  EXPECT_GT(band("palpation", "peak_force_n")["sd"].get<double>(), 0.0);
+  EXPECT_GT(band("liver_cut", "cut_area_m2")["mean"].get<double>(), 6e-5);
 }
 
 TEST_F(ReviewApi, AnAttemptWithoutACompleteRecordingHasNoReview) {

@@ -7,9 +7,12 @@
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <set>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
+#include "curriculum/metric_catalogue.h"
 #include "db/database.h"
 #include "db/migrations.h"
 #include "db/recordings_repo.h"
@@ -42,6 +45,36 @@ std::vector<TickRecord> wandering_records(std::uint32_t first, std::uint32_t cou
       f = force(rng);
   }
   return records;
+}
+
+// The catalogue (curriculum/metric_catalogue.h) and what scoring reports cannot drift apart: a
+// two-handed recording with a portal reports every metric there is, each in the catalogue with
+// the catalogue's unit, and every row of the catalogue is reported.
+TEST(MetricCatalogue, EveryReportedMetricIsCataloguedWithItsUnitAndEveryRowIsReported) {
+  auto records = wandering_records(0, 300, 7);
+  for (auto& r : records) {
+    r.has_second = true;
+    r.second.input = r.input;
+    r.second.input.position.y += 0.05f;
+  }
+  curriculum::Task task;
+  task.portal_m = std::array<double, 3>{0, 0, 0};
+  auto values = session_metrics(records, kTickS, task);
+  for (const auto& v : simulation_metrics({}))
+    values.push_back(v);
+  std::set<std::string> reported;
+  for (const auto& v : values) {
+    reported.insert(v.key);
+    const auto info = curriculum::find_metric(v.key);
+    ASSERT_TRUE(info) << v.key << " is not in the catalogue";
+    EXPECT_EQ(info->unit, v.unit) << v.key;
+  }
+  for (const auto& info : curriculum::metric_catalogue()) {
+    EXPECT_TRUE(reported.contains(info.key)) << info.key << " is catalogued but never reported";
+    EXPECT_FALSE(info.name.empty());
+    EXPECT_FALSE(info.definition.empty());
+    EXPECT_GT(info.display_scale, 0);
+  }
 }
 
 TEST(ToolSamples, MapTicksPositionsAndForcesExactly) {

@@ -4,7 +4,9 @@ import type { Resource } from '../use_resource';
 import { ErrorAlert } from './alerts';
 import './review.css';
 import { DataTable } from './data_table';
-import { format_seconds, format_value } from './format';
+import { format_metric, useMetricCatalogue, type MetricCatalogue } from '../metrics';
+import { format_seconds } from './format';
+import { MetricLabel } from './scores_table';
 import { event_colors, TimelineChart, type TimelineSeries } from './timeline_chart';
 
 const event_names: Record<RunEvent['kind'], string> = {
@@ -139,15 +141,17 @@ function ReviewBody({ review, position_s, on_seek }: { review: Review; position_
   );
 }
 
-function expert_text(r: ReviewResult): string {
+function expert_text(catalogue: MetricCatalogue | null, r: ReviewResult): string {
   if (!r.expert) return '—';
   const { mean, sd, n, z } = r.expert;
-  const spread = n > 1 ? ` ± ${format_value(sd, r.unit)}` : '';
+  const spread = n > 1 ? ` ± ${format_metric(catalogue, r.metric, sd, r.unit)}` : '';
   const relative = z === null ? '' : ` (${z >= 0 ? '+' : ''}${z.toFixed(1)} SD)`;
-  return `${format_value(mean, r.unit)}${spread}, n = ${n}${relative}`;
+  return `${format_metric(catalogue, r.metric, mean, r.unit)}${spread}, n = ${n}${relative}`;
 }
 
 function ResultsTable({ results }: { results: ReviewResult[] }) {
+  const catalogue = useMetricCatalogue();
+  const shown = (r: ReviewResult, value: number) => format_metric(catalogue, r.metric, value, r.unit);
   if (results.length === 0) return <p className="muted">This attempt has no scores.</p>;
   return (
     <DataTable<ReviewResult>
@@ -155,16 +159,16 @@ function ResultsTable({ results }: { results: ReviewResult[] }) {
       row_key={(r) => r.metric}
       labelled_by="results-title"
       columns={[
-        { header: 'Metric', cell: (r) => r.metric },
-        { header: 'Value', className: 'numeric', cell: (r) => format_value(r.value, r.unit) },
+        { header: 'Metric', cell: (r) => <MetricLabel catalogue={catalogue} metric={r.metric} /> },
+        { header: 'Value', className: 'numeric', cell: (r) => shown(r, r.value) },
         {
           header: 'Threshold',
           className: 'numeric',
           cell: (r) => {
             if (!r.threshold) return '—';
-            const then = `${r.threshold.op} ${format_value(r.threshold.value, r.unit)}`;
+            const then = `${r.threshold.op} ${shown(r, r.threshold.value)}`;
             if (!r.threshold_now) return then;
-            return `${then} (now ${r.threshold_now.op} ${format_value(r.threshold_now.value, r.unit)})`;
+            return `${then} (now ${r.threshold_now.op} ${shown(r, r.threshold_now.value)})`;
           },
         },
         {
@@ -173,7 +177,7 @@ function ResultsTable({ results }: { results: ReviewResult[] }) {
             <span className={`badge ${r.passed ? 'badge-pass' : 'badge-fail'}`}>{r.passed ? 'Passed' : 'Not passed'}</span>
           ),
         },
-        { header: 'Experts (mean ± SD)', cell: expert_text },
+        { header: 'Experts (mean ± SD)', cell: (r) => expert_text(catalogue, r) },
       ]}
     />
   );

@@ -1,11 +1,12 @@
 import type { Benchmark } from '../api';
+import { format_metric, useMetricCatalogue, type MetricCatalogue } from '../metrics';
 import { DataTable } from './data_table';
-import { format_value } from './format';
+import { MetricLabel } from './scores_table';
 
-/** "12.3 ± 1.4 s"; a single run has no spread to show. */
-function mean_and_sd(b: Benchmark): string {
-  if (b.n < 2) return format_value(b.mean, b.unit);
-  return `${format_value(b.mean, '')} ± ${format_value(b.sd, b.unit)}`;
+/** "12.3 s ± 1.4 s"; a single run has no spread to show. */
+function mean_and_sd(catalogue: MetricCatalogue | null, b: Benchmark): string {
+  const mean = format_metric(catalogue, b.metric, b.mean, b.unit);
+  return b.n < 2 ? mean : `${mean} ± ${format_metric(catalogue, b.metric, b.sd, b.unit)}`;
 }
 
 /**
@@ -13,6 +14,8 @@ function mean_and_sd(b: Benchmark): string {
  * attempts marked as expert runs scored, which an attempt's review compares against.
  */
 export function BenchmarksTable({ benchmarks }: { benchmarks: Benchmark[] }) {
+  const catalogue = useMetricCatalogue();
+  const shown = (b: Benchmark, value: number) => format_metric(catalogue, b.metric, value, b.unit);
   return (
     <div data-testid="benchmarks-table">
       {benchmarks.length === 0 ? (
@@ -28,15 +31,11 @@ export function BenchmarksTable({ benchmarks }: { benchmarks: Benchmark[] }) {
             row_key={(b) => `${b.task}/${b.metric}`}
             columns={[
               { header: 'Task', cell: (b) => b.task },
-              { header: 'Metric', cell: (b) => b.metric },
+              { header: 'Metric', cell: (b) => <MetricLabel catalogue={catalogue} metric={b.metric} /> },
               { header: 'Runs', cell: (b) => b.n, className: 'numeric' },
-              { header: 'Mean ± SD', cell: mean_and_sd, className: 'numeric' },
-              { header: 'Median', cell: (b) => format_value(b.median, b.unit), className: 'numeric' },
-              {
-                header: 'p10–p90',
-                cell: (b) => `${format_value(b.p10, '')}–${format_value(b.p90, b.unit)}`,
-                className: 'numeric',
-              },
+              { header: 'Mean ± SD', cell: (b) => mean_and_sd(catalogue, b), className: 'numeric' },
+              { header: 'Median', cell: (b) => shown(b, b.median), className: 'numeric' },
+              { header: 'p10–p90', cell: (b) => `${shown(b, b.p10)} – ${shown(b, b.p90)}`, className: 'numeric' },
             ]}
           />
         </>

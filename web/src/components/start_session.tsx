@@ -1,5 +1,5 @@
-import { useEffect, useState, type FormEvent } from 'react';
-import { api, type Booking, type CurriculumTask, type Station } from '../api';
+import { useCallback, useEffect, useState, type FormEvent } from 'react';
+import { api, type Booking, type Station, type StationTask } from '../api';
 import { navigate } from '../router';
 import { format_time, format_time_range, localize_utc_times, to_api_time } from '../time';
 import { error_text, useResource } from '../use_resource';
@@ -24,13 +24,7 @@ function covers(booking: Booking, now: number): boolean {
  * shows, so that the walk-up form does not flash up before a booking that covers now. */
 export function StartSession({ bookings, on_booked }: { bookings: Booking[] | null; on_booked: () => void }) {
   const now = useNow(15_000);
-  const curricula = useResource(api.curricula);
   const stations = useResource(api.stations);
-  // What the server says locks each task (its rule, curriculum/progress.h); it refuses them too.
-  const progress = useResource(api.progress);
-  // Sessions run tasks of the first curriculum (docs/api.md, "Live sessions").
-  const tasks = curricula.data?.[0]?.definition.modules.flatMap((m) => m.tasks) ?? [];
-  const locked = new Map((progress.data?.tasks ?? []).map((t) => [t.key, t.locked_reason]));
   if (bookings === null) {
     return (
       <p className="muted" role="status">
@@ -45,38 +39,25 @@ export function StartSession({ bookings, on_booked }: { bookings: Booking[] | nu
   }
   return (
     <>
-      <ErrorAlert message={curricula.error && `Could not load the tasks: ${curricula.error}`} />
       {current.map((b) => (
-        <StartSessionForm
-          key={b.id}
-          booking={b}
-          tasks={tasks}
-          locked={locked}
-          station={stations.data?.find((s) => s.id === b.station_id)}
-        />
+        <StartSessionForm key={b.id} booking={b} station={stations.data?.find((s) => s.id === b.station_id)} />
       ))}
     </>
   );
 }
 
-function StartSessionForm({
-  booking,
-  tasks,
-  locked,
-  station,
-}: {
-  booking: Booking;
-  tasks: CurriculumTask[];
-  /** Per task key, why it is locked ("" or absent: it may start). */
-  locked: Map<string, string>;
-  station: Station | undefined;
-}) {
+function StartSessionForm({ booking, station }: { booking: Booking; station: Station | undefined }) {
+  // The tasks this station can run, each with what locks it for this trainee: the server's rules
+  // (curriculum/station_offer.h), which it enforces when the session starts as well.
+  const station_id = booking.station_id;
+  const offer = useResource(useCallback(() => api.station_tasks(station_id), [station_id]));
+  const tasks: StationTask[] = offer.data?.tasks ?? [];
   const [task, set_task] = useState('');
   const [error, set_error] = useState<string | null>(null);
   const [busy, set_busy] = useState(false);
   // Until the person picks one, the first task that may start is selected.
-  const chosen_task = task || (tasks.find((t) => !locked.get(t.key))?.key ?? '');
-  const locked_reasons = tasks.map((t) => locked.get(t.key)).filter((reason): reason is string => !!reason);
+  const chosen_task = task || (tasks.find((t) => !t.locked_reason)?.key ?? '');
+  const locked_reasons = tasks.map((t) => t.locked_reason).filter((reason) => !!reason);
   const instructions = tasks.find((t) => t.key === chosen_task)?.instructions;
 
   async function on_submit(event: FormEvent<HTMLFormElement>) {
@@ -107,6 +88,7 @@ function StartSessionForm({
           </>
         )}
       </p>
+      <ErrorAlert message={offer.error && `Could not load the station's tasks: ${offer.error}`} />
       <label htmlFor={`start-task-${booking.id}`}>Task</label>
       <select
         id={`start-task-${booking.id}`}
@@ -115,10 +97,10 @@ function StartSessionForm({
         disabled={tasks.length === 0}
         required
       >
-        {tasks.length === 0 && <option value="">No tasks available</option>}
+        {tasks.length === 0 && <option value="">{offer.data ? 'No task runs at this station' : 'Loading…'}</option>}
         {tasks.map((t) => (
-          <option key={t.key} value={t.key} disabled={!!locked.get(t.key)}>
-            {locked.get(t.key) ? `${t.name} (locked)` : t.name}
+          <option key={t.key} value={t.key} disabled={!!t.locked_reason}>
+            {t.locked_reason ? `${t.name} (locked)` : t.name}
           </option>
         ))}
       </select>

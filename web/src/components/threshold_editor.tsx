@@ -1,17 +1,20 @@
 import { useState } from 'react';
 
 import { api, ApiError, type CurriculumEntry } from '../api';
+import { from_display, metric_name, to_display, useMetricCatalogue } from '../metrics';
 
 /**
- * The pass thresholds of a curriculum's tasks, editable: one number per metric a task scores.
- * Saving sends the whole definition back (PUT /api/curricula/{id}); the server validates it and
- * answers with the first problem, shown as is.
+ * The pass thresholds of a curriculum's tasks, editable: one number per metric a task scores,
+ * entered in the unit the dashboard shows it in (a cut's area in mm², a share in %), and stored
+ * in the metric's own unit. Saving sends the whole definition back (PUT /api/curricula/{id}); the
+ * server validates it (against the metric's range too) and answers with the first problem.
  */
 export function ThresholdEditor({ curriculum, on_saved }: { curriculum: CurriculumEntry; on_saved: () => void }) {
   // Edited values by "task/metric", as typed.
   const [edits, set_edits] = useState<Record<string, string>>({});
   const [message, set_message] = useState<{ ok: boolean; text: string } | null>(null);
   const [busy, set_busy] = useState(false);
+  const catalogue = useMetricCatalogue();
 
   const save = async () => {
     const definition = structuredClone(curriculum.definition);
@@ -19,7 +22,7 @@ export function ThresholdEditor({ curriculum, on_saved }: { curriculum: Curricul
       for (const task of module.tasks) {
         for (const metric of task.metrics ?? []) {
           const typed = edits[`${task.key}/${metric.key}`];
-          if (typed !== undefined) metric.threshold.value = Number(typed);
+          if (typed !== undefined) metric.threshold.value = from_display(catalogue?.get(metric.key), Number(typed));
         }
       }
     }
@@ -51,18 +54,20 @@ export function ThresholdEditor({ curriculum, on_saved }: { curriculum: Curricul
             {(task.metrics ?? []).map((metric) => {
               const id = `threshold-${task.key}-${metric.key}`;
               const key = `${task.key}/${metric.key}`;
+              const info = catalogue?.get(metric.key);
+              const bound = metric.threshold.op === '<=' ? 'at most' : 'at least';
               return (
                 <div key={metric.key} className="field">
-                  <label htmlFor={id}>{`${metric.key} ${metric.threshold.op}`}</label>
+                  <label htmlFor={id} title={metric.key}>{`${metric_name(catalogue, metric.key)} ${bound}`}</label>
                   <input
                     id={id}
                     type="number"
                     step="any"
                     required
-                    value={edits[key] ?? String(metric.threshold.value)}
+                    value={edits[key] ?? String(to_display(info, metric.threshold.value))}
                     onChange={(e) => set_edits({ ...edits, [key]: e.target.value })}
                   />
-                  <span>{metric.unit}</span>
+                  <span>{info ? info.display_unit : metric.unit}</span>
                 </div>
               );
             })}

@@ -8,7 +8,7 @@ import { CurriculumImport } from '../components/curriculum_import';
 import { InstructorPicker } from '../components/instructor_picker';
 import { DataTable } from '../components/data_table';
 import { ResourceView } from '../components/resource_view';
-import { StationForm } from '../components/station_form';
+import { StationForm, StationKindOptions, StationKindPicker } from '../components/station_form';
 import { ThresholdEditor } from '../components/threshold_editor';
 import { UserForm } from '../components/user_form';
 import { useResource } from '../use_resource';
@@ -20,6 +20,16 @@ export function AdminPage() {
   const curricula = useResource(api.curricula);
   const benchmarks = useResource(api.benchmarks);
   const instructors = users.data?.filter((u) => u.role === 'instructor') ?? [];
+  // The station kinds the curricula's tasks need: the choices for a station's kind.
+  const station_kinds = [
+    ...new Set(
+      (curricula.data ?? []).flatMap((c) =>
+        c.definition.modules.flatMap((m) => m.tasks.map((t) => t.station_kind ?? '')),
+      ),
+    ),
+  ]
+    .filter((k) => k)
+    .sort();
 
   return (
     <main className="page">
@@ -62,6 +72,10 @@ export function AdminPage() {
                   { header: 'Name', cell: (s) => s.name },
                   { header: 'Location', cell: (s) => s.location || '—' },
                   {
+                    header: 'Kind',
+                    cell: (s) => <StationKindPicker station={s} kinds={station_kinds} on_changed={stations.reload} />,
+                  },
+                  {
                     header: 'Agent',
                     cell: (s) => (
                       <span className={`badge ${s.online ? 'badge-online' : 'badge-offline'}`}>
@@ -79,6 +93,7 @@ export function AdminPage() {
         </Card>
         <Card id="new-station" title="New station">
           <StationForm on_created={stations.reload} />
+          <StationKindOptions kinds={station_kinds} />
         </Card>
       </div>
       <Card id="calibration" title="Station calibration">

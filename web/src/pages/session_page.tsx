@@ -27,7 +27,7 @@ export function SessionPage({ id }: { id: number }) {
       {data && !data.live && (
         <>
           <p className="muted">This session is no longer live.</p>
-          <SessionResult session_id={id} />
+          <SessionResult session={data} />
         </>
       )}
     </main>
@@ -71,7 +71,7 @@ function LiveView({ session, live }: { session: LiveSession; live: LiveState }) 
         <>
           <StatusMessage message={`The session has ended${stream.ended_reason ? `: ${stream.ended_reason}` : ''}.`} />
           {/* Remounted when the Stop answer arrives: the score is stored by then. */}
-          <SessionResult key={String(stopped)} session_id={session.id} />
+          <SessionResult key={String(stopped)} session={session} />
         </>
       )}
     </>

@@ -1,0 +1,13 @@
+-- A score that is a completion criterion of its task (curriculum Task::completion: the tools
+-- touched the tissue, every target was reached, a cut lies on the marked line) rather than a
+-- metric's threshold. The review shows criteria apart; both decide whether the attempt passed.
+ALTER TABLE scores ADD COLUMN criterion INTEGER NOT NULL DEFAULT 0 CHECK (criterion IN (0, 1));
+
+-- The kind of station (what its devices and scenes are: "bench", "laparoscopy", "arthroscopy"),
+-- matched against a task's station_kind. '' = not declared: such a station runs only tasks that
+-- name no kind.
+ALTER TABLE stations ADD COLUMN kind TEXT NOT NULL DEFAULT '';
+
+-- When the session held in the booking ended it (ends_at was then cut back to that moment, so
+-- the rest of the slot is free); NULL while the booking is open or was cancelled.
+ALTER TABLE bookings ADD COLUMN completed_at INTEGER;
