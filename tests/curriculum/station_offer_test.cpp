@@ -43,6 +43,8 @@ TEST(StationOffer, TheMisfitNamesTheTaskTheKindItNeedsAndWhatTheStationIs) {
             "task \"Palpation\" needs a bench station; Station 9 declares no kind");
   EXPECT_EQ(station_misfit(c.modules[1].tasks[0], "Station 1", "arthroscopy"),
             "task \"Cut\" needs a laparoscopy station; Station 1 is an arthroscopy station");
+  EXPECT_EQ(station_misfit(c.modules[0].tasks[0], "Scope room", "endoscopy"),
+            "task \"Palpation\" needs a bench station; Scope room is an endoscopy station");
   EXPECT_EQ(station_misfit(c.modules[0].tasks[0], "Station 1", "bench"), "");
 }
 
