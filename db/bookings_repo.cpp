@@ -24,9 +24,9 @@ std::optional<Booking> first_overlap(Database& db, const char* owner_column, std
                                      std::int64_t starts_at, std::int64_t ends_at) {
   // A completed booking ended when its session did, at a moment now past: the time it held is
   // spent, so a walk-up slot that began before that moment may still be booked.
-  auto q = db.prepare(
-      std::string(kSelect) + "WHERE b.status = 'active' AND b.completed_at IS NULL " + "AND b." +
-      owner_column + " = ? AND b.starts_at < ? AND ? < b.ends_at ORDER BY b.starts_at LIMIT 1");
+  auto q = db.prepare(std::string(kSelect) +
+                      "WHERE b.status = 'active' AND b.completed_at IS NULL AND b." + owner_column +
+                      " = ? AND b.starts_at < ? AND ? < b.ends_at ORDER BY b.starts_at LIMIT 1");
   q.bind(1, owner).bind(2, ends_at).bind(3, starts_at);
   if (!q.step()) return std::nullopt;
   return read_booking(q);

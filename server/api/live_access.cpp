@@ -50,6 +50,12 @@ db::SessionRecord visible_session(ApiContext& ctx) {
   return *record;
 }
 
+std::optional<curriculum::Curriculum> session_curriculum(db::Database& db) {
+  const auto curricula = db::CurriculaRepo(db).list();
+  if (curricula.empty()) return std::nullopt;
+  return curriculum::parse_curriculum_text(curricula.front().definition_json);
+}
+
 std::optional<curriculum::Curriculum> curriculum_with_task(db::Database& db,
                                                            const std::string& key) {
   for (const auto& record : db::CurriculaRepo(db).list()) {

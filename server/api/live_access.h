@@ -34,6 +34,10 @@ db::SessionRecord visible_session(ApiContext& ctx);
 // The curriculum task with this key, from the first curriculum that has it.
 std::optional<curriculum::Task> find_curriculum_task(db::Database& db, const std::string& key);
 
+// The curriculum sessions run: the first one stored (docs/api.md, "Live sessions"); none when no
+// curriculum is stored.
+std::optional<curriculum::Curriculum> session_curriculum(db::Database& db);
+
 // The first curriculum that has the task with this key.
 std::optional<curriculum::Curriculum> curriculum_with_task(db::Database& db,
                                                            const std::string& key);

@@ -2,9 +2,7 @@
 // run of passes, whether it is mastered and whether it is unlocked, with what locks it. The rules
 // are curriculum/progress.h's; this serialises them.
 
-#include "curriculum/curriculum_json.h"
 #include "curriculum/progress.h"
-#include "db/curricula_repo.h"
 #include "db/users_repo.h"
 #include "server/api/api_error.h"
 #include "server/api/handlers.h"
@@ -14,13 +12,11 @@ namespace incise::server::api {
 namespace {
 
 nlohmann::json progress_of(db::Database& db, std::int64_t trainee_id) {
-  const auto curricula = db::CurriculaRepo(db).list();
-  if (curricula.empty()) {
+  const auto session_plan = session_curriculum(db);
+  if (!session_plan) {
     return {{"curriculum", nullptr}, {"tasks", nlohmann::json::array()}, {"next_task", nullptr}};
   }
-  // Sessions run the tasks of the first curriculum (docs/api.md, "Live sessions").
-  const curriculum::Curriculum plan =
-      curriculum::parse_curriculum_text(curricula.front().definition_json);
+  const curriculum::Curriculum& plan = *session_plan;
   auto tasks = nlohmann::json::array();
   const auto progress = curriculum::curriculum_progress(plan, attempt_records(db, trainee_id));
   for (const auto& p : progress) {

@@ -1,8 +1,6 @@
-#include "curriculum/curriculum_json.h"
 #include "curriculum/curriculum_validation.h"
 #include "curriculum/station_offer.h"
 #include "db/audit_repo.h"
-#include "db/curricula_repo.h"
 #include "db/password.h"
 #include "devices/protocol.h"
 #include "devices/station_calibration.h"
@@ -146,16 +144,13 @@ ApiResponse station_tasks(ApiContext& ctx) {
   auto& db = ctx.app.db();
   db::StationsRepo stations(db);
   const auto station = existing_station(stations, ctx.path_id);
-  const auto curricula = db::CurriculaRepo(db).list();
   auto tasks = nlohmann::json::array();
-  if (!curricula.empty()) {
-    // Sessions run the tasks of the first curriculum (docs/api.md, "Live sessions").
-    const auto plan = curriculum::parse_curriculum_text(curricula.front().definition_json);
+  if (const auto plan = session_curriculum(db)) {
     std::optional<std::vector<curriculum::TaskProgress>> progress;
     if (user.role == db::Role::trainee)
-      progress = curriculum::curriculum_progress(plan, attempt_records(db, user.id));
+      progress = curriculum::curriculum_progress(*plan, attempt_records(db, user.id));
     for (const auto& offer :
-         curriculum::station_offer(plan, station.kind, progress ? &*progress : nullptr)) {
+         curriculum::station_offer(*plan, station.kind, progress ? &*progress : nullptr)) {
       tasks.push_back({{"key", offer.task->key},
                        {"name", offer.task->name},
                        {"module", offer.module},

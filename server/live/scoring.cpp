@@ -60,13 +60,22 @@ bool two_handed(const std::vector<TickRecord>& ticks) {
   return !ticks.empty() && ticks.front().has_second;
 }
 
+// The recording's hands: the right (device 0) and, when it is two-handed, the left.
+struct Hands {
+  std::vector<curriculum::HandSample> right;
+  std::vector<curriculum::HandSample> left;
+};
+Hands recorded_hands(const std::vector<TickRecord>& ticks, double tick_s) {
+  Hands hands{hand_samples(ticks, tick_s, 0), {}};
+  if (two_handed(ticks)) hands.left = hand_samples(ticks, tick_s, 1);
+  return hands;
+}
+
 std::vector<curriculum::MetricValue> recorded_metrics(
     const std::vector<TickRecord>& ticks, double tick_s, const curriculum::Task& task,
     std::span<const curriculum::MetricValue> simulation_values) {
-  const auto right = hand_samples(ticks, tick_s, 0);
-  std::vector<curriculum::HandSample> left;
-  if (two_handed(ticks)) left = hand_samples(ticks, tick_s, 1);
-  return curriculum::attempt_metrics(task, right, left, simulation_values);
+  const auto hands = recorded_hands(ticks, tick_s);
+  return curriculum::attempt_metrics(task, hands.right, hands.left, simulation_values);
 }
 
 }  // namespace
@@ -78,11 +87,9 @@ std::vector<curriculum::MetricValue> session_metrics(const std::vector<TickRecor
 
 SessionReview review_session(const std::vector<TickRecord>& ticks, double tick_s,
                              const curriculum::Task& task, double interval_s) {
-  const auto right = hand_samples(ticks, tick_s, 0);
-  std::vector<curriculum::HandSample> left;
-  if (two_handed(ticks)) left = hand_samples(ticks, tick_s, 1);
-  return {curriculum::run_events(task, right, left),
-          curriculum::run_timeline(task, right, left, interval_s)};
+  const auto hands = recorded_hands(ticks, tick_s);
+  return {curriculum::run_events(task, hands.right, hands.left),
+          curriculum::run_timeline(task, hands.right, hands.left, interval_s)};
 }
 
 std::vector<curriculum::MetricValue> simulation_metrics(const sim::tools::DamageMetrics& damage) {

@@ -34,6 +34,18 @@ class BookingsRepoTest : public test::DbTest {
     return BookingConflict(Booking{}, false);
   }
 
+  // A finished session of ann's at s1, held in #booking (none: without one).
+  std::int64_t session_in(std::optional<std::int64_t> booking) {
+    db().prepare(
+            "INSERT INTO sessions (trainee_id, station_id, task, state, created_at, booking_id) "
+            "VALUES (?, ?, 't', 'finished', 0, ?)")
+        .bind(1, ann_)
+        .bind(2, s1_)
+        .bind(3, booking)
+        .run();
+    return db().last_insert_id();
+  }
+
   std::int64_t s1_ = test::add_station(db(), "s1");
   std::int64_t s2_ = test::add_station(db(), "s2");
   std::int64_t ann_ = test::add_user(db(), "ann");
@@ -198,16 +210,6 @@ TEST_F(BookingsRepoTest, CoveringFindsThePersonsActiveBookingOfTheStationAtThatM
 // slot, so the person may book another station at once.
 TEST_F(BookingsRepoTest, ASessionsEndCompletesItsBookingAndFreesTheRestOfTheSlot) {
   const Booking b = bookings_.create(s1_, ann_, 100, 200, 50);
-  const auto session_in = [&](std::optional<std::int64_t> booking) {
-    db().prepare(
-            "INSERT INTO sessions (trainee_id, station_id, task, state, created_at, booking_id) "
-            "VALUES (?, ?, 't', 'finished', 0, ?)")
-        .bind(1, ann_)
-        .bind(2, s1_)
-        .bind(3, booking)
-        .run();
-    return db().last_insert_id();
-  };
   const auto session = session_in(b.id);
   // Without the completion, another station in the same slot is an overlap of the same person.
   EXPECT_FALSE(expect_conflict(s2_, ann_, 150, 200).same_station());
@@ -235,16 +237,6 @@ TEST_F(BookingsRepoTest, ASessionsEndCompletesItsBookingAndFreesTheRestOfTheSlot
 TEST_F(BookingsRepoTest, AnEndAtTheStartOrAfterTheSlotKeepsTheBookingAnInterval) {
   const Booking early = bookings_.create(s1_, ann_, 100, 200, 50);
   const Booking late = bookings_.create(s1_, ann_, 300, 400, 50);
-  const auto session_in = [&](std::int64_t booking) {
-    db().prepare(
-            "INSERT INTO sessions (trainee_id, station_id, task, state, created_at, booking_id) "
-            "VALUES (?, ?, 't', 'finished', 0, ?)")
-        .bind(1, ann_)
-        .bind(2, s1_)
-        .bind(3, booking)
-        .run();
-    return db().last_insert_id();
-  };
   EXPECT_TRUE(bookings_.complete_for_session(session_in(early.id), 100));
   EXPECT_EQ(bookings_.find(early.id)->ends_at, 101);  // still after its start
   EXPECT_TRUE(bookings_.complete_for_session(session_in(late.id), 450));
