@@ -15,13 +15,19 @@ struct AuditEntry {
   std::optional<std::int64_t> user_id;
   std::string action;
   std::string detail;
+  // The changed fields before and after, as JSON object texts; "" where there is none (a creation
+  // has no before, a removal no after).
+  std::string before_json;
+  std::string after_json;
 };
 
 class AuditRepo {
  public:
   explicit AuditRepo(Database& db) : db_(db) {}
+  // before_json/after_json: "" for none. Callers pass JSON texts; db/ stores them as given.
   void record(std::optional<std::int64_t> user_id, const std::string& action,
-              const std::string& detail, std::int64_t now);
+              const std::string& detail, std::int64_t now, const std::string& before_json = "",
+              const std::string& after_json = "");
   std::vector<AuditEntry> list(int limit = 200);
 
  private:

@@ -21,13 +21,13 @@ std::string AuthSessionsRepo::create(std::int64_t user_id, std::int64_t now, std
 std::optional<User> AuthSessionsRepo::touch(std::string_view token, std::int64_t now,
                                             std::int64_t ttl_s) {
   const auto hash = token_hash(token);
+  // A disabled user's sessions are deleted when they are disabled; the join refuses them anyway.
   auto q = db_.prepare(
-      "SELECT u.id, u.username, u.display_name, u.role, u.created_at FROM auth_sessions s JOIN "
-      "users u ON u.id = s.user_id WHERE s.token_hash = ? AND s.expires_at > ?");
+      "SELECT u.id FROM auth_sessions s JOIN users u ON u.id = s.user_id "
+      "WHERE s.token_hash = ? AND s.expires_at > ? AND u.disabled_at IS NULL");
   q.bind_blob(1, hash).bind(2, now);
   if (!q.step()) return std::nullopt;
-  User user{q.int64(0), q.text(1), q.text(2), parse_role(q.text(3)).value_or(Role::trainee),
-            q.int64(4)};
+  const auto user_id = q.int64(0);
   // End the read before writing. A write while the SELECT is still open would upgrade its read
   // transaction, and if a session thread's connection has committed since the read began, SQLite
   // answers SQLITE_BUSY_SNAPSHOT at once, without waiting on the busy timeout.
@@ -36,7 +36,7 @@ std::optional<User> AuthSessionsRepo::touch(std::string_view token, std::int64_t
       .bind(1, now + ttl_s)
       .bind_blob(2, hash)
       .run();
-  return user;
+  return UsersRepo(db_).find(user_id);
 }
 
 void AuthSessionsRepo::remove(std::string_view token) {

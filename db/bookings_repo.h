@@ -27,6 +27,12 @@ struct Booking {
   std::int64_t created_at = 0;
 };
 
+// Whether the booking holds its station at `now`: active (not cancelled, not completed) and
+// starts_at <= now < ends_at. BookingsRepo::covering asks the same of the table.
+inline bool covers(const Booking& booking, std::int64_t now) {
+  return booking.status == "active" && booking.starts_at <= now && now < booking.ends_at;
+}
+
 // The slot overlaps `existing`, at the same station or of the same person.
 class BookingConflict : public Conflict {
  public:
@@ -61,7 +67,7 @@ class BookingsRepo {
   std::vector<Booking> station_schedule(std::int64_t station_id, std::int64_t since);
   // Throws NotFound for an unknown id, Conflict when already cancelled or completed.
   void cancel(std::int64_t id, std::int64_t now);
-  // The person's active booking of the station that covers #now (starts_at <= now < ends_at).
+  // The person's booking of the station that covers `now` (covers() above).
   std::optional<Booking> covering(std::int64_t user_id, std::int64_t station_id, std::int64_t now);
   // Bookings follow sessions: when the session started in a booking (sessions.booking_id) ends,
   // the booking is completed and ends at #now (never later than it did, and after its start), so

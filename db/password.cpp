@@ -6,6 +6,12 @@
 
 namespace incise::db {
 
+std::string password_problem(std::string_view password) {
+  if (password.size() < 10) return "must have at least 10 characters";
+  if (password.size() > 256) return "must have at most 256 characters";
+  return "";
+}
+
 namespace {
 void ensure_sodium() {
   static const int ok = sodium_init();

@@ -9,6 +9,8 @@
 namespace incise::db {
 
 std::string hash_password(std::string_view password);
+// What a new password lacks ("" when it is acceptable): 10 to 256 characters.
+std::string password_problem(std::string_view password);
 // Constant-time check; false for a malformed hash.
 bool verify_password(std::string_view password, const std::string& stored_hash);
 

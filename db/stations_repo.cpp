@@ -6,8 +6,11 @@
 namespace incise::db {
 
 namespace {
+constexpr const char* kSelect =
+    "SELECT id, name, location, created_at, kind, retired_at FROM stations";
+
 Station read_station(const Statement& q) {
-  return Station{q.int64(0), q.text(1), q.text(2), q.int64(3), q.text(4)};
+  return Station{q.int64(0), q.text(1), q.text(2), q.int64(3), q.text(4), q.optional_int64(5)};
 }
 }  // namespace
 
@@ -31,26 +34,25 @@ Station StationsRepo::create(std::string_view name, std::string_view location,
     throw;
   }
   return Station{db_.last_insert_id(), std::string(name), std::string(location), now,
-                 std::string(kind)};
+                 std::string(kind),    std::nullopt};
 }
 
 std::optional<Station> StationsRepo::find(std::int64_t id) {
-  auto q = db_.prepare("SELECT id, name, location, created_at, kind FROM stations WHERE id = ?");
+  auto q = db_.prepare(std::string(kSelect) + " WHERE id = ?");
   q.bind(1, id);
   if (!q.step()) return std::nullopt;
   return read_station(q);
 }
 
 std::optional<Station> StationsRepo::find_by_token(std::string_view token) {
-  auto q =
-      db_.prepare("SELECT id, name, location, created_at, kind FROM stations WHERE token_hash = ?");
+  auto q = db_.prepare(std::string(kSelect) + " WHERE token_hash = ?");
   q.bind_blob(1, token_hash(token));
   if (!q.step()) return std::nullopt;
   return read_station(q);
 }
 
 std::vector<Station> StationsRepo::list() {
-  auto q = db_.prepare("SELECT id, name, location, created_at, kind FROM stations ORDER BY name");
+  auto q = db_.prepare(std::string(kSelect) + " ORDER BY name");
   std::vector<Station> out;
   while (q.step())
     out.push_back(read_station(q));
@@ -73,6 +75,12 @@ void StationsRepo::set_calibration(std::int64_t id, std::string_view json_text) 
 void StationsRepo::set_kind(std::int64_t id, std::string_view kind) {
   auto q = db_.prepare("UPDATE stations SET kind = ? WHERE id = ?");
   q.bind(1, kind).bind(2, id).run();
+  if (db_.changes() == 0) throw NotFound("station " + std::to_string(id) + " not found");
+}
+
+void StationsRepo::set_retired(std::int64_t id, std::optional<std::int64_t> at) {
+  auto q = db_.prepare("UPDATE stations SET retired_at = ? WHERE id = ?");
+  q.bind(1, at).bind(2, id).run();
   if (db_.changes() == 0) throw NotFound("station " + std::to_string(id) + " not found");
 }
 

@@ -18,6 +18,9 @@ struct Station {
   // What it can run ("bench", "laparoscopy", "arthroscopy"; curriculum Task::station_kind): its
   // devices and scenes. "" = not declared. db/ stores it; the curriculum's rules compare it.
   std::string kind;
+  // Set when an admin retired it: kept for its history, no longer booked, started or connected.
+  std::optional<std::int64_t> retired_at;
+  bool retired() const { return retired_at.has_value(); }
 };
 
 class StationsRepo {
@@ -38,6 +41,8 @@ class StationsRepo {
   void set_calibration(std::int64_t id, std::string_view json_text);
   // Throws NotFound for an unknown id.
   void set_kind(std::int64_t id, std::string_view kind);
+  // Retires the station (at = the moment) or returns it to service (nullopt). Throws NotFound.
+  void set_retired(std::int64_t id, std::optional<std::int64_t> at);
 
  private:
   Database& db_;

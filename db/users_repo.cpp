@@ -26,11 +26,14 @@ std::optional<Role> parse_role(std::string_view text) {
 }
 
 namespace {
-constexpr const char* kColumns = "id, username, display_name, role, created_at";
+constexpr const char* kColumns =
+    "id, username, display_name, role, created_at, disabled_at, must_change_password";
 
 User read_user(const Statement& q) {
-  return User{q.int64(0), q.text(1), q.text(2), parse_role(q.text(3)).value_or(Role::trainee),
-              q.int64(4)};
+  return User{q.int64(0),     q.text(1),
+              q.text(2),      parse_role(q.text(3)).value_or(Role::trainee),
+              q.int64(4),     q.optional_int64(5),
+              q.int64(6) != 0};
 }
 }  // namespace
 
@@ -52,7 +55,7 @@ User UsersRepo::create(const NewUser& user, std::int64_t now) {
     }
     throw;
   }
-  return User{db_.last_insert_id(), user.username, user.display_name, user.role, now};
+  return User{db_.last_insert_id(), user.username, user.display_name, user.role, now, {}, false};
 }
 
 std::optional<User> UsersRepo::find(std::int64_t id) {
@@ -79,7 +82,7 @@ std::optional<User> UsersRepo::authenticate(std::string_view username, std::stri
     verify_password(password, dummy);
     return std::nullopt;
   }
-  if (!verify_password(password, q.text(5))) return std::nullopt;
+  if (!verify_password(password, q.text(7))) return std::nullopt;
   return read_user(q);
 }
 
@@ -121,6 +124,36 @@ bool UsersRepo::teaches(std::int64_t instructor_id, std::int64_t trainee_id) {
   q.bind(1, instructor_id);
   q.bind(2, trainee_id);
   return q.step();
+}
+
+void UsersRepo::set_disabled(std::int64_t id, std::optional<std::int64_t> at) {
+  Transaction tx(db_);
+  db_.prepare("UPDATE users SET disabled_at = ? WHERE id = ?").bind(1, at).bind(2, id).run();
+  if (db_.changes() == 0) throw NotFound("user " + std::to_string(id) + " does not exist");
+  if (at) db_.prepare("DELETE FROM auth_sessions WHERE user_id = ?").bind(1, id).run();
+  tx.commit();
+}
+
+void UsersRepo::set_password(std::int64_t id, std::string_view password, bool must_change) {
+  const std::string hash = hash_password(password);
+  Transaction tx(db_);
+  db_.prepare("UPDATE users SET password_hash = ?, must_change_password = ? WHERE id = ?")
+      .bind(1, hash)
+      .bind(2, must_change ? 1 : 0)
+      .bind(3, id)
+      .run();
+  if (db_.changes() == 0) throw NotFound("user " + std::to_string(id) + " does not exist");
+  if (must_change) db_.prepare("DELETE FROM auth_sessions WHERE user_id = ?").bind(1, id).run();
+  tx.commit();
+}
+
+bool UsersRepo::password_matches(std::int64_t id, std::string_view password) {
+  auto q = db_.prepare("SELECT password_hash FROM users WHERE id = ?");
+  q.bind(1, id);
+  if (!q.step()) return false;
+  const std::string hash = q.text(0);
+  q.reset();
+  return verify_password(password, hash);
 }
 
 std::int64_t UsersRepo::count() {

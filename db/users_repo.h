@@ -19,7 +19,9 @@ struct User {
   std::string username;
   std::string display_name;
   Role role = Role::trainee;
-  std::int64_t created_at = 0;  // Unix seconds
+  std::int64_t created_at = 0;              // Unix seconds
+  std::optional<std::int64_t> disabled_at;  // set: cannot log in (UsersRepo::set_disabled)
+  bool must_change_password = false;        // set by an admin's reset, cleared by the user's change
 };
 
 struct NewUser {
@@ -42,6 +44,15 @@ class UsersRepo {
   std::optional<User> authenticate(std::string_view username, std::string_view password);
   std::vector<User> list();
   std::int64_t count();
+
+  // Disables (at = the moment) or re-enables (nullopt) the user. Disabling also ends every login
+  // session of theirs. Throws NotFound for an unknown id.
+  void set_disabled(std::int64_t id, std::optional<std::int64_t> at);
+  // Replaces the password (hashed). must_change: the user must choose another before anything
+  // else (an admin's reset); the reset also ends every login session of theirs. Throws NotFound.
+  void set_password(std::int64_t id, std::string_view password, bool must_change);
+  // Whether `password` is the user's present one (for a change that proves the old password).
+  bool password_matches(std::int64_t id, std::string_view password);
 
   // Instructor assignments (trainee_instructors): an instructor sees the records of the trainees
   // assigned to them. set_instructors replaces a trainee's set; callers run it in a transaction

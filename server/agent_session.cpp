@@ -129,6 +129,10 @@ void AgentSession::handle_hello() {
     calibration.clear();
   }
   if (!station) return do_close(websocket::close_code::policy_error, "unknown station token");
+  if (station->retired()) {
+    return do_close(websocket::close_code::policy_error,
+                    "station " + station->name + " is retired; an admin can return it to service");
+  }
 
   station_id_ = station->id;
   app_->agent_joined(station_id_, shared_from_this());

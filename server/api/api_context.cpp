@@ -9,6 +9,15 @@
 namespace incise::server {
 
 const db::User& ApiContext::user() {
+  const auto& u = signed_in();
+  if (u.must_change_password) {
+    throw ApiError(http::status::forbidden,
+                   "choose a new password first: an admin reset yours (POST /api/me/password)");
+  }
+  return u;
+}
+
+const db::User& ApiContext::signed_in() {
   if (user_) return *user_;
   const auto token = cookie(kSessionCookie);
   if (!token) throw ApiError(http::status::unauthorized, "not logged in");

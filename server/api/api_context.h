@@ -62,8 +62,12 @@ class ApiContext {
     db_lock->lock();
   }
 
-  // The logged-in user; throws 401 when there is none or the session expired.
+  // The logged-in user; throws 401 when there is none or the session expired, and 403 while
+  // their password must be changed (an admin reset it): then only signed_in() callers answer.
   const db::User& user();
+  // The logged-in user even while their password must be changed (GET /api/me, choosing the
+  // new password); 401 when there is none.
+  const db::User& signed_in();
   // The logged-in user if their role is one of `roles`; 403 otherwise.
   const db::User& require_role(std::initializer_list<db::Role> roles);
   // The parsed JSON body; 400 for malformed JSON (invalid UTF-8 and lone surrogates included, and

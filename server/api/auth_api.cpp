@@ -1,5 +1,7 @@
 #include "db/auth_sessions_repo.h"
+#include "db/transaction.h"
 #include "server/api/api_error.h"
+#include "server/api/audit_change.h"
 #include "server/api/handlers.h"
 #include "server/api/json_views.h"
 #include "server/api/request_fields.h"
@@ -38,6 +40,10 @@ ApiResponse login(ApiContext& ctx) {
     throw ApiError(http::status::unauthorized, "wrong username or password");
   }
   limiter.record_success(ctx.client);
+  // Said only to whoever knows the password, so it reveals nothing to a guesser.
+  if (user->disabled_at) {
+    throw ApiError(http::status::forbidden, "this account is disabled; ask an admin");
+  }
   const auto ttl = ctx.app.config().session_ttl_s;
   const auto token = db::AuthSessionsRepo(ctx.app.db()).create(user->id, ctx.now, ttl);
   db::AuthSessionsRepo(ctx.app.db()).purge_expired(ctx.now);
@@ -54,7 +60,33 @@ ApiResponse logout(ApiContext& ctx) {
 }
 
 ApiResponse me(ApiContext& ctx) {
-  return {http::status::ok, to_json(ctx.user()), {}};
+  return {http::status::ok, to_json(ctx.signed_in()), {}};
+}
+
+ApiResponse change_own_password(ApiContext& ctx) {
+  const auto& user = ctx.signed_in();
+  const auto body = ctx.json_body();
+  const RequestFields fields(body, {"current_password", "new_password"});
+  const auto current = fields.string("current_password");
+  const auto next = fields.string("new_password");
+  check_new_password("new_password", next);
+  if (next == current) {
+    throw ApiError(http::status::unprocessable_entity,
+                   "new_password must differ from the current one");
+  }
+  auto& db = ctx.app.db();
+  db::UsersRepo users(db);
+  if (!users.password_matches(user.id, current)) {
+    // A stolen cookie must not be able to take the account over.
+    throw ApiError(http::status::unprocessable_entity, "current_password is wrong");
+  }
+  db::Transaction tx(db);
+  users.set_password(user.id, next, false);
+  audit_change(db, user.id, "user.password_change", user.username, ctx.now,
+               {{"must_change_password", user.must_change_password}},
+               {{"must_change_password", false}});
+  tx.commit();
+  return {http::status::ok, to_json(*users.find(user.id)), {}};
 }
 
 }  // namespace incise::server::api

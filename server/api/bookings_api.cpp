@@ -1,6 +1,6 @@
-#include "db/audit_repo.h"
 #include "db/stations_repo.h"
 #include "server/api/api_error.h"
+#include "server/api/audit_change.h"
 #include "server/api/handlers.h"
 #include "server/api/json_views.h"
 #include "server/api/live_access.h"
@@ -33,8 +33,12 @@ std::string conflict_message(const db::BookingConflict& c) {
 ApiResponse list_bookings(ApiContext& ctx) {
   const auto& user = ctx.user();
   auto out = nlohmann::json::array();
-  for (const auto& b : db::BookingsRepo(ctx.app.db()).list(visible_scope(user)))
-    out.push_back(to_json(b));
+  for (const auto& b : db::BookingsRepo(ctx.app.db()).list(visible_scope(user))) {
+    auto row = to_json(b);
+    // Whether it lets its person start a session now: the browser shows the start form by it.
+    row["covers_now"] = db::covers(b, ctx.now);
+    out.push_back(std::move(row));
+  }
   return {http::status::ok, out, {}};
 }
 
@@ -73,6 +77,10 @@ ApiResponse create_booking(ApiContext& ctx) {
   if (const auto why = check_slot(starts_at, ends_at, ctx.now)) {
     throw ApiError(http::status::unprocessable_entity, *why);
   }
+  if (const auto station = db::StationsRepo(ctx.app.db()).find(station_id);
+      station && station->retired()) {
+    throw ApiError(http::status::conflict, station->name + " is retired; book another station");
+  }
   try {
     const auto booking =
         db::BookingsRepo(ctx.app.db()).create(station_id, user.id, starts_at, ends_at, ctx.now);
@@ -99,9 +107,9 @@ ApiResponse cancel_booking(ApiContext& ctx) {
   }
   bookings.cancel(booking->id, ctx.now);
   if (booking->user_id != user.id) {
-    db::AuditRepo(ctx.app.db())
-        .record(user.id, "booking.cancel",
-                "booking " + std::to_string(booking->id) + " of " + booking->username, ctx.now);
+    audit_change(ctx.app.db(), user.id, "booking.cancel",
+                 "booking " + std::to_string(booking->id) + " of " + booking->username, ctx.now,
+                 {{"status", booking->status}}, {{"status", "cancelled"}});
   }
   return {http::status::no_content, nullptr, {}};
 }

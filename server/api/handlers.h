@@ -9,15 +9,25 @@ ApiResponse health(ApiContext& ctx);
 ApiResponse login(ApiContext& ctx);
 ApiResponse logout(ApiContext& ctx);
 ApiResponse me(ApiContext& ctx);
+// POST /api/me/password {"current_password", "new_password"}: the caller's own change, also
+// while an admin's reset requires one (clears it); audited without secrets.
+ApiResponse change_own_password(ApiContext& ctx);
 
 ApiResponse list_users(ApiContext& ctx);
 ApiResponse create_user(ApiContext& ctx);
 // admin: replaces the instructors of a trainee ({"instructor_ids": [...]}); audited.
 ApiResponse set_trainee_instructors(ApiContext& ctx);
+// PATCH /api/users/{id} {"disabled": bool}: an admin disables (ending their logins) or re-enables
+// a user; never themself. Audited with before and after.
+ApiResponse update_user(ApiContext& ctx);
+// POST /api/users/{id}/password {"password"}: an admin sets a temporary password that the user
+// must replace at their next login; ends their logins. Audited without the password.
+ApiResponse reset_user_password(ApiContext& ctx);
 
 ApiResponse list_stations(ApiContext& ctx);
 ApiResponse create_station(ApiContext& ctx);
-// PATCH /api/stations/{id}: an admin sets what the station can run ({"kind": "laparoscopy"}).
+// PATCH /api/stations/{id}: an admin sets what the station can run ({"kind": "laparoscopy"})
+// and retires it or returns it to service ({"retired": true}); audited with before and after.
 ApiResponse update_station(ApiContext& ctx);
 // GET /api/stations/{id}/tasks: the tasks the station can run, each with what locks it for the
 // trainee asking (curriculum/station_offer.h).

@@ -14,15 +14,14 @@ nlohmann::json to_json(const db::User& user) {
   return {{"id", user.id},
           {"username", user.username},
           {"display_name", user.display_name},
-          {"role", db::to_string(user.role)}};
+          {"role", db::to_string(user.role)},
+          {"disabled", user.disabled_at.has_value()},
+          {"must_change_password", user.must_change_password}};
 }
 
 nlohmann::json to_json(const db::Station& station, bool online) {
-  return {{"id", station.id},
-          {"name", station.name},
-          {"location", station.location},
-          {"kind", station.kind},
-          {"online", online}};
+  return {{"id", station.id},     {"name", station.name},         {"location", station.location},
+          {"kind", station.kind}, {"retired", station.retired()}, {"online", online}};
 }
 
 nlohmann::json to_json(const db::Booking& b) {

@@ -6,11 +6,14 @@
 #include "db/bookings_repo.h"
 #include "db/curricula_repo.h"
 #include "db/recordings_repo.h"
+#include "db/reviews_repo.h"
 #include "db/stations_repo.h"
 #include "db/training_repo.h"
+#include "db/transaction.h"
 #include "devices/protocol.h"
 #include "server/agent_session.h"
 #include "server/api/api_error.h"
+#include "server/api/audit_change.h"
 #include "server/api/handlers.h"
 #include "server/api/json_views.h"
 #include "server/api/live_access.h"
@@ -60,13 +63,21 @@ std::shared_ptr<live::LiveSession> controllable_session(ApiContext& ctx) {
 ApiResponse start_session(ApiContext& ctx) {
   const auto& user = ctx.user();
   const auto body = ctx.json_body();
-  const RequestFields fields(body, {"station_id", "task"});
+  const RequestFields fields(body, {"station_id", "task", "expert"});
   const auto station_id = fields.integer("station_id");
   const auto task_key = fields.string("task");
+  // Staff record expert runs for the task's benchmark (the experts' band beside every attempt).
+  const bool expert = fields.has("expert") && fields.boolean("expert");
+  if (expert && user.role == db::Role::trainee) {
+    throw ApiError(http::status::forbidden, "expert runs are instructors' or admins'");
+  }
   auto& db = ctx.app.db();
   const auto station = db::StationsRepo(db).find(station_id);
   if (!station) {
     throw ApiError(http::status::not_found, "no station " + std::to_string(station_id));
+  }
+  if (station->retired()) {
+    throw ApiError(http::status::conflict, station->name + " is retired");
   }
   const auto plan = curriculum_with_task(db, task_key);
   if (!plan) throw ApiError(http::status::not_found, "no task \"" + task_key + "\"");
@@ -118,11 +129,21 @@ ApiResponse start_session(ApiContext& ctx) {
                    "task \"" + task_key + "\" does not fit its scene: " + mismatch);
   }
   db::TrainingRepo training(db);
+  db::Transaction tx(db);
   params.session_id = training.create_session(user.id, station_id, task_key, ctx.now, booking_id);
   training.set_session_state(params.session_id, "running", ctx.now);
+  if (expert) {
+    // Marked from the start: its scores join the benchmark when it finishes; an aborted run
+    // has none and adds nothing.
+    db::ReviewsRepo(db).set_expert_run(params.session_id, true, user.id, ctx.now);
+    audit_change(db, user.id, "benchmark.add",
+                 "session " + std::to_string(params.session_id) + " task " + task_key, ctx.now,
+                 {{"expert_run", false}}, {{"expert_run", true}});
+  }
   params.station_id = station_id;
   params.recording_id = db::RecordingsRepo(db).create(
       params.session_id, task->scene, live::scene_version(scene_source->text), 0, kTickHz, ctx.now);
+  tx.commit();
   params.task = *task;
   params.db_path = ctx.app.config().db_path;
   params.tick_hz = kTickHz;

@@ -8,7 +8,9 @@
 #include "db/audit_repo.h"
 #include "db/curricula_repo.h"
 #include "db/training_repo.h"
+#include "db/transaction.h"
 #include "server/api/api_error.h"
+#include "server/api/audit_change.h"
 #include "server/api/handlers.h"
 #include "server/api/json_views.h"
 #include "server/api/live_access.h"
@@ -91,6 +93,15 @@ ApiResponse export_scores_csv(ApiContext& ctx) {
   return out;
 }
 
+namespace {
+// A stored before/after (JSON object text, "" for none) for the response; never throws.
+nlohmann::json audit_fields(const std::string& text) {
+  if (text.empty()) return nullptr;
+  auto value = nlohmann::json::parse(text, nullptr, false);
+  return value.is_discarded() ? nlohmann::json(text) : value;
+}
+}  // namespace
+
 ApiResponse list_audit(ApiContext& ctx) {
   ctx.require_role({db::Role::admin});
   auto out = nlohmann::json::array();
@@ -99,7 +110,9 @@ ApiResponse list_audit(ApiContext& ctx) {
                    {"at", format_utc(e.at)},
                    {"user_id", e.user_id ? nlohmann::json(*e.user_id) : nlohmann::json(nullptr)},
                    {"action", e.action},
-                   {"detail", e.detail}});
+                   {"detail", e.detail},
+                   {"before", audit_fields(e.before_json)},
+                   {"after", audit_fields(e.after_json)}});
   }
   return {http::status::ok, std::move(out)};
 }
@@ -128,16 +141,26 @@ ApiResponse import_curriculum(ApiContext& ctx) {
   const auto plan = curriculum_of(ctx);
   const auto record =
       db::CurriculaRepo(ctx.app.db()).create(plan.name, curriculum::to_json(plan).dump(), ctx.now);
-  db::AuditRepo(ctx.app.db()).record(admin.id, "curriculum.import", plan.name, ctx.now);
+  audit_change(ctx.app.db(), admin.id, "curriculum.import", plan.name, ctx.now, nullptr,
+               {{"id", record.id}, {"name", record.name}});
   return {http::status::created, curriculum_json(record)};
 }
 
 ApiResponse update_curriculum(ApiContext& ctx) {
   const auto& admin = ctx.require_role({db::Role::admin});
   const auto plan = curriculum_of(ctx);
-  db::CurriculaRepo curricula(ctx.app.db());
-  curricula.update(ctx.path_id, plan.name, curriculum::to_json(plan).dump());
-  db::AuditRepo(ctx.app.db()).record(admin.id, "curriculum.update", plan.name, ctx.now);
+  auto& db = ctx.app.db();
+  db::CurriculaRepo curricula(db);
+  const auto before = curricula.find(ctx.path_id);
+  const auto after = curriculum::to_json(plan);
+  db::Transaction tx(db);
+  curricula.update(ctx.path_id, plan.name, after.dump());
+  // Only the changed places: a threshold edit reads "modules/0/tasks/1/thresholds/0/max".
+  audit_change(db, admin.id, "curriculum.update", plan.name, ctx.now,
+               before ? nlohmann::json::parse(before->definition_json, nullptr, false)
+                      : nlohmann::json(nullptr),
+               after);
+  tx.commit();
   return {http::status::ok, curriculum_json(*curricula.find(ctx.path_id))};
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "db/password.h"
 #include "server/api/api_error.h"
 
 namespace incise::server {
@@ -73,6 +74,15 @@ bool RequestFields::boolean(std::string_view key) const {
                    "field '" + std::string(key) + "' must be true or false");
   }
   return value.get<bool>();
+}
+
+void check_new_password(std::string_view field, const std::string& password) {
+  if (const auto problem = db::password_problem(password); !problem.empty())
+    throw ApiError(status::unprocessable_entity, std::string(field) + " " + problem);
+}
+
+bool RequestFields::has(std::string_view key) const {
+  return body_.contains(key);
 }
 
 }  // namespace incise::server

@@ -9,6 +9,9 @@
 
 namespace incise::server {
 
+// 422 "<field> must have at least 10 characters" unless db::password_problem accepts it.
+void check_new_password(std::string_view field, const std::string& password);
+
 class RequestFields {
  public:
   // Throws ApiError 422 unless `body` is an object whose keys are all in `allowed`.
@@ -19,6 +22,8 @@ class RequestFields {
   std::int64_t integer(std::string_view key) const;
   double number(std::string_view key) const;  // any JSON number
   bool boolean(std::string_view key) const;
+  // Whether the body holds the field (for PATCH bodies, where every field is optional).
+  bool has(std::string_view key) const;
   // The field's JSON as sent, for shapes the readers above do not cover (e.g. an array); 422
   // when it is missing.
   const nlohmann::json& required(std::string_view key) const;

@@ -10,7 +10,6 @@
 
 #include "curriculum/benchmarks.h"
 #include "curriculum/metrics.h"
-#include "db/audit_repo.h"
 #include "db/recordings_repo.h"
 #include "db/reviews_repo.h"
 #include "db/session_events_repo.h"
@@ -18,6 +17,7 @@
 #include "db/transaction.h"
 #include "db/users_repo.h"
 #include "server/api/api_error.h"
+#include "server/api/audit_change.h"
 #include "server/api/handlers.h"
 #include "server/api/live_access.h"
 #include "server/api/request_fields.h"
@@ -166,8 +166,12 @@ ApiResponse session_review(ApiContext& ctx) {
 }
 
 ApiResponse set_expert_run(ApiContext& ctx) {
-  const auto& admin = ctx.require_role({db::Role::admin});
+  const auto& admin = ctx.require_role({db::Role::admin, db::Role::instructor});
   const auto session = visible_session(ctx);
+  if (admin.role == db::Role::instructor && session.trainee_id != admin.id) {
+    throw ApiError(http::status::forbidden,
+                   "an instructor marks only their own attempts as expert runs; ask an admin");
+  }
   const auto body = ctx.json_body();
   const RequestFields fields(body, {"expert"});
   const bool expert = fields.boolean("expert");
@@ -188,8 +192,9 @@ ApiResponse set_expert_run(ApiContext& ctx) {
   if (reviews.is_expert_run(session.id) != expert) {
     db::Transaction tx(db);
     reviews.set_expert_run(session.id, expert, admin.id, ctx.now);
-    db::AuditRepo(db).record(admin.id, expert ? "benchmark.add" : "benchmark.remove",
-                             name + " task " + session.task, ctx.now);
+    audit_change(db, admin.id, expert ? "benchmark.add" : "benchmark.remove",
+                 name + " task " + session.task, ctx.now, {{"expert_run", !expert}},
+                 {{"expert_run", expert}});
     tx.commit();
   }
   return {http::status::ok, {{"session_id", session.id}, {"expert_run", expert}}};

@@ -4,11 +4,11 @@
 
 #include <cmath>
 
-#include "db/audit_repo.h"
 #include "db/recordings_repo.h"
 #include "db/reviews_repo.h"
 #include "db/training_repo.h"
 #include "server/api/api_error.h"
+#include "server/api/audit_change.h"
 #include "server/api/handlers.h"
 #include "server/api/live_access.h"
 #include "server/api/request_fields.h"
@@ -95,11 +95,10 @@ ApiResponse adjust_score(ApiContext& ctx) {
   }
   const auto adjustment =
       db::ReviewsRepo(ctx.app.db()).adjust(session.id, author.id, passed, reason, ctx.now);
-  db::AuditRepo(ctx.app.db())
-      .record(author.id, "score.adjust",
-              "session " + std::to_string(session.id) + (passed ? " passed: " : " not passed: ") +
-                  reason,
-              ctx.now);
+  audit_change(
+      ctx.app.db(), author.id, "score.adjust",
+      "session " + std::to_string(session.id) + (passed ? " passed: " : " not passed: ") + reason,
+      ctx.now, nullptr, {{"session_id", session.id}, {"passed", passed}, {"reason", reason}});
   return {http::status::created, to_json(adjustment)};
 }
 

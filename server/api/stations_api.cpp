@@ -1,12 +1,14 @@
 #include "curriculum/curriculum_validation.h"
 #include "curriculum/station_offer.h"
-#include "db/audit_repo.h"
+#include "db/bookings_repo.h"
 #include "db/password.h"
+#include "db/transaction.h"
 #include "devices/protocol.h"
 #include "devices/station_calibration.h"
 #include "devices/station_calibration_json.h"
 #include "server/agent_session.h"
 #include "server/api/api_error.h"
+#include "server/api/audit_change.h"
 #include "server/api/handlers.h"
 #include "server/api/json_views.h"
 #include "server/api/live_access.h"
@@ -62,7 +64,8 @@ ApiResponse create_station(ApiContext& ctx) {
   const auto kind = station_kind(fields.string_or("kind", ""));
   const auto token = db::random_token();
   const auto station = db::StationsRepo(ctx.app.db()).create(name, location, token, ctx.now, kind);
-  db::AuditRepo(ctx.app.db()).record(admin.id, "station.create", station.name, ctx.now);
+  audit_change(ctx.app.db(), admin.id, "station.create", station.name, ctx.now, nullptr,
+               to_json(station, false));
   return {http::status::created, {{"station", to_json(station, false)}, {"token", token}}, {}};
 }
 
@@ -110,8 +113,14 @@ ApiResponse put_station_calibration(ApiContext& ctx) {
                                                std::to_string(session->session_id()) +
                                                "; change its calibration when no session runs");
   }
+  const auto stored = stations.calibration(ctx.path_id);
+  db::Transaction tx(ctx.app.db());
   stations.set_calibration(ctx.path_id, text);
-  db::AuditRepo(ctx.app.db()).record(admin.id, "station.calibrate", station->name, ctx.now);
+  audit_change(ctx.app.db(), admin.id, "station.calibrate", station->name, ctx.now,
+               stored.empty() ? nlohmann::json{{"default", true}}
+                              : nlohmann::json::parse(stored, nullptr, false),
+               nlohmann::json::parse(text));
+  tx.commit();
   // A connected agent applies it at once.
   if (const auto agent = ctx.app.agent_for_station(ctx.path_id)) {
     agent->send_text(devices::build_calibration_notice(text));
@@ -123,19 +132,61 @@ ApiResponse put_station_calibration(ApiContext& ctx) {
           {}};
 }
 
+namespace {
+// Why the station cannot be retired now ("" when it can): a running session, or bookings still
+// ahead (their trainees must hear of it from a person, not find them gone).
+std::string retire_refusal(ApiContext& ctx, const db::Station& station) {
+  if (const auto session = ctx.app.live_sessions().active_at(station.id)) {
+    return station.name + " is busy with session " + std::to_string(session->session_id()) +
+           "; retire it when no session runs";
+  }
+  int ahead = 0;
+  for (const auto& b : db::BookingsRepo(ctx.app.db()).station_schedule(station.id, ctx.now))
+    ahead += b.ends_at > ctx.now ? 1 : 0;
+  if (ahead > 0) {
+    return station.name + " has " + std::to_string(ahead) + " booking" + (ahead == 1 ? "" : "s") +
+           " ahead; cancel " + (ahead == 1 ? "it" : "them") + " before retiring it";
+  }
+  return "";
+}
+}  // namespace
+
 ApiResponse update_station(ApiContext& ctx) {
   const auto& admin = ctx.require_role({db::Role::admin});
   const auto body = ctx.json_body();
-  const RequestFields fields(body, {"kind"});
-  const auto kind = station_kind(fields.string("kind"));
-  db::StationsRepo stations(ctx.app.db());
+  const RequestFields fields(body, {"kind", "retired"});
+  if (!fields.has("kind") && !fields.has("retired")) {
+    throw ApiError(http::status::unprocessable_entity, "send kind, retired or both");
+  }
+  auto& db = ctx.app.db();
+  db::StationsRepo stations(db);
   const auto before = existing_station(stations, ctx.path_id);
-  stations.set_kind(ctx.path_id, kind);
-  db::AuditRepo(ctx.app.db())
-      .record(admin.id, "station.update",
-              before.name + ": kind \"" + before.kind + "\" -> \"" + kind + "\"", ctx.now);
   auto after = before;
-  after.kind = kind;
+  if (fields.has("kind")) after.kind = station_kind(fields.string("kind"));
+  if (fields.has("retired") && fields.boolean("retired") != before.retired()) {
+    after.retired_at = before.retired() ? std::nullopt : std::optional<std::int64_t>(ctx.now);
+    if (after.retired()) {
+      if (const auto why = retire_refusal(ctx, before); !why.empty())
+        throw ApiError(http::status::conflict, why);
+    }
+  }
+  const auto fields_of = [](const db::Station& s) {
+    return nlohmann::json{{"kind", s.kind}, {"retired", s.retired()}};
+  };
+  if (fields_of(after) != fields_of(before)) {
+    db::Transaction tx(db);
+    stations.set_kind(before.id, after.kind);
+    stations.set_retired(before.id, after.retired_at);
+    const char* action = after.retired() == before.retired() ? "station.update"
+                         : after.retired()                   ? "station.retire"
+                                                             : "station.reinstate";
+    audit_change(db, admin.id, action, before.name, ctx.now, fields_of(before), fields_of(after));
+    tx.commit();
+  }
+  // A retired station's agent is turned away (agent_session.cpp), the one connected now at once.
+  if (after.retired() && !before.retired()) {
+    if (const auto agent = ctx.app.agent_for_station(after.id)) agent->close("station retired");
+  }
   return {http::status::ok, to_json(after, ctx.app.station_online(after.id)), {}};
 }
 

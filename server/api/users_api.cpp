@@ -2,9 +2,9 @@
 #include <string>
 #include <vector>
 
-#include "db/audit_repo.h"
 #include "db/transaction.h"
 #include "server/api/api_error.h"
+#include "server/api/audit_change.h"
 #include "server/api/handlers.h"
 #include "server/api/json_views.h"
 #include "server/api/request_fields.h"
@@ -85,10 +85,11 @@ ApiResponse set_trainee_instructors(ApiContext& ctx) {
   const auto body = ctx.json_body();
   const RequestFields fields(body, {"instructor_ids"});
   const auto ids = instructor_ids(db, fields.required("instructor_ids"));
+  const nlohmann::json before = {{"instructor_ids", users.instructors_of(trainee->id)}};
   db::Transaction tx(db);
   users.set_instructors(trainee->id, ids, ctx.now);
-  db::AuditRepo(db).record(admin.id, "user.instructors",
-                           trainee->username + " taught by " + id_list(ids), ctx.now);
+  audit_change(db, admin.id, "user.instructors", trainee->username + " taught by " + id_list(ids),
+               ctx.now, before, {{"instructor_ids", ids}});
   tx.commit();
   return {http::status::ok, user_json(users, *trainee), {}};
 }
@@ -113,12 +114,7 @@ ApiResponse create_user(ApiContext& ctx) {
   }
   user.role = *role;
   user.password = fields.string("password");
-  if (user.password.size() < 10) {
-    throw ApiError(http::status::unprocessable_entity, "password must have at least 10 characters");
-  }
-  if (user.password.size() > 256) {
-    throw ApiError(http::status::unprocessable_entity, "password must have at most 256 characters");
-  }
+  check_new_password("password", user.password);
   std::vector<std::int64_t> instructors;
   if (body.contains("instructor_ids")) {
     if (user.role != db::Role::trainee) {
@@ -130,13 +126,65 @@ ApiResponse create_user(ApiContext& ctx) {
   db::Transaction tx(ctx.app.db());
   const auto created = users.create(user, ctx.now);
   if (!instructors.empty()) users.set_instructors(created.id, instructors, ctx.now);
-  db::AuditRepo(ctx.app.db())
-      .record(admin.id, "user.create",
-              created.username + " (" + std::string(db::to_string(created.role)) + ")" +
-                  (instructors.empty() ? "" : " taught by " + id_list(instructors)),
-              ctx.now);
+  audit_change(ctx.app.db(), admin.id, "user.create",
+               created.username + " (" + std::string(db::to_string(created.role)) + ")" +
+                   (instructors.empty() ? "" : " taught by " + id_list(instructors)),
+               ctx.now, nullptr, user_json(users, created));
   tx.commit();
   return {http::status::created, user_json(users, created), {}};
+}
+
+namespace {
+db::User existing_user(db::UsersRepo& users, std::int64_t id) {
+  auto user = users.find(id);
+  if (!user)
+    throw ApiError(http::status::not_found, "user " + std::to_string(id) + " does not exist");
+  return *user;
+}
+}  // namespace
+
+ApiResponse update_user(ApiContext& ctx) {
+  const auto& admin = ctx.require_role({db::Role::admin});
+  const auto body = ctx.json_body();
+  const RequestFields fields(body, {"disabled"});
+  const bool disabled = fields.boolean("disabled");
+  auto& db = ctx.app.db();
+  db::UsersRepo users(db);
+  const auto before = existing_user(users, ctx.path_id);
+  if (before.id == admin.id && disabled) {
+    // Nobody would be left to undo it if this were the last admin.
+    throw ApiError(http::status::conflict, "you cannot disable your own account");
+  }
+  if (before.disabled_at.has_value() != disabled) {
+    db::Transaction tx(db);
+    users.set_disabled(before.id, disabled ? std::optional<std::int64_t>(ctx.now) : std::nullopt);
+    audit_change(db, admin.id, disabled ? "user.disable" : "user.enable", before.username, ctx.now,
+                 {{"disabled", !disabled}}, {{"disabled", disabled}});
+    tx.commit();
+  }
+  return {http::status::ok, user_json(users, existing_user(users, before.id)), {}};
+}
+
+ApiResponse reset_user_password(ApiContext& ctx) {
+  const auto& admin = ctx.require_role({db::Role::admin});
+  const auto body = ctx.json_body();
+  const RequestFields fields(body, {"password"});
+  const auto password = fields.string("password");
+  check_new_password("password", password);
+  auto& db = ctx.app.db();
+  db::UsersRepo users(db);
+  const auto before = existing_user(users, ctx.path_id);
+  if (before.id == admin.id) {
+    throw ApiError(http::status::conflict,
+                   "reset only others' passwords; change your own with POST /api/me/password");
+  }
+  db::Transaction tx(db);
+  users.set_password(before.id, password, true);
+  audit_change(db, admin.id, "user.password_reset", before.username, ctx.now,
+               {{"must_change_password", before.must_change_password}},
+               {{"must_change_password", true}});
+  tx.commit();
+  return {http::status::ok, user_json(users, existing_user(users, before.id)), {}};
 }
 
 }  // namespace incise::server::api

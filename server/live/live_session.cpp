@@ -127,6 +127,10 @@ LiveSession::~LiveSession() {
 }
 
 void LiveSession::start() {
+  {
+    std::lock_guard lock(mutex_);
+    running_since_ = std::chrono::steady_clock::now();
+  }
   streamer_ = std::make_unique<FrameStreamer>(
       *this, camera_for(*params_.scene), outside_camera_for(*params_.scene),
       params_.scene->shared_setup(), task_zones(params_.task));
@@ -167,6 +171,7 @@ std::string LiveSession::resume() {
     if (!agent_online_.load()) return "station agent is offline";
     state_ = LiveState::running;
     reason_.clear();
+    running_since_ = std::chrono::steady_clock::now();
   }
   wake_.notify_all();
   return "";
@@ -201,9 +206,29 @@ void LiveSession::on_device_state(const devices::DeviceState& state, std::uint64
   input.timestamp_us = timestamp_us;
 }
 
+std::string stale_model_reason(const nlohmann::json& report) {
+  const auto devices = report.find("devices");
+  if (!report.is_object() || devices == report.end() || !devices->is_array()) return "";
+  for (const auto& d : *devices) {
+    if (!d.is_object() || d.value("fault", std::string()) != "stale model") continue;
+    const auto age = d.value("model_age_ms", 0.0);
+    return "the station's force model went stale (tool " + std::to_string(d.value("index", 0) + 1) +
+           ": " + std::to_string(static_cast<long long>(std::llround(age))) +
+           " ms old, over the agent's safety limit); resume when the link is steady";
+  }
+  return "";
+}
+
 void LiveSession::set_link_report(nlohmann::json report) {
-  std::lock_guard lock(mutex_);
-  link_report_ = std::move(report);
+  const auto stale = stale_model_reason(report);
+  bool must_pause = false;
+  {
+    std::lock_guard lock(mutex_);
+    link_report_ = std::move(report);
+    must_pause = !stale.empty() && state_ == LiveState::running &&
+                 std::chrono::steady_clock::now() - running_since_ >= params_.stale_model_grace;
+  }
+  if (must_pause) pause(stale);
 }
 
 void LiveSession::set_agent_online(bool online) {

@@ -15,6 +15,7 @@
 // database and the REST handlers' lock never waits on the simulation.
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <filesystem>
@@ -51,10 +52,19 @@ struct LiveSessionParams {
   // Called on the session thread after each tick; null in the product. Tests throttle a session
   // with it to see it fall behind real time and recover.
   std::function<void()> after_tick;
+  // A link report of a stale model pauses the session only this long after it (re)started: one
+  // sent before (the agent reports once a second) may still speak of the pause's stale model.
+  std::chrono::milliseconds stale_model_grace{2000};
 };
 
 enum class LiveState { running, paused, finished };
 const char* to_string(LiveState state);
+
+// Why a session must pause, from the agent's link report (protocol.h LinkReport): a device whose
+// force is off because its model answers a state older than the agent's safety limit (fault
+// "stale model", devices/agent kModelMaxAge), so the trainee is cutting without feel. "" when
+// no device says so, or the report is not of that shape.
+std::string stale_model_reason(const nlohmann::json& report);
 
 class LiveSession : public StreamSource {
  public:
@@ -81,7 +91,8 @@ class LiveSession : public StreamSource {
   // hands) is counted and ignored.
   void on_device_state(const devices::DeviceState& state, std::uint64_t timestamp_us);
   // The agent's latest link report (protocol.h LinkReport, plus the server's own "loss_up"),
-  // shown as "link" in status().
+  // shown as "link" in status(). A running session pauses when it says the station renders
+  // from a stale model (stale_model_reason), unless it (re)started under stale_model_grace ago.
   void set_link_report(nlohmann::json report);
   void set_agent_online(bool online);
 
@@ -108,6 +119,8 @@ class LiveSession : public StreamSource {
   SnapshotSlot snapshot_;
 
   mutable std::mutex mutex_;
+  // When the session last started or resumed (LiveSessionParams::stale_model_grace).
+  std::chrono::steady_clock::time_point running_since_ = std::chrono::steady_clock::now();
   std::condition_variable wake_;
   LiveState state_ = LiveState::running;
   std::string reason_;

@@ -111,6 +111,8 @@ void ReplaySession::set_speed(double speed) {
 void ReplaySession::seek(double t_s) {
   std::lock_guard lock(mutex_);
   seek_to_ = std::clamp(std::isfinite(t_s) ? t_s : 0.0, 0.0, duration_s());
+  seeking_ = true;
+  seek_target_s_ = seek_to_;
   control_changed_ = true;
   abort_.store(true);  // a seek still running gives way to this one
   wake_.notify_all();
@@ -125,9 +127,12 @@ nlohmann::json ReplaySession::status() const {
                         {"duration_s", duration_s()},
                         {"speed", speed_},
                         {"playing", playing_},
+                        {"position_s", position_s_},
+                        {"seeking", seeking_},
                         {"hands", engine_.hands()},
                         {"frame_latency_ms", frame_latency().median()}};
   if (ended) out["state_hash"] = end_hash_;
+  if (seeking_) out["seek_to_s"] = seek_target_s_;
   if (streamer_) {
     const auto error = streamer_->error();
     if (!error.empty()) out["render_error"] = error;
@@ -192,6 +197,11 @@ void ReplaySession::run() {
     if (seek_to >= 0) {
       if (!advance_to(std::llround(seek_to / tick_s_))) continue;  // superseded or closing
       publish_snapshot();
+      {
+        std::lock_guard lock(mutex_);
+        position_s_ = engine_.time_s();
+        if (seek_to_ < 0) seeking_ = false;  // landed, and no newer seek waits
+      }
       last_snapshot = Clock::now();
       origin = Clock::now();
       origin_tick = engine_.ticks();

@@ -40,7 +40,8 @@ class ReplaySession : public StreamSource {
                 std::vector<render::MarkView> zones = {});
   ~ReplaySession() override;
 
-  // Starts the replay thread (playing from t = 0 at 1x, as a video would) and the render thread.
+  // Starts the replay thread and the render thread. The replay opens paused at t = 0, showing
+  // its first picture, at 1x: the viewer chooses when it plays.
   void start();
   void play();
   void pause();
@@ -86,7 +87,10 @@ class ReplaySession : public StreamSource {
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   bool stop_ = false;
-  bool playing_ = true;
+  bool playing_ = false;
+  // A seek asked for and not landed yet (its target [s]), so that the viewer sees it working.
+  bool seeking_ = false;
+  double seek_target_s_ = 0;
   double speed_ = 1.0;
   double seek_to_ = -1;  // >= 0: a pending seek [s]
   bool control_changed_ = false;

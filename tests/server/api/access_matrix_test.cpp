@@ -91,6 +91,9 @@ TEST_F(AccessMatrix, EveryEndpointRoleAndOwnership) {
       R"({"devices": [{"index": 0, "kind": "pen", "mapping": {"scale": 1, "rotation": [1, 0, 0, 0], "offset": [0, 0, 0]}}]})";
   const std::vector<Row> rows = {
       {http::verb::get, "/api/me", "", kAnyone},
+      // A wrong current password: 422 for everyone signed in, and nothing changes.
+      {http::verb::post, "/api/me/password",
+       R"({"current_password": "not it at all", "new_password": "another long one"})", kAnyone},
       {http::verb::get, "/api/users", "", kAdmin},
       {http::verb::post, "/api/users",
        R"({"username": "u1", "password": "long enough pw", "role": "trainee", "display_name": "U"})",
@@ -102,6 +105,7 @@ TEST_F(AccessMatrix, EveryEndpointRoleAndOwnership) {
       {http::verb::get, "/api/stations/" + station + "/schedule", "", kAnyone},
       {http::verb::get, "/api/stations/" + station + "/tasks", "", kAnyone},
       {http::verb::patch, "/api/stations/" + station, R"({"kind": "bench"})", kAdmin},
+      {http::verb::patch, "/api/stations/" + station, R"({"retired": false})", kAdmin},
       {http::verb::get, "/api/bookings", "", kAnyone},
       {http::verb::get, "/api/sessions", "", kAnyone},
       {http::verb::get, "/api/sessions/" + own, "", kAnyone},
@@ -137,6 +141,10 @@ TEST_F(AccessMatrix, EveryEndpointRoleAndOwnership) {
        kAdmin},
       {http::verb::put, "/api/users/" + std::to_string(untaught_trainee_) + "/instructors",
        R"({"instructor_ids": []})", kAdmin},
+      {http::verb::patch, "/api/users/" + std::to_string(untaught_trainee_),
+       R"({"disabled": false})", kAdmin},
+      {http::verb::post, "/api/users/" + std::to_string(untaught_trainee_) + "/password",
+       R"({"password": "temporary-123"})", kAdmin},
       {http::verb::get, "/api/recordings", "", kAnyone},
       {http::verb::get, "/api/scores", "", kAnyone},
       {http::verb::get, "/api/exports/scores.csv", "", kAdmin},

@@ -64,6 +64,27 @@ TEST_F(BookingsApi, CreateReturnsTheBooking) {
   EXPECT_EQ(b["created_at"], "2030-01-07T08:00:00Z");
 }
 
+// The list says which booking lets its person start now, by the server's clock and rule.
+TEST_F(BookingsApi, TheListSaysWhichBookingCoversNow) {
+  ASSERT_EQ(book(t_, t_ + kHour, trainee_).result(), http::status::created);
+  const auto covers_now = [&] {
+    // A fresh login each time: the clock moves past the first one's lifetime.
+    return json_of(get("/api/bookings", session_of(Who::trainee)))[0]["covers_now"].get<bool>();
+  };
+  EXPECT_FALSE(covers_now());  // it starts tomorrow
+  set_now(t_);
+  EXPECT_TRUE(covers_now());  // its first second
+  set_now(t_ + kHour - 1);
+  EXPECT_TRUE(covers_now());
+  set_now(t_ + kHour);
+  EXPECT_FALSE(covers_now());  // the end is not in it
+  set_now(t_ + 60);
+  const auto id =
+      json_of(get("/api/bookings", session_of(Who::trainee)))[0]["id"].get<std::int64_t>();
+  db::BookingsRepo(db()).cancel(id, now());
+  EXPECT_FALSE(covers_now());  // cancelled
+}
+
 TEST_F(BookingsApi, JavaScriptTimesAreAccepted) {
   const nlohmann::json body = {{"station_id", station_},
                                {"starts_at", "2030-01-08T08:00:00.000Z"},

@@ -100,6 +100,7 @@ TEST_F(RecordsApi, StationsShowWhetherAnAgentIsOnline) {
                                      {"name", "Station 1"},
                                      {"location", "Skills lab, room 2"},
                                      {"kind", "bench"},
+                                     {"retired", false},
                                      {"online", false}}));
   EXPECT_EQ(list[2]["name"], "Surgical station");
   EXPECT_EQ(list[2]["online"], false);

@@ -97,10 +97,78 @@ TEST_F(StationOfferApi, AnAdminSetsAStationsKindAndTheAuditKeepsBeforeAndAfter) 
   EXPECT_EQ(task_keys(bench, Who::trainee), std::vector<std::string>{"liver_cut"});
   const auto entry = db::AuditRepo(db()).list(1).front();
   EXPECT_EQ(entry.action, "station.update");
-  EXPECT_EQ(entry.detail, "Station 1: kind \"bench\" -> \"laparoscopy\"");
+  EXPECT_EQ(entry.detail, "Station 1");
+  EXPECT_EQ(entry.before_json, R"({"kind":"bench"})");
+  EXPECT_EQ(entry.after_json, R"({"kind":"laparoscopy"})");
   // "" takes the declaration back: then only tasks that name no kind fit.
   ASSERT_EQ(patch(path, {{"kind", ""}}, session_of(Who::admin)).result(), http::status::ok);
   EXPECT_TRUE(task_keys(bench, Who::trainee).empty());
+}
+
+TEST_F(StationOfferApi, ARetiredStationKeepsItsHistoryButIsNeitherBookedNorStarted) {
+  const auto bench = demo_station_id();
+  const std::string path = "/api/stations/" + std::to_string(bench);
+  // A booking ahead holds it in service: its trainee must hear of it from a person.
+  const auto booking = db::BookingsRepo(db()).create(bench, user_id("trainee"), now() + kDay,
+                                                     now() + kDay + 3600, now());
+  const auto audits = count("audit_log");
+  EXPECT_TRUE(is_error(patch(path, {{"retired", true}}, session_of(Who::admin)),
+                       http::status::conflict,
+                       "Station 1 has 1 booking ahead; cancel it before retiring it"));
+  EXPECT_TRUE(is_error(patch(path, {{"retired", true}}, session_of(Who::instructor)),
+                       http::status::forbidden));
+  EXPECT_TRUE(is_error(patch(path, nlohmann::json::object(), session_of(Who::admin)),
+                       http::status::unprocessable_entity, "send kind, retired or both"));
+  EXPECT_EQ(count("audit_log"), audits);
+  EXPECT_FALSE(db::StationsRepo(db()).find(bench)->retired());
+
+  db::BookingsRepo(db()).cancel(booking.id, now());
+  const auto retired = patch(path, {{"retired", true}}, session_of(Who::admin));
+  ASSERT_EQ(retired.result(), http::status::ok) << retired.body();
+  EXPECT_EQ(json_of(retired)["retired"], true);
+  const auto entry = db::AuditRepo(db()).list(1).front();
+  EXPECT_EQ(entry.action, "station.retire");
+  EXPECT_EQ(entry.before_json, R"({"retired":false})");
+  EXPECT_EQ(entry.after_json, R"({"retired":true})");
+
+  // Listed still (its sessions and recordings remain), but nobody books or starts it.
+  bool listed = false;
+  for (const auto& s : json_of(get("/api/stations", session_of(Who::trainee))))
+    listed = listed || (s["id"] == bench && s["retired"] == true);
+  EXPECT_TRUE(listed);
+  const auto bookings = count("bookings");
+  EXPECT_TRUE(is_error(post("/api/bookings",
+                            {{"station_id", bench},
+                             {"starts_at", "2030-01-09T10:00:00Z"},
+                             {"ends_at", "2030-01-09T11:00:00Z"}},
+                            session_of(Who::trainee)),
+                       http::status::conflict, "Station 1 is retired; book another station"));
+  EXPECT_EQ(count("bookings"), bookings);
+  const auto sessions = count("sessions");
+  EXPECT_TRUE(is_error(post("/api/sessions", {{"station_id", bench}, {"task", "palpation"}},
+                            session_of(Who::instructor)),
+                       http::status::conflict, "Station 1 is retired"));
+  EXPECT_EQ(count("sessions"), sessions);
+
+  // Back in service.
+  ASSERT_EQ(patch(path, {{"retired", false}}, session_of(Who::admin)).result(), http::status::ok);
+  EXPECT_EQ(db::AuditRepo(db()).list(1).front().action, "station.reinstate");
+  EXPECT_FALSE(db::StationsRepo(db()).find(bench)->retired());
+}
+
+TEST_F(StationOfferApi, OnlyStaffStartExpertRuns) {
+  const auto sessions = count("sessions");
+  EXPECT_TRUE(
+      is_error(post("/api/sessions",
+                    {{"station_id", demo_station_id()}, {"task", "palpation"}, {"expert", true}},
+                    session_of(Who::trainee)),
+               http::status::forbidden, "expert runs are instructors' or admins'"));
+  EXPECT_TRUE(
+      is_error(post("/api/sessions",
+                    {{"station_id", demo_station_id()}, {"task", "palpation"}, {"expert", 1}},
+                    session_of(Who::instructor)),
+               http::status::unprocessable_entity));
+  EXPECT_EQ(count("sessions"), sessions);
 }
 
 }  // namespace

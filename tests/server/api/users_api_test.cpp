@@ -35,13 +35,16 @@ TEST_F(UsersApi, AdminCreatesAUser) {
   EXPECT_EQ(user["role"], "trainee");
   EXPECT_EQ(user["id"], user_id("new.trainee_1-a"));
   EXPECT_EQ(user["instructor_ids"], nlohmann::json::array());  // nobody teaches them yet
-  EXPECT_EQ(user.size(), 5u) << user;
+  EXPECT_EQ(user["disabled"], false);
+  EXPECT_EQ(user["must_change_password"], false);
+  EXPECT_EQ(user.size(), 7u) << user;
   EXPECT_EQ(count("audit_log"), audits + 1);
   EXPECT_TRUE(db::UsersRepo(db()).authenticate("new.trainee_1-a", "0123456789"));
 
   const auto list = json_of(get("/api/users", admin_));
   ASSERT_EQ(list.size(), 5u);  // the four demo logins and this one
-  EXPECT_EQ(list.dump().find("password"), std::string::npos);
+  EXPECT_EQ(list.dump().find("password_hash"), std::string::npos);
+  EXPECT_EQ(list.dump().find("0123456789"), std::string::npos);
 }
 
 TEST_F(UsersApi, DisplayNameDefaultsToTheUsername) {

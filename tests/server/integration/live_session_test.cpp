@@ -140,6 +140,36 @@ TEST_F(LiveSession, RunsStreamsRecordsScoresAndReplaysToTheSameState) {
   cancel(run.booking);
 }
 
+// An instructor records an expert run at the station: marked from the start, its scores join the
+// task's benchmark (the experts' band beside every trainee's attempt) when it finishes.
+TEST_F(LiveSession, AnInstructorsExpertRunJoinsTheBenchmark) {
+  const auto agent = start_agent();
+  ASSERT_TRUE(station_online()) << agent->stderr_text();
+  const auto runs_of = [&](const std::string& task) {
+    for (const auto& b : as(kInstructor).get("/api/benchmarks").json())
+      if (b["task"] == task && b["metric"] == "completion_time_s") return b["n"].get<int>();
+    return 0;
+  };
+  const auto before = runs_of("palpation");
+  const auto started =
+      as(kInstructor)
+          .post("/api/sessions",
+                {{"station_id", kBench.id}, {"task", "palpation"}, {"expert", true}});
+  ASSERT_EQ(started.status, 201) << started.body;
+  const auto sid = std::to_string(started.json()["id"].get<std::int64_t>());
+  EXPECT_EQ(db_int("SELECT COUNT(*) FROM expert_runs WHERE session_id = " + sid), 1);
+  EXPECT_EQ(runs_of("palpation"), before);  // nothing scored yet
+  std::this_thread::sleep_for(1500ms);
+  const auto stopped =
+      as(kInstructor).post("/api/sessions/" + sid + "/stop", nlohmann::json::object());
+  ASSERT_EQ(stopped.status, 200) << stopped.body;
+  EXPECT_EQ(runs_of("palpation"), before + 1);
+  EXPECT_EQ(as(kInstructor).get("/api/sessions/" + sid + "/review").json()["expert_run"], true);
+  EXPECT_EQ(
+      db_text("SELECT action FROM audit_log WHERE detail = 'session " + sid + " task palpation'"),
+      "benchmark.add");
+}
+
 TEST_F(LiveSession, AnAgentDroppingOutPausesTheSessionAndTheRecordingStaysIntact) {
   Running run;
   ASSERT_NO_FATAL_FAILURE(start_booked_session(run));

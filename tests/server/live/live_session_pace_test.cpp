@@ -107,5 +107,49 @@ TEST(LiveSessionPace, APausedSessionIsNotBehind) {
   EXPECT_EQ(status["lag_ms"], 0);
 }
 
+nlohmann::json link_report(const char* fault, double age_ms) {
+  return {{"loop_hz", 1000},
+          {"devices",
+           {{{"index", 0}, {"model_age_ms", 2.0}, {"fault", "none"}},
+            {{"index", 1}, {"model_age_ms", age_ms}, {"fault", fault}}}}};
+}
+
+TEST(StaleModel, OnlyTheAgentsStaleModelFaultIsAReasonToPause) {
+  EXPECT_EQ(stale_model_reason(link_report("none", 12)), "");
+  EXPECT_EQ(stale_model_reason(link_report("no model", 40)), "");  // the agent fades; no pause
+  EXPECT_EQ(stale_model_reason(link_report("stale model", 412.4)),
+            "the station's force model went stale (tool 2: 412 ms old, over the agent's safety "
+            "limit); resume when the link is steady");
+  // Whatever shape a report has, it is never a reason by accident.
+  for (const auto& odd : {nlohmann::json(), nlohmann::json::array(), nlohmann::json{{"devices", 3}},
+                          nlohmann::json{{"devices", {1, "x", nullptr}}}})
+    EXPECT_EQ(stale_model_reason(odd), "") << odd;
+}
+
+TEST(StaleModel, ARunningSessionPausesOnAStaleModelAfterItsGrace) {
+  LiveSessionParams params;
+  params.scene = test::palpation_scene();
+  params.db_path = "/nonexistent/never-opened.db";
+  params.stale_model_grace = 0ms;
+  LiveSession session(std::move(params), {});  // never started: its state is all this needs
+  session.set_link_report(link_report("none", 3));
+  EXPECT_EQ(session.state(), LiveState::running);
+  session.set_link_report(link_report("stale model", 350));
+  EXPECT_EQ(session.state(), LiveState::paused);
+  EXPECT_NE(session.status()["reason"].get<std::string>().find("force model went stale"),
+            std::string::npos);
+  EXPECT_EQ(session.status()["link"]["devices"][1]["fault"], "stale model");
+}
+
+TEST(StaleModel, AReportWithinTheGraceDoesNotPause) {
+  LiveSessionParams params;
+  params.scene = test::palpation_scene();
+  params.db_path = "/nonexistent/never-opened.db";
+  params.stale_model_grace = std::chrono::hours(1);
+  LiveSession session(std::move(params), {});
+  session.set_link_report(link_report("stale model", 350));
+  EXPECT_EQ(session.state(), LiveState::running);
+}
+
 }  // namespace
 }  // namespace incise::server::live

@@ -39,7 +39,12 @@ TEST(ReplaySession, DurationAndSpeedBeforeStart) {
   auto status = replay.status();
   EXPECT_EQ(status["duration_s"], replay.duration_s());
   EXPECT_EQ(status["speed"], 1.0);
-  EXPECT_EQ(status["state"], "playing");  // a replay starts playing, as a video would
+  // A replay opens paused on its first picture: the viewer chooses when it plays.
+  EXPECT_EQ(status["state"], "paused");
+  EXPECT_EQ(status["playing"], false);
+  EXPECT_EQ(status["seeking"], false);
+  replay.play();
+  EXPECT_EQ(replay.status()["state"], "playing");
   EXPECT_FALSE(status.contains("state_hash"));
 
   // Clamped to [0.25, 4]; a non-finite speed means normal speed.
@@ -113,7 +118,15 @@ TEST(ReplaySession, SeeksLandOnTheStraightRunsStatesBitForBit) {
   replay.pause();
   auto seek_and_check = [&](double t_s, std::int64_t tick) {
     replay.seek(t_s);
-    ASSERT_TRUE(wait_for([&] { return replay.snapshot()->tick == tick; })) << "seek to " << t_s;
+    // Seeking shows as such until it lands, with where it goes.
+    const auto asked = replay.status();
+    if (asked["seeking"] == true) {
+      EXPECT_DOUBLE_EQ(asked["seek_to_s"].get<double>(), t_s);
+    }
+    ASSERT_TRUE(wait_for([&] { return replay.status()["seeking"] == false; })) << "seek to " << t_s;
+    EXPECT_EQ(replay.snapshot()->tick, tick) << "seek to " << t_s;
+    EXPECT_NEAR(replay.status()["position_s"].get<double>(), static_cast<double>(tick) * kTickS,
+                1e-9);
     const auto snapshot = replay.snapshot();
     EXPECT_DOUBLE_EQ(snapshot->sim_time_s, static_cast<double>(tick) * kTickS);
     EXPECT_TRUE(test::same_bits(snapshot->positions, reference.positions.at(tick)))

@@ -1,0 +1,64 @@
+#include "server/api/audit_change.h"
+
+#include "db/audit_repo.h"
+
+namespace incise::server::api {
+
+namespace {
+// A JSON pointer without its leading '/' and with its escapes undone ("~1" is '/', "~0" is '~'):
+// what an admin reads in the log.
+std::string readable_path(const std::string& pointer) {
+  std::string out;
+  for (std::size_t i = pointer.empty() ? 0 : 1; i < pointer.size(); ++i) {
+    if (pointer[i] == '~' && i + 1 < pointer.size()) {
+      out += pointer[i + 1] == '1' ? '/' : '~';
+      ++i;
+    } else {
+      out += pointer[i];
+    }
+  }
+  return out;
+}
+
+nlohmann::json value_at(const nlohmann::json& doc, const std::string& pointer) {
+  const nlohmann::json::json_pointer at(pointer);
+  return doc.contains(at) ? doc.at(at) : nlohmann::json(nullptr);
+}
+}  // namespace
+
+ChangedFields changed_fields(const nlohmann::json& before, const nlohmann::json& after) {
+  ChangedFields out;
+  if (before.is_null() || after.is_null()) {
+    if (!before.is_null()) out.before = before;
+    if (!after.is_null()) out.after = after;
+    return out;
+  }
+  // A JSON Patch from before to after names every changed place once (add, remove, replace).
+  for (const auto& op : nlohmann::json::diff(before, after)) {
+    const auto pointer = op.at("path").get<std::string>();
+    // "-" (append) is not a place in `after`; the array's new element is at its last index.
+    std::string place = pointer;
+    if (place.size() >= 2 && place.ends_with("/-")) {
+      const auto array = value_at(after, place.substr(0, place.size() - 2));
+      place = place.substr(0, place.size() - 1) +
+              std::to_string(array.is_array() && !array.empty() ? array.size() - 1 : 0);
+    }
+    const auto kind = op.at("op").get<std::string>();
+    const auto key = readable_path(place);
+    out.before[key] = kind == "add" ? nlohmann::json(nullptr) : value_at(before, place);
+    out.after[key] = kind == "remove" ? nlohmann::json(nullptr) : value_at(after, place);
+  }
+  return out;
+}
+
+void audit_change(db::Database& db, std::optional<std::int64_t> user_id, const std::string& action,
+                  const std::string& detail, std::int64_t now, const nlohmann::json& before,
+                  const nlohmann::json& after) {
+  const auto changed = changed_fields(before, after);
+  const auto text = [](const nlohmann::json& fields) {
+    return fields.empty() ? std::string() : fields.dump();
+  };
+  db::AuditRepo(db).record(user_id, action, detail, now, text(changed.before), text(changed.after));
+}
+
+}  // namespace incise::server::api

@@ -1,0 +1,56 @@
+// What the audit log keeps of a change: server/api/audit_change.h.
+#include "server/api/audit_change.h"
+
+#include <gtest/gtest.h>
+
+namespace incise::server::api {
+namespace {
+
+using nlohmann::json;
+
+TEST(ChangedFields, KeepsOnlyTheFieldsThatDiffer) {
+  const auto changed = changed_fields({{"kind", "bench"}, {"retired", false}},
+                                      {{"kind", "laparoscopy"}, {"retired", false}});
+  EXPECT_EQ(changed.before, (json{{"kind", "bench"}}));
+  EXPECT_EQ(changed.after, (json{{"kind", "laparoscopy"}}));
+}
+
+TEST(ChangedFields, EqualDocumentsChangeNothing) {
+  const json doc = {{"a", 1}, {"b", {1, 2, 3}}};
+  const auto changed = changed_fields(doc, doc);
+  EXPECT_TRUE(changed.before.empty());
+  EXPECT_TRUE(changed.after.empty());
+}
+
+TEST(ChangedFields, NamesANestedChangeByItsPath) {
+  // A curriculum's threshold edit: only that number, at its place.
+  json before = {{"name", "Basic"},
+                 {"modules", {{{"tasks", {{{"key", "a"}, {"thresholds", {{{"max", 2.0}}}}}}}}}}};
+  json after = before;
+  after["modules"][0]["tasks"][0]["thresholds"][0]["max"] = 1.5;
+  const auto changed = changed_fields(before, after);
+  EXPECT_EQ(changed.before, (json{{"modules/0/tasks/0/thresholds/0/max", 2.0}}));
+  EXPECT_EQ(changed.after, (json{{"modules/0/tasks/0/thresholds/0/max", 1.5}}));
+}
+
+TEST(ChangedFields, AddedAndRemovedFieldsAreNullOnTheOtherSide) {
+  const auto changed =
+      changed_fields({{"old", 1}, {"list", {1}}}, {{"new", "x"}, {"list", {1, 2}}});
+  EXPECT_EQ(changed.before, (json{{"old", 1}, {"new", nullptr}, {"list/1", nullptr}}));
+  EXPECT_EQ(changed.after, (json{{"old", nullptr}, {"new", "x"}, {"list/1", 2}}));
+}
+
+TEST(ChangedFields, ACreationKeepsItsWholeAfter) {
+  const json created = {{"id", 3}, {"name", "Bench 5"}};
+  const auto changed = changed_fields(nullptr, created);
+  EXPECT_TRUE(changed.before.empty());
+  EXPECT_EQ(changed.after, created);
+}
+
+TEST(ChangedFields, KeysWithSlashesReadAsThemselves) {
+  const auto changed = changed_fields({{"a/b", 1}, {"c~d", 1}}, {{"a/b", 2}, {"c~d", 2}});
+  EXPECT_EQ(changed.after, (json{{"a/b", 2}, {"c~d", 2}}));
+}
+
+}  // namespace
+}  // namespace incise::server::api
