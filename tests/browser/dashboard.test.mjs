@@ -2,13 +2,19 @@
 // Each scenario asserts what a person sees, and the API status behind it where that matters.
 // Needs web/dist (npm run build in web/) and the server binary; see support.mjs.
 import assert from 'node:assert/strict';
-import { browser_suite, click_for_response, demo, log_in, region, sees, snap } from './support.mjs';
+import { api_call, browser_suite, click_for_response, demo, log_in, region, sees, snap } from './support.mjs';
 
 // The browser runs in a zone with a half-hour offset and no daylight saving, so that the local
 // time shown and the UTC time sent are different and predictable.
 const time_zone = 'Asia/Kolkata'; // UTC+05:30
 
 const { env, scenario } = browser_suite({ time_zone });
+
+/** Opens one area of the administration from its own navigation, as an admin would. */
+async function admin_area(page, title) {
+  await page.getByRole('navigation', { name: 'Administration' }).getByRole('link', { name: title, exact: true }).click();
+  await page.waitForFunction((t) => document.title === `${t} · Administration · Incise`, title);
+}
 
 /** "YYYY-MM-DD" of tomorrow in the browser's zone. */
 function tomorrow_in_zone() {
@@ -86,7 +92,7 @@ scenario('a wrong password shows the error on the login page', async (page) => {
 scenario('an admin creates a user, who can then log in', async (page) => {
   const login = await log_in(page, demo.admin);
   assert.equal(login.status(), 200);
-  await page.waitForURL('**/admin');
+  await page.waitForURL('**/admin/users');
 
   const username = `ins-${Date.now().toString(36)}`;
   const display_name = `Dr ${username}`;
@@ -138,7 +144,8 @@ scenario('a trainee cannot open the admin page', async (page) => {
 scenario('an admin edits a pass threshold and downloads the scores as CSV', async (page) => {
   const login = await log_in(page, demo.admin);
   assert.equal(login.status(), 200);
-  await page.waitForURL('**/admin');
+  await page.waitForURL('**/admin/users');
+  await admin_area(page, 'Curricula');
 
   const editor = page.getByRole('form', { name: 'Pass thresholds' });
   // Named as people read them, entered in the unit shown (a cut's area in mm², not m²).
@@ -160,6 +167,7 @@ scenario('an admin edits a pass threshold and downloads the scores as CSV', asyn
   assert.equal(await editor.getByLabel('Peak force at most', { exact: true }).first().inputValue(), '3.5');
 
   // The scores export downloads as CSV with its header row.
+  await admin_area(page, 'Exports');
   const exports = region(page, 'Exports');
   const csv = await page.evaluate(async (href) => {
     const response = await fetch(href, { credentials: 'same-origin' });
@@ -170,6 +178,7 @@ scenario('an admin edits a pass threshold and downloads the scores as CSV', asyn
   assert.ok(csv.text.startsWith('score_id,session_id,trainee,task,metric,value,unit,passed,created_at\r\n'), csv.text.slice(0, 80));
 
   // Back to the demo threshold for the other scenarios.
+  await admin_area(page, 'Curricula');
   await editor.getByLabel('Peak force at most', { exact: true }).first().fill('4');
   const restored = await click_for_response(page, editor.getByRole('button', { name: 'Save thresholds' }), 'PUT', /^\/api\/curricula\/\d+$/);
   assert.equal(restored.status(), 200);
@@ -262,7 +271,8 @@ scenario('a trainee books from the station calendar, meets a clear conflict and 
 
 scenario('an admin imports a curriculum, calibrates a station and assigns instructors, each with clear errors, and reads the audit log', async (page) => {
   assert.equal((await log_in(page, demo.admin)).status(), 200);
-  await page.waitForURL('**/admin');
+  await page.waitForURL('**/admin/users');
+  await admin_area(page, 'Curricula');
 
   // A curriculum file with a wrong threshold operator: the server names the path of the problem.
   const curriculum = {
@@ -319,8 +329,10 @@ scenario('an admin imports a curriculum, calibrates a station and assigns instru
   assert.equal(kept.status(), 200, await kept.text());
   await sees(editor.getByRole('status').filter({ hasText: 'Saved “Basic laparoscopic skills”.' }), 'the curriculum saved');
 
-  // A calibration the server refuses, then the one it had, saved back.
+  // A calibration the server refuses, then the one it had, saved back, in the power users' JSON.
+  await admin_area(page, 'Stations');
   const calibration = page.getByTestId('calibration-editor');
+  await calibration.getByText('Edit as JSON').click();
   const text = calibration.getByLabel('Calibration JSON');
   await sees(text, 'the calibration text');
   await page.waitForFunction(() => document.querySelector('[aria-label="Calibration JSON"]')?.value.includes('devices'));
@@ -334,18 +346,14 @@ scenario('an admin imports a curriculum, calibrates a station and assigns instru
   assert.equal(saved.status(), 200, await saved.text());
   await sees(calibration.getByRole('status').filter({ hasText: 'Calibration saved.' }), 'the calibration saved');
 
-  // The demo trainee is taught by the demo instructor; take that away and give it back.
-  const users = await page.evaluate(async () => (await fetch('/api/users')).json());
-  const trainee = users.find((u) => u.username === demo.trainee.username);
-  const picker = page.getByTestId(`instructor-picker-${trainee.id}`);
-  const ines = picker.getByLabel('Ines Instructor');
-  assert.equal(await ines.isChecked(), true, 'the demo instructor teaches the demo trainee');
-  const removed = await click_for_response(page, ines, 'PUT', new RegExp(`^/api/users/${trainee.id}/instructors$`));
-  assert.equal(removed.status(), 200);
-  assert.deepEqual(removed.request().postDataJSON(), { instructor_ids: [] });
-  const restored = await click_for_response(page, ines, 'PUT', new RegExp(`^/api/users/${trainee.id}/instructors$`));
-  assert.equal(restored.status(), 200);
-  assert.equal((await restored.json()).instructor_ids.length, 1);
+  // The form edits the same calibration: the first device turned by a yaw of 90 degrees.
+  const yaw = calibration.getByLabel('Yaw (°)').first();
+  await yaw.fill('90');
+  const turned = JSON.parse(await text.inputValue());
+  const [w, , , z] = turned.devices[0].mapping.rotation;
+  assert.ok(Math.abs(w - Math.SQRT1_2) < 1e-9 && Math.abs(z - Math.SQRT1_2) < 1e-9, `rotation ${turned.devices[0].mapping.rotation}`);
+  await text.fill(original);
+  assert.equal(await yaw.inputValue(), '0', 'the form follows the JSON');
 
   // What a station can run: Station 1 becomes a laparoscopy station and a bench again.
   const kind = page.getByLabel('Kind of Station 1', { exact: true });
@@ -359,12 +367,118 @@ scenario('an admin imports a curriculum, calibrates a station and assigns instru
     await page.waitForFunction((v) => document.querySelector('[aria-label="Kind of Station 1"]')?.value === v, value);
   }
 
-  // Every change is in the audit log, a station's kind with its before and after.
+  // The demo trainee is taught by the demo instructor; take that away and give it back.
+  await admin_area(page, 'Users');
+  const users = await page.evaluate(async () => (await fetch('/api/users')).json());
+  const trainee = users.find((u) => u.username === demo.trainee.username);
+  const picker = page.getByTestId(`instructor-picker-${trainee.id}`);
+  const ines = picker.getByLabel('Ines Instructor');
+  assert.equal(await ines.isChecked(), true, 'the demo instructor teaches the demo trainee');
+  const removed = await click_for_response(page, ines, 'PUT', new RegExp(`^/api/users/${trainee.id}/instructors$`));
+  assert.equal(removed.status(), 200);
+  assert.deepEqual(removed.request().postDataJSON(), { instructor_ids: [] });
+  const restored = await click_for_response(page, ines, 'PUT', new RegExp(`^/api/users/${trainee.id}/instructors$`));
+  assert.equal(restored.status(), 200);
+  assert.equal((await restored.json()).instructor_ids.length, 1);
+
+  // Every change is in the audit log, with what it changed: a station's kind before and after.
+  await admin_area(page, 'Audit log');
   const audit = page.getByTestId('audit-log');
   await audit.getByRole('button', { name: 'Refresh' }).click();
-  await sees(audit.getByRole('row').filter({ hasText: 'Station 1: kind "laparoscopy" -> "bench"' }), 'the kind change in the audit log');
+  const kind_row = audit.getByRole('row').filter({ hasText: 'station.update' }).first();
+  await sees(kind_row.filter({ hasText: 'kind: “laparoscopy” → “bench”' }), 'the kind change in the audit log');
   for (const action of ['curriculum.import', 'curriculum.update', 'station.calibrate', 'user.instructors']) {
     await sees(audit.getByRole('row').filter({ hasText: action }), `"${action}" in the audit log`);
   }
   await snap(page, 'admin-home');
+});
+
+scenario('keyboard and narrow screens: the skip link, a title per page, the calendar at 800 px', async (page) => {
+  await page.goto('/login');
+  await page.waitForFunction(() => document.title === 'Log in · Incise');
+
+  assert.equal((await log_in(page, demo.trainee)).status(), 200);
+  await page.waitForURL('**/trainee');
+  await page.waitForFunction(() => document.title === 'My training · Incise');
+
+  // On a page as it opens, the first Tab reaches "Skip to content"; Enter moves the focus to the
+  // page's main content.
+  await page.goto('/trainee');
+  await page.waitForFunction(() => document.title === 'My training · Incise');
+  await page.keyboard.press('Tab');
+  const skip = page.getByRole('link', { name: 'Skip to content' });
+  assert.ok(await skip.evaluate((a) => a === document.activeElement), 'the skip link is focused first');
+  await page.keyboard.press('Enter');
+  assert.equal(await page.evaluate(() => document.activeElement?.id), 'main');
+
+  // At 800 px the week's calendar fits or scrolls in its own box: the page itself does not.
+  await page.setViewportSize({ width: 800, height: 900 });
+  const calendar = region(page, 'Station calendar');
+  await sees(calendar.getByTestId('booking-calendar'), 'the station calendar');
+  await sees(calendar.getByRole('button', { name: /^Book / }).first(), 'bookable slots');
+  const overflow = await page.evaluate(() => document.documentElement.scrollWidth - document.documentElement.clientWidth);
+  assert.ok(overflow <= 0, `the page is ${overflow} px wider than the 800 px window`);
+  await snap(page, 'calendar-800px');
+
+  await page.goto('/admin');
+  await page.waitForFunction(() => document.title === 'Access denied · Incise');
+});
+
+scenario('an admin disables a user, who can no longer log in, resets a password, and reads before and after in the audit log', async (page) => {
+  assert.equal((await log_in(page, demo.admin)).status(), 200);
+  await page.waitForURL('**/admin/users');
+  // A trainee of this scenario's own, so that the demo logins stay as they are.
+  const username = `dis-${Date.now().toString(36)}`;
+  const password = 'first-password-1';
+  const created = await api_call(page, 'POST', '/api/users', { username, password, role: 'trainee', display_name: 'Dana Disabled' });
+  assert.equal(created.status, 201, JSON.stringify(created.body));
+  await page.reload();
+  const users = region(page, 'Users');
+  const row = users.getByRole('row').filter({ has: page.getByRole('cell', { name: username, exact: true }) });
+  await sees(row.getByTestId(`user-${username}-status`).filter({ hasText: 'Active' }), 'the new trainee active');
+
+  const disabled = await click_for_response(page, row.getByRole('button', { name: 'Disable' }), 'PATCH', /^\/api\/users\/\d+$/);
+  assert.equal(disabled.status(), 200, await disabled.text());
+  await sees(row.getByTestId(`user-${username}-status`).filter({ hasText: 'Disabled' }), 'the trainee shown disabled');
+  await sees(row.getByRole('status').filter({ hasText: `${username} is disabled and logged out.` }), 'the confirmation');
+
+  // The password: a temporary one the trainee must replace at their next login.
+  await row.getByRole('button', { name: 'Reset password' }).click();
+  await row.getByLabel('Temporary password').fill('temporary-pass-2');
+  const reset = await click_for_response(page, row.getByRole('button', { name: 'Set password', exact: true }), 'POST', /^\/api\/users\/\d+\/password$/);
+  assert.equal(reset.status(), 200, await reset.text());
+  await sees(row.getByRole('status').filter({ hasText: `${username} must choose a new password at their next login.` }), 'the reset confirmed');
+
+  // Before and after, and never the password, in the audit log.
+  await admin_area(page, 'Audit log');
+  const audit = page.getByTestId('audit-log');
+  await sees(audit.getByRole('row').filter({ hasText: 'user.disable' }).filter({ hasText: username }).filter({ hasText: 'disabled: false → true' }), 'the disabling with before and after');
+  await sees(audit.getByRole('row').filter({ hasText: 'user.password_reset' }).filter({ hasText: 'must_change_password: false → true' }), 'the reset with before and after');
+  assert.equal(await audit.getByText('temporary-pass-2').count(), 0, 'no password in the audit log');
+  await snap(page, 'admin-audit');
+
+  // The disabled trainee cannot log in, even with the right password.
+  await click_for_response(page, page.getByRole('button', { name: 'Log out' }), 'POST', /^\/api\/logout$/);
+  const refused = await log_in(page, { username, password: 'temporary-pass-2' });
+  assert.equal(refused.status(), 403);
+  await sees(page.getByRole('alert').filter({ hasText: 'this account is disabled; ask an admin' }), 'why the login was refused');
+
+  // Enabled again, they log in with the temporary password and must choose their own first.
+  assert.equal((await log_in(page, demo.admin)).status(), 200);
+  await page.waitForURL('**/admin/users');
+  const again = region(page, 'Users').getByRole('row').filter({ has: page.getByRole('cell', { name: username, exact: true }) });
+  const enabled = await click_for_response(page, again.getByRole('button', { name: 'Enable' }), 'PATCH', /^\/api\/users\/\d+$/);
+  assert.equal(enabled.status(), 200);
+  await click_for_response(page, page.getByRole('button', { name: 'Log out' }), 'POST', /^\/api\/logout$/);
+  assert.equal((await log_in(page, { username, password: 'temporary-pass-2' })).status(), 200);
+  await page.waitForURL('**/password');
+  await sees(page.getByTestId('password-reset-notice'), 'the notice to choose a new password');
+  assert.equal((await api_call(page, 'GET', '/api/bookings')).status, 403, 'nothing else answers before the change');
+  await page.getByLabel('Temporary password').fill('temporary-pass-2');
+  await page.getByLabel('New password', { exact: true }).fill('my-own-password-3');
+  await page.getByLabel('New password again').fill('my-own-password-3');
+  const changed = await click_for_response(page, page.getByRole('button', { name: 'Save the new password' }), 'POST', /^\/api\/me\/password$/);
+  assert.equal(changed.status(), 200, await changed.text());
+  await page.waitForURL('**/trainee');
+  await sees(page.getByRole('heading', { name: 'My training' }), "the trainee's page after the change");
 });

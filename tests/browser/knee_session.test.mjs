@@ -77,6 +77,11 @@ scenario(
     assert.equal((await log_in(page, demo.instructor)).status(), 200);
     await page.waitForURL('**/instructor');
     await page.goto(`/recordings/${session.live.recording_id}`);
+    // It opens paused on its first picture; Play runs it.
+    await wait_for_canvas(page, 'replay-canvas', {}, 'the first replay frame');
+    const play = page.getByTestId('replay-play');
+    await sees(play.filter({ hasText: 'Play' }), 'a replay that opens paused');
+    await play.click();
     await wait_for_canvas(page, 'replay-canvas', { time_min: 3 }, 'the replay under way', 30_000);
     const replayed = await canvas_state(page, 'replay-canvas');
     assert.ok(Math.max(...replayed.grid) - Math.min(...replayed.grid) > 20, 'the replay shows the joint');

@@ -158,6 +158,14 @@ scenario(
     // controls are enabled once the first metrics arrive, i.e. once the socket is open.
     await page.getByTestId('replay-speed').selectOption('0.25');
     await wait_for_canvas(page, 'replay-canvas', {}, 'a first replay frame');
+    // It opens paused on its first picture: the button offers Play, and the time stands still.
+    const play = page.getByTestId('replay-play');
+    await sees(play.filter({ hasText: 'Play' }), 'the Play button of a replay that opens paused');
+    const opened = await canvas_state(page, 'replay-canvas');
+    await page.waitForTimeout(1_000);
+    const still = await canvas_state(page, 'replay-canvas');
+    assert.equal(still.sim_time, opened.sim_time, 'a replay opens paused');
+    assert.ok(opened.sim_time < 0.1, `it opens at the start, not at ${opened.sim_time} s`);
     const seek = page.getByTestId('replay-seek');
     const duration = Number(await seek.getAttribute('max'));
     // The replay lasts exactly what the recording stored. The last live frame the trainee saw
@@ -172,15 +180,21 @@ scenario(
     const before_seek = await canvas_state(page, 'replay-canvas');
     assert.ok(before_seek.sim_time < target - 1, `the replay is at ${before_seek.sim_time} s before seeking to ${target} s`);
     await seek.fill(String(target));
+    // Paused, the seek lands on its target and stays there; "Seeking to …" is gone once it has.
     await wait_for_canvas(
       page,
       'replay-canvas',
-      { after_frame: before_seek.frame, time_min: target - 0.3, time_max: target + 1.5 },
-      `the replay near ${target} s after the seek`,
+      { after_frame: before_seek.frame, time_min: target - 0.05, time_max: target + 0.05 },
+      `the replay at ${target} s after the seek`,
     );
+    await page.getByTestId('replay-seeking').waitFor({ state: 'detached' });
+    assert.ok(Math.abs(Number(await seek.inputValue()) - target) <= 0.1, 'the slider stays at the target');
 
-    // Pause: the button follows the server's "playing", and the picture's time stands still.
-    const play = page.getByTestId('replay-play');
+    // Play runs on from there; Pause stops it: the button follows the server's "playing", and the
+    // picture's time stands still.
+    await play.click();
+    await sees(play.filter({ hasText: 'Pause' }), 'the Pause button of a playing replay');
+    await wait_for_canvas(page, 'replay-canvas', { time_min: target + 0.2 }, 'the replay playing on from the seek');
     await play.click();
     await sees(play.filter({ hasText: 'Play' }), 'the Play button of a paused replay');
     await page.waitForTimeout(300); // a frame received before the pause may still be decoding
@@ -314,4 +328,53 @@ scenario(
     await snap(page, 'trainee-mastered');
   },
   { timeout_ms: 240_000 },
+);
+
+/** The trainee's progress chart on palpation's completion time: the sentence under it. */
+async function palpation_time_summary(page) {
+  assert.equal((await log_in(page, demo.trainee)).status(), 200);
+  await page.waitForURL('**/trainee');
+  const chart = page.getByTestId('progress-chart');
+  await sees(chart.getByTestId('progress-task'), 'the progress chart');
+  await chart.getByTestId('progress-task').selectOption('palpation');
+  await chart.getByTestId('progress-metric').selectOption('completion_time_s');
+  const summary = chart.getByTestId('progress-summary');
+  await sees(summary.filter({ hasText: 'experts' }), "the experts' band in the chart's summary");
+  const text = await summary.textContent();
+  await click_for_response(page, page.getByRole('button', { name: 'Log out' }), 'POST', /^\/api\/logout$/);
+  return text;
+}
+
+scenario(
+  "an instructor records an expert run at the station, and the experts' band in the trainee's chart takes it in",
+  async (page) => {
+    const before_summary = await palpation_time_summary(page);
+
+    assert.equal((await log_in(page, demo.instructor)).status(), 200);
+    await page.waitForURL('**/instructor');
+    const expert_runs = async () =>
+      (await api_call(page, 'GET', '/api/benchmarks')).body.find((b) => b.task === 'palpation' && b.metric === 'completion_time_s')?.n ?? 0;
+    const runs_before = await expert_runs();
+    const form = region(page, 'Run a task').getByRole('form', { name: 'Run a task at Station 1' });
+    await sees(form.getByRole('button', { name: 'Start session' }), 'the form to run a task at Station 1');
+    await form.locator('option[value="palpation"]').waitFor({ state: 'attached' });
+    assert.equal(await form.getByLabel('Task', { exact: true }).inputValue(), 'palpation', 'palpation offered first');
+    await form.getByTestId('start-expert').check();
+    const started = await click_for_response(page, form.getByRole('button', { name: 'Start session' }), 'POST', /^\/api\/sessions$/);
+    assert.equal(started.status(), 201, await started.text());
+    assert.equal(started.request().postDataJSON().expert, true, 'started as an expert run');
+    const session = await started.json();
+    await page.waitForURL(`**/sessions/${session.id}`);
+    await wait_for_canvas(page, 'live-canvas', { time_min: 5 }, '5 simulated seconds', 30_000);
+    page.once('dialog', (dialog) => dialog.accept());
+    const stopped = await click_for_response(page, page.getByRole('button', { name: 'Stop' }), 'POST', new RegExp(`^/api/sessions/${session.id}/stop$`));
+    assert.equal(stopped.status(), 200, await stopped.text());
+    assert.equal(await expert_runs(), runs_before + 1, 'the run joined the benchmark');
+    await click_for_response(page, page.getByRole('button', { name: 'Log out' }), 'POST', /^\/api\/logout$/);
+
+    // The band the trainee compares against now holds the new run: its mean moved.
+    const after_summary = await palpation_time_summary(page);
+    assert.notEqual(after_summary, before_summary, `the experts' band changed: ${before_summary} / ${after_summary}`);
+  },
+  { timeout_ms: 120_000 },
 );

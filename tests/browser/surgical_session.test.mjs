@@ -98,7 +98,8 @@ scenario(
     // or two in the review, not hundreds.
     const contacts = review.events.filter((e) => e.kind === 'contact' && e.hand === 0);
     assert.ok(contacts.length <= 6, `${contacts.length} contact events of the scalpel: ${JSON.stringify(contacts.slice(0, 10))}`);
-    await page.getByTestId('replay-play').click(); // pause where it is
+    // The replay opens paused; the marker seeks it there.
+    await sees(page.getByTestId('replay-play').filter({ hasText: 'Play' }), 'a replay that opens paused');
     const before = await canvas_state(page, 'replay-canvas');
     await cut.first().click();
     await wait_for_canvas(

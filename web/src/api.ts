@@ -1,285 +1,363 @@
 // The REST API of docs/api.md: its types and one fetch wrapper that turns every failure into an
 // ApiError carrying the server's own message.
+import { z } from 'zod';
 
-export type Role = 'trainee' | 'instructor' | 'admin';
+// Each GET answer is parsed by its zod schema (`schemas` below), so that a server that changed a
+// field the dashboard reads fails loudly, naming the endpoint and the field, instead of showing
+// "undefined". Extra fields are dropped (the curriculum's definition, which is sent back, keeps
+// them); the types are the schemas' (z.infer).
 
-export interface User {
-  id: number;
-  username: string;
-  display_name: string;
-  role: Role;
-}
+const role = z.enum(['trainee', 'instructor', 'admin']);
+export type Role = z.infer<typeof role>;
 
-export interface Station {
-  id: number;
-  name: string;
-  location: string;
+const user = z.object({
+  id: z.number(),
+  username: z.string(),
+  display_name: z.string(),
+  role,
+  /** Disabled by an admin: cannot log in. */
+  disabled: z.boolean(),
+  /** An admin reset the password: the server answers nothing else until the user chose a new one. */
+  must_change_password: z.boolean(),
+});
+export type User = z.infer<typeof user>;
+
+const station = z.object({
+  id: z.number(),
+  name: z.string(),
+  location: z.string(),
   /** What it can run ("bench", "laparoscopy", "arthroscopy"; "" = not declared). */
-  kind: string;
-  online: boolean;
-}
+  kind: z.string(),
+  /** Retired by an admin: kept for its history, no longer booked, started or connected to. */
+  retired: z.boolean(),
+  online: z.boolean(),
+});
+export type Station = z.infer<typeof station>;
 
 /** A metric as the whole dashboard shows it (GET /api/metrics; curriculum/metric_catalogue.h). */
-export interface MetricInfo {
-  key: string;
-  name: string;
+const metric_info = z.object({
+  key: z.string(),
+  name: z.string(),
   /** The unit values and thresholds are stored in ("N", "m^2", "count", ""). */
-  unit: string;
+  unit: z.string(),
   /** How people read it and enter thresholds: shown = value × display_scale, in display_unit. */
-  display_unit: string;
-  display_scale: number;
-  decimals: number;
-  better: 'lower' | 'higher' | '';
-  definition: string;
-}
+  display_unit: z.string(),
+  display_scale: z.number(),
+  decimals: z.number(),
+  better: z.enum(['lower', 'higher', '']),
+  definition: z.string(),
+});
+export type MetricInfo = z.infer<typeof metric_info>;
 
 /** A task a station can run, with what locks it for the person asking (GET /api/stations/{id}/tasks). */
-export interface StationTask {
-  key: string;
-  name: string;
-  module: string;
-  instructions: string;
+const station_task = z.object({
+  key: z.string(),
+  name: z.string(),
+  module: z.string(),
+  instructions: z.string(),
   /** Why it may not start yet ("" when it may). */
-  locked_reason: string;
-}
+  locked_reason: z.string(),
+});
+export type StationTask = z.infer<typeof station_task>;
 
-export interface Booking {
-  id: number;
-  station_id: number;
-  station_name: string;
-  user_id: number;
-  username: string;
-  starts_at: string;
-  ends_at: string;
+const booking = z.object({
+  id: z.number(),
+  station_id: z.number(),
+  station_name: z.string(),
+  user_id: z.number(),
+  username: z.string(),
+  starts_at: z.string(),
+  ends_at: z.string(),
   /** 'completed': the session held in it ended, and the slot with it. */
-  status: 'active' | 'cancelled' | 'completed';
-  created_at: string;
-}
+  status: z.enum(['active', 'cancelled', 'completed']),
+  created_at: z.string(),
+  /** GET /api/bookings only: whether it lets its person start a session now (the server's rule). */
+  covers_now: z.boolean().optional(),
+});
+export type Booking = z.infer<typeof booking>;
 
 /** One active booking of a station as its calendar shows it (GET /api/stations/{id}/schedule). */
-export interface ScheduleEntry {
+const schedule_entry = z.object({
   /** null for another person's booking seen by a trainee. */
-  id: number | null;
-  starts_at: string;
-  ends_at: string;
-  mine: boolean;
+  id: z.number().nullable(),
+  starts_at: z.string(),
+  ends_at: z.string(),
+  mine: z.boolean(),
   /** Who booked it: for instructors and admins only. */
-  username: string | null;
-}
+  username: z.string().nullable(),
+});
+export type ScheduleEntry = z.infer<typeof schedule_entry>;
 
-export interface Session {
-  id: number;
-  trainee_id: number;
-  trainee: string;
+const session = z.object({
+  id: z.number(),
+  trainee_id: z.number(),
+  trainee: z.string(),
   /** null when the station has since been removed. */
-  station_id: number | null;
-  station: string | null;
-  task: string;
-  state: 'created' | 'running' | 'paused' | 'finished' | 'aborted';
-  started_at: string | null;
-  ended_at: string | null;
-}
+  station_id: z.number().nullable(),
+  station: z.string().nullable(),
+  task: z.string(),
+  state: z.enum(['created', 'running', 'paused', 'finished', 'aborted']),
+  started_at: z.string().nullable(),
+  ended_at: z.string().nullable(),
+});
+export type Session = z.infer<typeof session>;
 
-export interface Score {
-  id: number;
-  session_id: number;
-  trainee: string;
-  task: string;
-  metric: string;
-  value: number;
-  unit: string;
-  passed: boolean;
-  created_at: string;
+const threshold = z.object({ op: z.enum(['<=', '>=']), value: z.number() });
+
+const score = z.object({
+  id: z.number(),
+  session_id: z.number(),
+  trainee: z.string(),
+  task: z.string(),
+  metric: z.string(),
+  value: z.number(),
+  unit: z.string(),
+  passed: z.boolean(),
+  created_at: z.string(),
   /** A completion criterion of the task rather than a metric's threshold. */
-  criterion: boolean;
+  criterion: z.boolean(),
   /** What it was judged against when stored (null: not known). */
-  threshold: { op: '<=' | '>='; value: number } | null;
-}
+  threshold: threshold.nullable(),
+});
+export type Score = z.infer<typeof score>;
 
 /** What the server holds of a session that is still live (docs/api.md, "Live sessions"). */
-export interface LiveState {
-  state: 'running' | 'paused' | 'finished';
+const live_state = z.object({
+  state: z.enum(['running', 'paused', 'finished']),
   /** Why the session is in this state, e.g. "station agent offline"; may be empty. */
-  reason: string;
-  sim_time_s: number;
-  agent_online: boolean;
-  recording_id: number | null;
-}
+  reason: z.string(),
+  sim_time_s: z.number(),
+  agent_online: z.boolean(),
+  recording_id: z.number().nullable(),
+});
+export type LiveState = z.infer<typeof live_state>;
 
-export interface LiveSession extends Session {
+const live_session = session.extend({
   /** null once the server no longer holds the session. */
-  live: LiveState | null;
-}
+  live: live_state.nullable(),
+});
+export type LiveSession = z.infer<typeof live_session>;
 
 export type SessionAction = 'pause' | 'resume' | 'stop';
 
-export interface Recording {
-  id: number;
-  session_id: number;
-  trainee: string;
-  task: string;
-  duration_s: number;
-  created_at: string;
-}
+const recording = z.object({
+  id: z.number(),
+  session_id: z.number(),
+  trainee: z.string(),
+  task: z.string(),
+  duration_s: z.number(),
+  created_at: z.string(),
+});
+export type Recording = z.infer<typeof recording>;
 
-/** The part of a curriculum's definition the dashboard shows (curriculum/curriculum.h). */
-export interface MetricRequirement {
-  key: string;
-  threshold: { op: '<=' | '>='; value: number };
-  unit: string;
-}
+// The curriculum's definition (curriculum/curriculum.h) goes back to the server when edited, so
+// its objects keep the fields the dashboard does not read (looseObject).
+const metric_requirement = z.looseObject({
+  key: z.string(),
+  threshold,
+  unit: z.string(),
+});
+export type MetricRequirement = z.infer<typeof metric_requirement>;
 
-export interface CurriculumTask {
-  key: string;
-  name: string;
-  instructions: string;
+const curriculum_task = z.looseObject({
+  key: z.string(),
+  name: z.string(),
+  instructions: z.string(),
   /** The kind of station it needs ("" or absent: any). */
-  station_kind?: string;
-  metrics?: MetricRequirement[];
-}
+  station_kind: z.string().optional(),
+  metrics: z.array(metric_requirement).optional(),
+});
+export type CurriculumTask = z.infer<typeof curriculum_task>;
 
 /** A task of the curriculum as one trainee stands with it (GET /api/progress). */
-export interface TaskProgress {
-  key: string;
-  name: string;
-  module: string;
-  prerequisites: string[];
-  attempts: number;
-  passed_attempts: number;
-  consecutive_passes: number;
-  required_passes: number;
-  mastered: boolean;
-  unlocked: boolean;
+const task_progress = z.object({
+  key: z.string(),
+  name: z.string(),
+  module: z.string(),
+  prerequisites: z.array(z.string()),
+  attempts: z.number(),
+  passed_attempts: z.number(),
+  consecutive_passes: z.number(),
+  required_passes: z.number(),
+  mastered: z.boolean(),
+  unlocked: z.boolean(),
   /** The prerequisites not yet mastered; empty when unlocked. */
-  missing_prerequisites: string[];
+  missing_prerequisites: z.array(z.string()),
   /** Why the task may not start ("task \"…\" is locked: master \"…\" first"), "" when it may. */
-  locked_reason: string;
-}
+  locked_reason: z.string(),
+});
+export type TaskProgress = z.infer<typeof task_progress>;
 
-export interface Progress {
-  trainee_id: number;
-  curriculum: string | null;
-  tasks: TaskProgress[];
+const progress = z.object({
+  trainee_id: z.number(),
+  curriculum: z.string().nullable(),
+  tasks: z.array(task_progress),
   /** The first unlocked task not yet mastered (null: all mastered). */
-  next_task: string | null;
-}
+  next_task: z.string().nullable(),
+});
+export type Progress = z.infer<typeof progress>;
 
 /** One trainee's progress with their name (GET /api/trainees/progress, for instructors). */
-export interface TraineeProgress extends Progress {
-  username: string;
-  display_name: string;
-}
+const trainee_progress = progress.extend({
+  username: z.string(),
+  display_name: z.string(),
+});
+export type TraineeProgress = z.infer<typeof trainee_progress>;
 
-export interface CurriculumEntry {
-  id: number;
-  name: string;
-  definition: { name: string; description: string; modules: { key: string; name: string; tasks: CurriculumTask[] }[] };
-}
+const curriculum_entry = z.object({
+  id: z.number(),
+  name: z.string(),
+  definition: z.looseObject({
+    name: z.string(),
+    description: z.string(),
+    modules: z.array(z.looseObject({ key: z.string(), name: z.string(), tasks: z.array(curriculum_task) })),
+  }),
+});
+export type CurriculumEntry = z.infer<typeof curriculum_entry>;
 
 /** An expert benchmark of one metric of one task (GET /api/benchmarks). */
-export interface BenchmarkStats {
-  n: number;
-  mean: number;
-  sd: number;
-  median: number;
-  p10: number;
-  p90: number;
-}
+const benchmark_stats = z.object({
+  n: z.number(),
+  mean: z.number(),
+  sd: z.number(),
+  median: z.number(),
+  p10: z.number(),
+  p90: z.number(),
+});
+export type BenchmarkStats = z.infer<typeof benchmark_stats>;
 
-export interface Benchmark extends BenchmarkStats {
-  task: string;
-  metric: string;
-  unit: string;
-}
+const benchmark = benchmark_stats.extend({
+  task: z.string(),
+  metric: z.string(),
+  unit: z.string(),
+});
+export type Benchmark = z.infer<typeof benchmark>;
 
-export type EventKind = 'contact' | 'grasp' | 'release' | 'cut' | 'collision' | 'never_event' | 'target';
+const event_kind = z.enum(['contact', 'grasp', 'release', 'cut', 'collision', 'never_event', 'target']);
+export type EventKind = z.infer<typeof event_kind>;
 
-export interface RunEvent {
-  t_s: number;
-  kind: EventKind;
+const run_event = z.object({
+  t_s: z.number(),
+  kind: event_kind,
   /** 0: device 0 (right hand), 1: device 1 (left hand). */
-  hand: number;
-  label: string;
+  hand: z.number(),
+  label: z.string(),
   /** Found in the recorded input, or seen by the simulation (a surgical scene's grasps, cuts...). */
-  source: 'recording' | 'simulation';
-}
+  source: z.enum(['recording', 'simulation']),
+});
+export type RunEvent = z.infer<typeof run_event>;
 
 /** One metric of an attempt against its threshold and the experts (GET /api/sessions/{id}/review). */
-export interface ReviewResult {
-  metric: string;
-  value: number;
-  unit: string;
-  passed: boolean;
+const review_result = z.object({
+  metric: z.string(),
+  value: z.number(),
+  unit: z.string(),
+  passed: z.boolean(),
   /** The threshold the score was judged against. */
-  threshold: { op: '<=' | '>='; value: number } | null;
+  threshold: threshold.nullable(),
   /** The task's threshold today, when the curriculum changed it since the attempt. */
-  threshold_now: { op: '<=' | '>='; value: number } | null;
+  threshold_now: threshold.nullable(),
   /** z: (value - mean) / sd, null without spread. */
-  expert: (BenchmarkStats & { z: number | null }) | null;
-}
+  expert: benchmark_stats.extend({ z: z.number().nullable() }).nullable(),
+});
+export type ReviewResult = z.infer<typeof review_result>;
 
-export interface Review {
-  session_id: number;
-  task: string;
-  trainee_id: number;
-  recording_id: number;
-  duration_s: number;
-  expert_run: boolean;
-  events: RunEvent[];
-  timeline: {
-    interval_s: number;
+const review = z.object({
+  session_id: z.number(),
+  task: z.string(),
+  trainee_id: z.number(),
+  recording_id: z.number(),
+  duration_s: z.number(),
+  expert_run: z.boolean(),
+  events: z.array(run_event),
+  timeline: z.object({
+    interval_s: z.number(),
     /** Bin starts; each hand's values and the cumulative damage per bin. */
-    t_s: number[];
-    hands: { peak_force_n: number[]; speed_m_s: number[] }[];
-    damage_ns: number[];
-  };
-  results: ReviewResult[];
+    t_s: z.array(z.number()),
+    hands: z.array(z.object({ peak_force_n: z.array(z.number()), speed_m_s: z.array(z.number()) })),
+    damage_ns: z.array(z.number()),
+  }),
+  results: z.array(review_result),
   /** The simulation's damaged share of the tissue, sampled every interval_s; null before it was measured. */
-  sim_damage: { interval_s: number; values: number[] } | null;
-}
+  sim_damage: z.object({ interval_s: z.number(), values: z.array(z.number()) }).nullable(),
+});
+export type Review = z.infer<typeof review>;
 
-export interface Annotation {
-  id: number;
-  session_id: number;
-  author: string;
-  t_s: number;
-  text: string;
-  created_at: string;
-}
+const annotation = z.object({
+  id: z.number(),
+  session_id: z.number(),
+  author: z.string(),
+  t_s: z.number(),
+  text: z.string(),
+  created_at: z.string(),
+});
+export type Annotation = z.infer<typeof annotation>;
 
-export interface ScoreAdjustment {
-  id: number;
-  session_id: number;
-  author: string;
-  passed: boolean;
-  reason: string;
-  created_at: string;
-}
+const score_adjustment = z.object({
+  id: z.number(),
+  session_id: z.number(),
+  author: z.string(),
+  passed: z.boolean(),
+  reason: z.string(),
+  created_at: z.string(),
+});
+export type ScoreAdjustment = z.infer<typeof score_adjustment>;
 
 /** One entry of the audit log (GET /api/audit, admin): the latest 200, newest first. */
-export interface AuditEntry {
-  id: number;
-  at: string;
+const audit_entry = z.object({
+  id: z.number(),
+  at: z.string(),
   /** null for a change no signed-in user made. */
-  user_id: number | null;
+  user_id: z.number().nullable(),
   /** e.g. "user.create", "station.calibrate", "curriculum.import", "export.scores". */
-  action: string;
-  detail: string;
-}
+  action: z.string(),
+  detail: z.string(),
+  /** What the change changed, keyed by path ("kind", "modules/0/tasks/1/thresholds/0/max"): the
+   * values before and after; null where there is none (a creation has no before). */
+  before: z.record(z.string(), z.unknown()).nullable(),
+  after: z.record(z.string(), z.unknown()).nullable(),
+});
+export type AuditEntry = z.infer<typeof audit_entry>;
 
 /** A station's calibration (GET and PUT /api/stations/{id}/calibration; PUT takes the bare one). */
-export interface CalibrationAnswer {
-  station_id: number;
+const calibration_answer = z.object({
+  station_id: z.number(),
   /** True while the station has none stored: the calibration is then the server's default. */
-  default: boolean;
-  calibration: unknown;
-}
+  default: z.boolean(),
+  calibration: z.unknown(),
+});
+export type CalibrationAnswer = z.infer<typeof calibration_answer>;
 
 /** A user as admins list them: a trainee with the ids of the instructors who teach them. */
-export type ListedUser = User & { instructor_ids?: number[] };
+const listed_user = user.extend({ instructor_ids: z.array(z.number()).optional() });
+export type ListedUser = z.infer<typeof listed_user>;
+
+/** The schema of each GET endpoint's answer, for api below and for tests. */
+export const schemas = {
+  user,
+  users: z.array(listed_user),
+  stations: z.array(station),
+  station_tasks: z.object({ station, tasks: z.array(station_task) }),
+  bookings: z.array(booking),
+  schedule: z.array(schedule_entry),
+  calibration: calibration_answer,
+  audit: z.array(audit_entry),
+  sessions: z.array(session),
+  live_session,
+  recordings: z.array(recording),
+  scores: z.array(score),
+  curricula: z.array(curriculum_entry),
+  metrics: z.array(metric_info),
+  progress,
+  progress_overview: z.array(trainee_progress),
+  benchmarks: z.array(benchmark),
+  review,
+  annotations: z.array(annotation),
+  adjustments: z.array(score_adjustment),
+};
 
 export class ApiError extends Error {
-  /** HTTP status, or 0 when the server could not be reached. */
+  /** HTTP status, or 0 when the server could not be reached or its answer was not as expected. */
   readonly status: number;
 
   constructor(status: number, message: string) {
@@ -319,6 +397,33 @@ async function request<T>(method: string, path: string, body?: unknown): Promise
   return (await response.json()) as T;
 }
 
+/** GET `path`, its answer parsed by `schema`; a mismatch is an ApiError naming the endpoint and field. */
+async function get<T>(path: string, schema: z.ZodType<T>): Promise<T> {
+  return parse_answer(`GET ${path}`, schema, await request<unknown>('GET', path));
+}
+
+/** `answer` as `schema` says, or an ApiError naming `endpoint` and the first field that does not fit. */
+export function parse_answer<T>(endpoint: string, schema: z.ZodType<T>, answer: unknown): T {
+  const parsed = schema.safeParse(answer);
+  if (parsed.success) return parsed.data;
+  const issue = parsed.error.issues[0];
+  const where = issue ? field_path(issue.path) : 'the answer';
+  const what = issue?.message ?? 'not as expected';
+  throw new ApiError(
+    0,
+    `Unexpected answer from ${endpoint}: ${where}: ${what}. ` +
+      'The dashboard and the server disagree; reload the page, and report it if it persists.',
+  );
+}
+
+/** "[2].threshold.value" for a zod issue's path [2, "threshold", "value"]; "the answer" for []. */
+function field_path(path: readonly PropertyKey[]): string {
+  if (path.length === 0) return 'the answer';
+  return path
+    .map((part, i) => (typeof part === 'number' ? `[${part}]` : `${i === 0 ? '' : '.'}${String(part)}`))
+    .join('');
+}
+
 async function error_message(response: Response): Promise<string> {
   const fallback = `The server answered ${response.status} ${response.statusText}`.trim() + '.';
   try {
@@ -335,56 +440,63 @@ async function error_message(response: Response): Promise<string> {
 export const api = {
   login: (username: string, password: string) =>
     request<{ user: User }>('POST', '/api/login', { username, password }),
-  logout: () => request<void>('POST', '/api/logout'),
-  me: () => request<User>('GET', '/api/me'),
+  logout: () => request<undefined>('POST', '/api/logout'),
+  me: () => get('/api/me', schemas.user),
 
-  stations: () => request<Station[]>('GET', '/api/stations'),
+  stations: () => get('/api/stations', schemas.stations),
   create_station: (name: string, location: string, kind: string) =>
     request<{ station: Station; token: string }>('POST', '/api/stations', { name, location, kind }),
   set_station_kind: (station_id: number, kind: string) =>
     request<Station>('PATCH', `/api/stations/${station_id}`, { kind }),
-  station_tasks: (station_id: number) =>
-    request<{ station: Station; tasks: StationTask[] }>('GET', `/api/stations/${station_id}/tasks`),
+  update_station: (station_id: number, change: { kind?: string; retired?: boolean }) =>
+    request<Station>('PATCH', `/api/stations/${station_id}`, change),
+  station_tasks: (station_id: number) => get(`/api/stations/${station_id}/tasks`, schemas.station_tasks),
 
-  bookings: () => request<Booking[]>('GET', '/api/bookings'),
-  station_schedule: (station_id: number) => request<ScheduleEntry[]>('GET', `/api/stations/${station_id}/schedule`),
+  bookings: () => get('/api/bookings', schemas.bookings),
+  station_schedule: (station_id: number) => get(`/api/stations/${station_id}/schedule`, schemas.schedule),
   create_booking: (station_id: number, starts_at: string, ends_at: string) =>
     request<Booking>('POST', '/api/bookings', { station_id, starts_at, ends_at }),
-  cancel_booking: (id: number) => request<void>('DELETE', `/api/bookings/${id}`),
+  cancel_booking: (id: number) => request<undefined>('DELETE', `/api/bookings/${id}`),
 
-  users: () => request<ListedUser[]>('GET', '/api/users'),
+  users: () => get('/api/users', schemas.users),
   set_instructors: (trainee_id: number, instructor_ids: number[]) =>
     request<ListedUser>('PUT', `/api/users/${trainee_id}/instructors`, { instructor_ids }),
-  calibration: (station_id: number) => request<CalibrationAnswer>('GET', `/api/stations/${station_id}/calibration`),
+  calibration: (station_id: number) => get(`/api/stations/${station_id}/calibration`, schemas.calibration),
   set_calibration: (station_id: number, calibration: unknown) =>
     request<CalibrationAnswer>('PUT', `/api/stations/${station_id}/calibration`, calibration),
   import_curriculum: (definition: unknown) => request<CurriculumEntry>('POST', '/api/curricula', definition),
-  audit: () => request<AuditEntry[]>('GET', '/api/audit'),
+  audit: () => get('/api/audit', schemas.audit),
   create_user: (user: { username: string; password: string; role: Role; display_name: string }) =>
     request<User>('POST', '/api/users', user),
+  update_user: (user_id: number, change: { disabled: boolean }) =>
+    request<ListedUser>('PATCH', `/api/users/${user_id}`, change),
+  reset_password: (user_id: number, password: string) =>
+    request<ListedUser>('POST', `/api/users/${user_id}/password`, { password }),
+  change_password: (current_password: string, new_password: string) =>
+    request<User>('POST', '/api/me/password', { current_password, new_password }),
 
-  sessions: () => request<Session[]>('GET', '/api/sessions'),
-  session: (id: number) => request<LiveSession>('GET', `/api/sessions/${id}`),
-  start_session: (station_id: number, task: string) =>
-    request<LiveSession>('POST', '/api/sessions', { station_id, task }),
+  sessions: () => get('/api/sessions', schemas.sessions),
+  session: (id: number) => get(`/api/sessions/${id}`, schemas.live_session),
+  start_session: (station_id: number, task: string, expert = false) =>
+    request<LiveSession>('POST', '/api/sessions', expert ? { station_id, task, expert } : { station_id, task }),
   session_action: (id: number, action: SessionAction) =>
     request<LiveSession>('POST', `/api/sessions/${id}/${action}`, {}),
 
-  recordings: () => request<Recording[]>('GET', '/api/recordings'),
-  scores: () => request<Score[]>('GET', '/api/scores'),
-  curricula: () => request<CurriculumEntry[]>('GET', '/api/curricula'),
-  metrics: () => request<MetricInfo[]>('GET', '/api/metrics'),
-  progress: () => request<Progress>('GET', '/api/progress'),
-  trainee_progress: (trainee_id: number) => request<Progress>('GET', `/api/trainees/${trainee_id}/progress`),
-  progress_overview: () => request<TraineeProgress[]>('GET', '/api/trainees/progress'),
-  benchmarks: () => request<Benchmark[]>('GET', '/api/benchmarks'),
-  review: (session_id: number) => request<Review>('GET', `/api/sessions/${session_id}/review`),
+  recordings: () => get('/api/recordings', schemas.recordings),
+  scores: () => get('/api/scores', schemas.scores),
+  curricula: () => get('/api/curricula', schemas.curricula),
+  metrics: () => get('/api/metrics', schemas.metrics),
+  progress: () => get('/api/progress', schemas.progress),
+  trainee_progress: (trainee_id: number) => get(`/api/trainees/${trainee_id}/progress`, schemas.progress),
+  progress_overview: () => get('/api/trainees/progress', schemas.progress_overview),
+  benchmarks: () => get('/api/benchmarks', schemas.benchmarks),
+  review: (session_id: number) => get(`/api/sessions/${session_id}/review`, schemas.review),
   set_expert_run: (session_id: number, expert: boolean) =>
     request<{ session_id: number; expert_run: boolean }>('PUT', `/api/sessions/${session_id}/expert`, { expert }),
-  annotations: (session_id: number) => request<Annotation[]>('GET', `/api/sessions/${session_id}/annotations`),
+  annotations: (session_id: number) => get(`/api/sessions/${session_id}/annotations`, schemas.annotations),
   add_annotation: (session_id: number, t_s: number, text: string) =>
     request<Annotation>('POST', `/api/sessions/${session_id}/annotations`, { t_s, text }),
-  adjustments: (session_id: number) => request<ScoreAdjustment[]>('GET', `/api/sessions/${session_id}/adjustments`),
+  adjustments: (session_id: number) => get(`/api/sessions/${session_id}/adjustments`, schemas.adjustments),
   adjust_score: (session_id: number, passed: boolean, reason: string) =>
     request<ScoreAdjustment>('POST', `/api/sessions/${session_id}/adjustments`, { passed, reason }),
   update_curriculum: (id: number, definition: CurriculumEntry['definition']) =>

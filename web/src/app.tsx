@@ -1,10 +1,11 @@
 import type { ReactNode } from 'react';
 import type { Role } from './api';
 import { home_path, useAuth } from './auth';
-import { ErrorAlert } from './components/alerts';
-import { Header } from './components/header';
+import { ErrorAlert } from './components/common/alerts';
+import { Header } from './components/common/header';
 import { pages } from './pages/access';
-import { AdminPage } from './pages/admin_page';
+import { AdminPage, is_admin_section } from './pages/admin_page';
+import { ChangePasswordPage } from './pages/change_password_page';
 import { InstructorPage } from './pages/instructor_page';
 import { LoginPage } from './pages/login_page';
 import { RecordingPage } from './pages/recording_page';
@@ -16,7 +17,6 @@ import { Redirect, usePath } from './router';
 const page_components: Record<string, () => ReactNode> = {
   '/trainee': () => <TraineePage />,
   '/instructor': () => <InstructorPage />,
-  '/admin': () => <AdminPage />,
 };
 
 // Pages of one session or recording, open to every role: the server decides who may see which
@@ -35,6 +35,15 @@ function detail_page(path: string): ReactNode | null {
 }
 
 function role_page(path: string, role: Role): ReactNode {
+  // The administration is one page per area: /admin/users, /admin/stations, …
+  const admin = /^\/admin(?:\/([a-z]+))?$/.exec(path);
+  if (admin) {
+    const page = pages.find((p) => p.path === '/admin');
+    if (page && !page.roles.includes(role)) return <ForbiddenPage page={page} />;
+    if (!admin[1]) return <Redirect to="/admin/users" />;
+    if (!is_admin_section(admin[1])) return <NotFoundPage home={home_path(role)} />;
+    return <AdminPage section={admin[1]} />;
+  }
   const page = pages.find((p) => p.path === path);
   const render = page_components[path];
   if (!page || !render) return <NotFoundPage home={home_path(role)} />;
@@ -49,7 +58,7 @@ export function App() {
   let content: ReactNode;
   if (user === undefined) {
     content = (
-      <main className="page">
+      <main id="main" tabIndex={-1} className="page">
         <p className="muted" role="status">
           Loading…
         </p>
@@ -59,6 +68,9 @@ export function App() {
     content = user ? <Redirect to={home_path(user.role)} /> : <LoginPage />;
   } else if (!user) {
     content = <Redirect to="/login" />;
+  } else if (user.must_change_password || path === '/password') {
+    // After an admin's reset the server answers nothing else until a new password is chosen.
+    content = path === '/password' ? <ChangePasswordPage /> : <Redirect to="/password" />;
   } else if (path === '/') {
     content = <Redirect to={home_path(user.role)} />;
   } else {

@@ -1,5 +1,6 @@
 // Who is logged in, for every page. The server's session cookie is HttpOnly, so the dashboard
 // learns the user from /api/me at start and from /api/login afterwards.
+import { useQueryClient } from '@tanstack/react-query';
 import { createContext, useCallback, useContext, useEffect, useMemo, useRef, useState, type ReactNode } from 'react';
 import { api, ApiError, set_unauthorized_handler, type Role, type User } from './api';
 import { navigate } from './router';
@@ -18,7 +19,8 @@ interface Auth {
 const AuthContext = createContext<Auth | null>(null);
 
 export function home_path(role: Role): string {
-  return `/${role}`;
+  // The administration opens on its first area.
+  return role === 'admin' ? '/admin/users' : `/${role}`;
 }
 
 export function AuthProvider({ children }: { children: ReactNode }) {
@@ -26,11 +28,16 @@ export function AuthProvider({ children }: { children: ReactNode }) {
   const [notice, set_notice] = useState<string | null>(null);
   const [start_error, set_start_error] = useState<string | null>(null);
   const user_ref = useRef<User | null | undefined>(undefined);
-  user_ref.current = user;
+  useEffect(() => {
+    user_ref.current = user;
+  }, [user]);
+  // Cached answers belong to who asked: none survives a change of user.
+  const query_client = useQueryClient();
 
   useEffect(() => {
     set_unauthorized_handler(() => {
       if (user_ref.current) set_notice('Your session has ended. Please log in again.');
+      query_client.clear();
       set_user(null);
       navigate('/login');
     });
@@ -41,20 +48,25 @@ export function AuthProvider({ children }: { children: ReactNode }) {
         set_start_error(`Could not check your login: ${error_text(reason)}`);
       }
     });
-  }, []);
+  }, [query_client]);
 
-  const logged_in = useCallback((next: User) => {
-    set_notice(null);
-    set_start_error(null);
-    set_user(next);
-  }, []);
+  const logged_in = useCallback(
+    (next: User) => {
+      query_client.clear();
+      set_notice(null);
+      set_start_error(null);
+      set_user(next);
+    },
+    [query_client],
+  );
 
   const log_out = useCallback(async () => {
     await api.logout();
+    query_client.clear();
     set_notice(null);
     set_user(null);
     navigate('/login');
-  }, []);
+  }, [query_client]);
 
   const value = useMemo(
     () => ({ user, notice, start_error, logged_in, log_out }),

@@ -1,38 +1,21 @@
-// The metric catalogue (GET /api/metrics), fetched once per page load and shared: every page
-// names, scales and rounds a metric the same way, and thresholds are entered in the unit shown.
-import { useEffect, useState } from 'react';
+// The metric catalogue (GET /api/metrics), fetched once per page load and shared by one query:
+// every page names, scales and rounds a metric the same way, and thresholds are entered in the
+// unit shown.
+import { useQuery } from '@tanstack/react-query';
 import { api, type MetricInfo } from './api';
-import { format_value } from './components/format';
+import { format_value } from './components/common/format';
 
 export type MetricCatalogue = Map<string, MetricInfo>;
 
-let loading: Promise<MetricCatalogue> | null = null;
-
-function load(): Promise<MetricCatalogue> {
-  loading ??= api.metrics().then(
-    (list) => new Map(list.map((m) => [m.key, m])),
-    (reason: unknown) => {
-      loading = null; // try again on the next page
-      throw reason;
-    },
-  );
-  return loading;
+function to_catalogue(list: MetricInfo[]): MetricCatalogue {
+  return new Map(list.map((m) => [m.key, m]));
 }
 
 /** The catalogue, or null while it loads (or could not be loaded: then keys and raw units show). */
 export function useMetricCatalogue(): MetricCatalogue | null {
-  const [catalogue, set_catalogue] = useState<MetricCatalogue | null>(null);
-  useEffect(() => {
-    let current = true;
-    load().then(
-      (c) => current && set_catalogue(c),
-      () => undefined,
-    );
-    return () => {
-      current = false;
-    };
-  }, []);
-  return catalogue;
+  // The catalogue is the server's code, not its data: it never changes while the page is open.
+  const query = useQuery({ queryKey: ['metrics'], queryFn: api.metrics, staleTime: Infinity, select: to_catalogue });
+  return query.data ?? null;
 }
 
 /** "Peak force", or the key itself when the catalogue does not know it. */

@@ -47,7 +47,9 @@ export function Link({
   /** aria-label, when the visible text alone does not say where the link goes. */
   label?: string;
 }) {
-  const active = usePath() === to;
+  const path = usePath();
+  // A section's link stays current on its sub-pages (/admin on /admin/users).
+  const active = path === to || (to !== '/' && path.startsWith(`${to}/`));
   function on_click(event: MouseEvent<HTMLAnchorElement>) {
     // Let the browser handle new-tab and other modified clicks.
     if (event.button !== 0 || event.metaKey || event.ctrlKey || event.shiftKey || event.altKey) return;

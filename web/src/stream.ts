@@ -86,10 +86,13 @@ export interface StreamMetrics {
   force_2_n?: number;
   /** Live sessions: the station agent's latest link report (docs/api.md). */
   link?: LinkReport;
-  /** Replays only. */
+  /** Replays only. A replay opens paused; a seek shows `seeking` (and where it goes) until it lands. */
   duration_s?: number;
   speed?: number;
   playing?: boolean;
+  position_s?: number;
+  seeking?: boolean;
+  seek_to_s?: number;
 }
 
 export type ServerMessage = ({ type: 'metrics' } & StreamMetrics) | { type: 'ended'; reason: string };

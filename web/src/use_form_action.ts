@@ -22,7 +22,7 @@ export interface FormAction {
    * status message; a failure becomes the error, as "<failure>: <the server's words>" (an
    * InputError as it is).
    */
-  run: (action: () => Promise<string | void>, failure: string) => Promise<void>;
+  run: (action: () => Promise<string | undefined>, failure: string) => Promise<void>;
   /** Clears the error and status, e.g. when the person changes what the form is about. */
   clear: () => void;
   set_error: (message: string | null) => void;
@@ -34,7 +34,7 @@ export function useFormAction(): FormAction {
   const [error, set_error] = useState<string | null>(null);
   const [status, set_status] = useState<string | null>(null);
 
-  const run = useCallback(async (action: () => Promise<string | void>, failure: string) => {
+  const run = useCallback(async (action: () => Promise<string | undefined>, failure: string) => {
     set_busy(true);
     set_error(null);
     set_status(null);

@@ -15,6 +15,9 @@ export interface FrameStream {
   metrics: StreamMetrics | null;
   /** Frames drawn per second, measured here over the last second; null until measured. */
   fps: number | null;
+  /** Seconds since the picture last changed (since the socket opened before the first frame),
+   * measured every second; null until measured. */
+  picture_age_s: number | null;
   /** Frames whose JPEG the browser could not decode (acknowledged all the same). */
   bad_frames: number;
   /** The reason of the server's "ended" message once a live session has finished. */
@@ -36,10 +39,24 @@ export function useFrameStream(path: string, options: StreamOptions = default_vi
   const [phase, set_phase] = useState<FrameStream['phase']>('connecting');
   const [metrics, set_metrics] = useState<StreamMetrics | null>(null);
   const [fps, set_fps] = useState<number | null>(null);
+  const [picture_age_s, set_picture_age_s] = useState<number | null>(null);
   const [bad_frames, set_bad_frames] = useState(0);
   const [ended_reason, set_ended_reason] = useState<string | null>(null);
   const [close, set_close] = useState<FrameStream['close']>(null);
   const { fps: wanted_fps, width, height } = options;
+  // A new socket (another path or view) starts from nothing: reset while rendering, before it opens.
+  const connection = `${path} ${wanted_fps} ${width} ${height}`;
+  const [shown_connection, set_shown_connection] = useState(connection);
+  if (shown_connection !== connection) {
+    set_shown_connection(connection);
+    set_phase('connecting');
+    set_metrics(null);
+    set_fps(null);
+    set_picture_age_s(null);
+    set_bad_frames(0);
+    set_ended_reason(null);
+    set_close(null);
+  }
 
   useEffect(() => {
     const socket = new WebSocket(stream_url(path, { fps: wanted_fps, width, height }));
@@ -52,12 +69,6 @@ export function useFrameStream(path: string, options: StreamOptions = default_vi
     // the server sends at most two unacknowledged frames, so this chain stays short.
     let drawing = Promise.resolve();
 
-    set_phase('connecting');
-    set_metrics(null);
-    set_fps(null);
-    set_bad_frames(0);
-    set_ended_reason(null);
-    set_close(null);
     const canvas = canvas_ref.current;
     if (canvas) {
       canvas.dataset.frame = '0';
@@ -66,9 +77,11 @@ export function useFrameStream(path: string, options: StreamOptions = default_vi
 
     let counted_at = performance.now();
     let counted = 0;
+    let drawn_at = counted_at;
     const meter = window.setInterval(() => {
       const now = performance.now();
       set_fps(((drawn - counted) * 1000) / (now - counted_at));
+      set_picture_age_s((now - drawn_at) / 1000);
       counted = drawn;
       counted_at = now;
     }, 1000);
@@ -96,6 +109,7 @@ export function useFrameStream(path: string, options: StreamOptions = default_vi
           target.dataset.simTime = String(header.sim_time_s);
           last_drawn = header.frame;
           drawn += 1;
+          drawn_at = performance.now();
         }
         bitmap.close();
       } catch {
@@ -145,5 +159,5 @@ export function useFrameStream(path: string, options: StreamOptions = default_vi
     if (socket?.readyState === WebSocket.OPEN) socket.send(JSON.stringify(message));
   }, []);
 
-  return { canvas_ref, phase, metrics, fps, bad_frames, ended_reason, close, send };
+  return { canvas_ref, phase, metrics, fps, picture_age_s, bad_frames, ended_reason, close, send };
 }

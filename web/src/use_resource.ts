@@ -1,43 +1,34 @@
-import { useCallback, useEffect, useState } from 'react';
+// Every GET of the dashboard goes through TanStack Query (query_client.ts): components that ask
+// for the same key share one request and one cached answer, and reload() refetches it for all.
+import { useQuery, type QueryKey } from '@tanstack/react-query';
+import { useCallback } from 'react';
 import { ApiError } from './api';
 
 export interface Resource<T> {
   data: T | null;
   error: string | null;
+  /** True while a request for it is under way, the first or a reload. */
   loading: boolean;
   reload: () => void;
 }
 
-/** Loads `load()` on mount and on every reload(); `load` must be a stable function. */
-export function useResource<T>(load: () => Promise<T>): Resource<T> {
-  const [data, set_data] = useState<T | null>(null);
-  const [error, set_error] = useState<string | null>(null);
-  const [loading, set_loading] = useState(true);
-  const [generation, set_generation] = useState(0);
-
-  useEffect(() => {
-    let current = true;
-    set_loading(true);
-    load().then(
-      (value) => {
-        if (!current) return;
-        set_data(value);
-        set_error(null);
-        set_loading(false);
-      },
-      (reason: unknown) => {
-        if (!current) return;
-        set_error(error_text(reason));
-        set_loading(false);
-      },
-    );
-    return () => {
-      current = false;
-    };
-  }, [load, generation]);
-
-  const reload = useCallback(() => set_generation((g) => g + 1), []);
-  return { data, error, loading, reload };
+/**
+ * Loads `load()` under `key`, the API path's segments (`['sessions', id, 'review']` for
+ * GET /api/sessions/{id}/review): the key names the answer, so two loads with one key must ask
+ * for the same thing. A mounted component shows the cached answer at once and refreshes it.
+ */
+export function useResource<T>(key: QueryKey, load: () => Promise<T>): Resource<T> {
+  const query = useQuery({ queryKey: key, queryFn: () => load() });
+  const { refetch } = query;
+  const reload = useCallback(() => {
+    void refetch();
+  }, [refetch]);
+  return {
+    data: query.data ?? null,
+    error: query.error ? error_text(query.error) : null,
+    loading: query.isFetching,
+    reload,
+  };
 }
 
 export function error_text(reason: unknown): string {

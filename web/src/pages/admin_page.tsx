@@ -1,65 +1,131 @@
+import type { ReactNode } from 'react';
 import { api, type ListedUser, type Station } from '../api';
-import { AuditLog } from '../components/audit_log';
-import { BenchmarksTable } from '../components/benchmarks_table';
-import { CalibrationEditor } from '../components/calibration_editor';
-import { Card } from '../components/card';
-import { CurriculumEditor } from '../components/curriculum_editor';
-import { CurriculumImport } from '../components/curriculum_import';
-import { InstructorPicker } from '../components/instructor_picker';
-import { DataTable } from '../components/data_table';
-import { ResourceView } from '../components/resource_view';
-import { StationForm, StationKindOptions, StationKindPicker } from '../components/station_form';
-import { ThresholdEditor } from '../components/threshold_editor';
-import { UserForm } from '../components/user_form';
+import { useAuth } from '../auth';
+import { AuditLog } from '../components/admin/audit_log';
+import { CalibrationEditor } from '../components/admin/calibration_editor';
+import { CurriculumEditor } from '../components/admin/curriculum_editor';
+import { CurriculumImport } from '../components/admin/curriculum_import';
+import { StationForm, StationKindOptions, StationKindPicker } from '../components/admin/station_form';
+import { StationRetire } from '../components/admin/station_retire';
+import { ThresholdEditor } from '../components/admin/threshold_editor';
+import { UserActions } from '../components/admin/user_actions';
+import { UserForm } from '../components/admin/user_form';
+import { InstructorPicker } from '../components/booking/instructor_picker';
+import { Card } from '../components/common/card';
+import { DataTable } from '../components/common/data_table';
+import { ResourceView } from '../components/common/resource_view';
+import { BenchmarksTable } from '../components/review/benchmarks_table';
+import { Link } from '../router';
 import { useResource } from '../use_resource';
+import { usePageTitle } from '../use_page_title';
 import { role_label } from './access';
 
-export function AdminPage() {
-  const users = useResource(api.users);
-  const stations = useResource(api.stations);
-  const curricula = useResource(api.curricula);
-  const benchmarks = useResource(api.benchmarks);
+/** The administration's areas, each its own page under /admin/<key>. */
+export const admin_sections = [
+  { key: 'users', title: 'Users' },
+  { key: 'stations', title: 'Stations' },
+  { key: 'curricula', title: 'Curricula' },
+  { key: 'experts', title: 'Experts' },
+  { key: 'exports', title: 'Exports' },
+  { key: 'audit', title: 'Audit log' },
+] as const;
+export type AdminSection = (typeof admin_sections)[number]['key'];
+
+export function is_admin_section(key: string): key is AdminSection {
+  return admin_sections.some((s) => s.key === key);
+}
+
+const sections: Record<AdminSection, () => ReactNode> = {
+  users: () => <UsersSection />,
+  stations: () => <StationsSection />,
+  curricula: () => <CurriculaSection />,
+  experts: () => <ExpertsSection />,
+  exports: () => <ExportsSection />,
+  audit: () => (
+    <Card id="audit" title="Audit log">
+      <AuditLog />
+    </Card>
+  ),
+};
+
+export function AdminPage({ section }: { section: AdminSection }) {
+  const title = admin_sections.find((s) => s.key === section)?.title ?? 'Administration';
+  usePageTitle(`${title} · Administration`);
+  return (
+    <main id="main" tabIndex={-1} className="page">
+      <h1>Administration</h1>
+      <nav aria-label="Administration" className="sub-nav">
+        {admin_sections.map((s) => (
+          <Link key={s.key} to={`/admin/${s.key}`}>
+            {s.title}
+          </Link>
+        ))}
+      </nav>
+      {sections[section]()}
+    </main>
+  );
+}
+
+function UsersSection() {
+  const { user: me } = useAuth();
+  const users = useResource(['users'], api.users);
   const instructors = users.data?.filter((u) => u.role === 'instructor') ?? [];
-  // The station kinds the curricula's tasks need: the choices for a station's kind.
-  const station_kinds = [
+  return (
+    <div className="columns">
+      <Card id="users" title="Users" grow>
+        <ResourceView resource={users} what="users" empty="No users.">
+          {(data) => (
+            <DataTable<ListedUser>
+              labelled_by="users-title"
+              rows={data}
+              row_key={(u) => u.id}
+              columns={[
+                { header: 'Username', cell: (u) => u.username },
+                { header: 'Display name', cell: (u) => u.display_name },
+                { header: 'Role', cell: (u) => <span className={`role-badge role-${u.role}`}>{role_label(u.role)}</span> },
+                {
+                  header: 'Status',
+                  cell: (u) => (
+                    <span className={`badge ${u.disabled ? 'badge-offline' : 'badge-online'}`} data-testid={`user-${u.username}-status`}>
+                      {u.disabled ? 'Disabled' : u.must_change_password ? 'Must choose a password' : 'Active'}
+                    </span>
+                  ),
+                },
+                {
+                  header: 'Taught by',
+                  cell: (u) =>
+                    u.role === 'trainee' ? <InstructorPicker trainee={u} instructors={instructors} on_saved={users.reload} /> : '—',
+                },
+                { header: 'Actions', cell: (u) => <UserActions user={u} self={u.id === me?.id} on_changed={users.reload} /> },
+              ]}
+            />
+          )}
+        </ResourceView>
+      </Card>
+      <Card id="new-user" title="New user">
+        <UserForm on_created={users.reload} />
+      </Card>
+    </div>
+  );
+}
+
+/** The station kinds the curricula's tasks need: the choices for a station's kind. */
+function useStationKinds(): string[] {
+  const curricula = useResource(['curricula'], api.curricula);
+  return [
     ...new Set(
-      (curricula.data ?? []).flatMap((c) =>
-        c.definition.modules.flatMap((m) => m.tasks.map((t) => t.station_kind ?? '')),
-      ),
+      (curricula.data ?? []).flatMap((c) => c.definition.modules.flatMap((m) => m.tasks.map((t) => t.station_kind ?? ''))),
     ),
   ]
     .filter((k) => k)
     .sort();
+}
 
+function StationsSection() {
+  const stations = useResource(['stations'], api.stations);
+  const station_kinds = useStationKinds();
   return (
-    <main className="page">
-      <h1>Administration</h1>
-      <div className="columns">
-        <Card id="users" title="Users" grow>
-          <ResourceView resource={users} what="users" empty="No users.">
-            {(data) => (
-              <DataTable<ListedUser>
-                labelled_by="users-title"
-                rows={data}
-                row_key={(u) => u.id}
-                columns={[
-                  { header: 'Username', cell: (u) => u.username },
-                  { header: 'Display name', cell: (u) => u.display_name },
-                  { header: 'Role', cell: (u) => <span className={`role-badge role-${u.role}`}>{role_label(u.role)}</span> },
-                  {
-                    header: 'Taught by',
-                    cell: (u) =>
-                      u.role === 'trainee' ? <InstructorPicker trainee={u} instructors={instructors} on_saved={users.reload} /> : '—',
-                  },
-                ]}
-              />
-            )}
-          </ResourceView>
-        </Card>
-        <Card id="new-user" title="New user">
-          <UserForm on_created={users.reload} />
-        </Card>
-      </div>
+    <>
       <div className="columns">
         <Card id="stations" title="Stations" grow>
           <ResourceView resource={stations} what="stations" empty="No stations yet. Create one to let trainees book it.">
@@ -77,12 +143,18 @@ export function AdminPage() {
                   },
                   {
                     header: 'Agent',
-                    cell: (s) => (
-                      <span className={`badge ${s.online ? 'badge-online' : 'badge-offline'}`}>
-                        {s.online ? 'Online' : 'Offline'}
-                      </span>
-                    ),
+                    cell: (s) =>
+                      s.retired ? (
+                        <span className="badge badge-offline" data-testid={`station-${s.id}-state`}>
+                          Retired
+                        </span>
+                      ) : (
+                        <span className={`badge ${s.online ? 'badge-online' : 'badge-offline'}`} data-testid={`station-${s.id}-state`}>
+                          {s.online ? 'Online' : 'Offline'}
+                        </span>
+                      ),
                   },
+                  { header: 'Service', cell: (s) => <StationRetire station={s} on_changed={stations.reload} /> },
                 ]}
               />
             )}
@@ -99,6 +171,14 @@ export function AdminPage() {
       <Card id="calibration" title="Station calibration">
         {stations.data && <CalibrationEditor stations={stations.data} />}
       </Card>
+    </>
+  );
+}
+
+function CurriculaSection() {
+  const curricula = useResource(['curricula'], api.curricula);
+  return (
+    <>
       <div className="columns">
         <Card id="thresholds" title="Curriculum thresholds" grow>
           {curricula.error && <p role="alert">Could not load the curricula: {curricula.error}</p>}
@@ -107,33 +187,46 @@ export function AdminPage() {
         <Card id="import" title="Import a curriculum">
           <CurriculumImport on_imported={curricula.reload} />
         </Card>
-        <Card id="exports" title="Exports">
-          <ul>
-            <li>
-              <a href="/api/exports/scores.csv" download>
-                Scores and attempts (CSV)
-              </a>
-            </li>
-            {curricula.data?.[0] && (
-              <li>
-                <a href={`/api/curricula/${curricula.data[0].id}/export`} download>
-                  {`Curriculum “${curricula.data[0].name}” (JSON)`}
-                </a>
-              </li>
-            )}
-          </ul>
-        </Card>
       </div>
-      <Card id="curriculum-editor" title="Curriculum editor">
+      <Card id="curriculum-editor" title="Curriculum editor (JSON)">
         {curricula.data && <CurriculumEditor curricula={curricula.data} on_saved={curricula.reload} />}
       </Card>
-      <Card id="benchmarks" title="Expert benchmarks">
-        {benchmarks.error && <p role="alert">Could not load the benchmarks: {benchmarks.error}</p>}
-        {benchmarks.data && <BenchmarksTable benchmarks={benchmarks.data} />}
-      </Card>
-      <Card id="audit" title="Audit log">
-        <AuditLog />
-      </Card>
-    </main>
+    </>
+  );
+}
+
+function ExpertsSection() {
+  const benchmarks = useResource(['benchmarks'], api.benchmarks);
+  return (
+    <Card id="benchmarks" title="Expert benchmarks">
+      <p className="hint">
+        Instructors and admins record expert runs from their Train page (“Record as an expert run”), or mark a finished
+        attempt of their own as one from its review. Each task's band is drawn from these runs.
+      </p>
+      {benchmarks.error && <p role="alert">Could not load the benchmarks: {benchmarks.error}</p>}
+      {benchmarks.data && <BenchmarksTable benchmarks={benchmarks.data} />}
+    </Card>
+  );
+}
+
+function ExportsSection() {
+  const curricula = useResource(['curricula'], api.curricula);
+  return (
+    <Card id="exports" title="Exports">
+      <ul>
+        <li>
+          <a href="/api/exports/scores.csv" download>
+            Scores and attempts (CSV)
+          </a>
+        </li>
+        {curricula.data?.map((c) => (
+          <li key={c.id}>
+            <a href={`/api/curricula/${c.id}/export`} download>
+              {`Curriculum “${c.name}” (JSON)`}
+            </a>
+          </li>
+        ))}
+      </ul>
+    </Card>
   );
 }

@@ -1,18 +1,20 @@
-import { useState, type FormEvent } from 'react';
+import { useState, type SubmitEvent } from 'react';
 import { api } from '../api';
 import { home_path, useAuth } from '../auth';
-import { ErrorAlert, StatusMessage } from '../components/alerts';
+import { ErrorAlert, StatusMessage } from '../components/common/alerts';
 import { navigate } from '../router';
 import { error_text } from '../use_resource';
+import { usePageTitle } from '../use_page_title';
 
 export function LoginPage() {
+  usePageTitle('Log in');
   const { logged_in, notice } = useAuth();
   const [username, set_username] = useState('');
   const [password, set_password] = useState('');
   const [error, set_error] = useState<string | null>(null);
   const [busy, set_busy] = useState(false);
 
-  async function on_submit(event: FormEvent<HTMLFormElement>) {
+  async function on_submit(event: SubmitEvent<HTMLFormElement>) {
     event.preventDefault();
     set_busy(true);
     set_error(null);
@@ -28,7 +30,7 @@ export function LoginPage() {
   }
 
   return (
-    <main className="login-page">
+    <main id="main" tabIndex={-1} className="login-page">
       <section className="card login-card" aria-labelledby="login-title">
         <h1 id="login-title">Log in to Incise</h1>
         <p className="muted">Surgical skills training: book a station, train, follow your scores.</p>

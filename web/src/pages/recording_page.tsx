@@ -1,14 +1,15 @@
 import { useCallback, useMemo, useState } from 'react';
 import { api, type Recording } from '../api';
 import { useUser } from '../auth';
-import { AttemptReview } from '../components/attempt_review';
-import { ReviewNotes } from '../components/review_notes';
-import { ErrorAlert } from '../components/alerts';
-import { ReplayControls } from '../components/replay_controls';
-import { StreamView } from '../components/stream_view';
+import { AttemptReview } from '../components/review/attempt_review';
+import { ReviewNotes } from '../components/review/review_notes';
+import { ErrorAlert } from '../components/common/alerts';
+import { ReplayControls } from '../components/review/replay_controls';
+import { StreamView } from '../components/live/stream_view';
 import { format_date_time } from '../time';
 import { useFrameStream } from '../use_frame_stream';
 import { error_text, useResource } from '../use_resource';
+import { usePageTitle } from '../use_page_title';
 
 /**
  * `/recordings/{id}`: replays a recorded session for review: the replay, its events and timelines
@@ -17,11 +18,12 @@ import { error_text, useResource } from '../use_resource';
  * or foreign recording before the upgrade, and a browser cannot read why.
  */
 export function RecordingPage({ id }: { id: number }) {
-  const recordings = useResource(api.recordings);
+  usePageTitle(`Recording #${id}`);
+  const recordings = useResource(['recordings'], api.recordings);
   const recording = recordings.data?.find((r) => r.id === id);
 
   return (
-    <main className="page">
+    <main id="main" tabIndex={-1} className="page">
       <h1>Recording #{id}</h1>
       <ErrorAlert message={recordings.error && `Could not load the recordings: ${recordings.error}`} />
       {recordings.loading && !recordings.data && (
@@ -45,7 +47,7 @@ function ReplayView({ recording }: { recording: Recording }) {
   const seek = useCallback((t_s: number) => send({ type: 'seek', t: t_s }), [send]);
   // One review for the page: the results, the timelines and the expert switch share it.
   const load_review = useMemo(() => () => api.review(recording.session_id), [recording.session_id]);
-  const review = useResource(load_review);
+  const review = useResource(['sessions', recording.session_id, 'review'], load_review);
   return (
     <>
       <p className="muted">
@@ -63,14 +65,15 @@ function ReplayView({ recording }: { recording: Recording }) {
       </section>
       <AttemptReview review={review} position_s={position_s} on_seek={seek} />
       <ReviewNotes session_id={recording.session_id} viewer={viewer} position_s={position_s} on_seek={seek} />
-      {viewer.role === 'admin' && review.data && (
+      {/* Admins mark any staff attempt; an instructor their own (the server checks both). */}
+      {review.data && (viewer.role === 'admin' || (viewer.role === 'instructor' && review.data.trainee_id === viewer.id)) && (
         <ExpertRunToggle session_id={recording.session_id} expert={review.data.expert_run} on_changed={review.reload} />
       )}
     </>
   );
 }
 
-/** Admins choose the expert runs whose scores make each task's benchmark. */
+/** The expert runs whose scores make each task's benchmark: admins choose, instructors offer their own. */
 function ExpertRunToggle({ session_id, expert, on_changed }: { session_id: number; expert: boolean; on_changed: () => void }) {
   const [error, set_error] = useState<string | null>(null);
   const [busy, set_busy] = useState(false);

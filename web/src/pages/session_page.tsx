@@ -1,20 +1,23 @@
 import { useCallback, useState } from 'react';
 import { api, type LiveSession, type LiveState } from '../api';
-import { ErrorAlert, StatusMessage } from '../components/alerts';
-import { SessionControls } from '../components/session_controls';
-import { SessionResult } from '../components/session_result';
-import { StreamView } from '../components/stream_view';
+import { ErrorAlert, StatusMessage } from '../components/common/alerts';
+import { SessionControls } from '../components/live/session_controls';
+import { StaleWarning } from '../components/live/stale_warning';
+import { SessionResult } from '../components/review/session_result';
+import { StreamView } from '../components/live/stream_view';
 import { useFrameStream } from '../use_frame_stream';
 import { useResource } from '../use_resource';
+import { usePageTitle } from '../use_page_title';
 
 /** `/sessions/{id}`: a live session's picture, metrics and controls; its result once it ended. */
 export function SessionPage({ id }: { id: number }) {
+  usePageTitle(`Session #${id}`);
   const load = useCallback(() => api.session(id), [id]);
-  const session = useResource(load);
+  const session = useResource(['sessions', id], load);
   const data = session.data;
 
   return (
-    <main className="page">
+    <main id="main" tabIndex={-1} className="page">
       <h1>Session #{id}</h1>
       <ErrorAlert message={session.error && `Could not load session #${id}: ${session.error}`} />
       {session.loading && !data && (
@@ -57,6 +60,7 @@ function LiveView({ session, live }: { session: LiveSession; live: LiveState }) 
           then resume.
         </p>
       )}
+      {!ended && <StaleWarning metrics={stream.metrics} picture_age_s={stream.picture_age_s} />}
       <section className="card" aria-label="Live picture">
         <StreamView stream={stream} test_id="live-canvas" label={`Live picture of session ${session.id}`} replay={false} />
         {state !== 'finished' && !ended && (

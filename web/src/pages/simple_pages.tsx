@@ -1,12 +1,14 @@
 import { home_path, useUser } from '../auth';
 import { Link } from '../router';
+import { usePageTitle } from '../use_page_title';
 import { role_label, type PageInfo } from './access';
 
 export function ForbiddenPage({ page }: { page: PageInfo }) {
   const user = useUser();
+  usePageTitle('Access denied');
   const allowed = page.roles.map((r) => role_label(r).toLowerCase() + 's').join(' and ');
   return (
-    <main className="page">
+    <main id="main" tabIndex={-1} className="page">
       <section className="card notice-card">
         <h1>Access denied</h1>
         <p>
@@ -21,8 +23,9 @@ export function ForbiddenPage({ page }: { page: PageInfo }) {
 }
 
 export function NotFoundPage({ home }: { home: string }) {
+  usePageTitle('Page not found');
   return (
-    <main className="page">
+    <main id="main" tabIndex={-1} className="page">
       <section className="card notice-card">
         <h1>Page not found</h1>
         <p>There is no page at this address.</p>

@@ -1,31 +1,33 @@
 import { api } from '../api';
-import { BookingCalendar } from '../components/booking_calendar';
-import { ProgressChart } from '../components/progress_chart';
+import { BookingCalendar } from '../components/booking/booking_calendar';
+import { ProgressChart } from '../components/training/progress_chart';
 import { useUser } from '../auth';
-import { BookingForm } from '../components/booking_form';
-import { BookingsTable } from '../components/bookings_table';
-import { Card } from '../components/card';
-import { CurriculumProgress } from '../components/curriculum_progress';
-import { ResourceView } from '../components/resource_view';
-import { StartSession } from '../components/start_session';
-import { TrainingRecord } from '../components/training_record';
+import { BookingForm } from '../components/booking/booking_form';
+import { BookingsTable } from '../components/booking/bookings_table';
+import { Card } from '../components/common/card';
+import { CurriculumProgress } from '../components/training/curriculum_progress';
+import { ResourceView } from '../components/common/resource_view';
+import { StartSession } from '../components/live/start_session';
+import { TrainingRecord } from '../components/training/training_record';
 import { useResource } from '../use_resource';
+import { usePageTitle } from '../use_page_title';
 
 export function TraineePage() {
+  usePageTitle('My training');
   const user = useUser();
   // Shared by the start form (today's bookings), the booking form (reload) and the list.
-  const bookings = useResource(api.bookings);
-  const progress = useResource(api.progress);
-  const stations = useResource(api.stations);
-  const scores = useResource(api.scores);
-  const curricula = useResource(api.curricula);
-  const benchmarks = useResource(api.benchmarks);
+  const bookings = useResource(['bookings'], api.bookings);
+  const progress = useResource(['progress'], api.progress);
+  const stations = useResource(['stations'], api.stations);
+  const scores = useResource(['scores'], api.scores);
+  const curricula = useResource(['curricula'], api.curricula);
+  const benchmarks = useResource(['benchmarks'], api.benchmarks);
 
   return (
-    <main className="page">
+    <main id="main" tabIndex={-1} className="page">
       <h1>My training</h1>
       <Card id="train" title="Train now">
-        <StartSession bookings={bookings.data} on_booked={bookings.reload} />
+        <StartSession bookings={bookings.data} reload={bookings.reload} />
       </Card>
       <div className="columns">
         <Card id="book" title="Book a slot">

@@ -1,12 +1,13 @@
-import { useEffect, useState, type FormEvent } from 'react';
-import { api, type CalibrationAnswer, type Station } from '../api';
-import { error_text } from '../use_resource';
-import { parse_json, useFormAction } from '../use_form_action';
-import { ErrorAlert, StatusMessage } from './alerts';
+import { useEffect, useState, type SubmitEvent } from 'react';
+import { api, type CalibrationAnswer, type Station } from '../../api';
+import { error_text } from '../../use_resource';
+import { parse_json, useFormAction } from '../../use_form_action';
+import { ErrorAlert, StatusMessage } from '../common/alerts';
+import { CalibrationFields } from './calibration_fields';
 
 /**
- * A station's calibration (device-to-scene mappings, docs/api.md "Calibration") as JSON text to
- * edit. The server validates what is saved and names the path of the first problem; it refuses
+ * A station's calibration (device-to-scene mappings, docs/api.md "Calibration") as a form, with
+ * the JSON text kept for power users. The server validates what is saved and names the path of the first problem; it refuses
  * (409) while a session runs at the station, since remapping a hand in use would move its tool.
  */
 export function CalibrationEditor({ stations }: { stations: Station[] }) {
@@ -25,12 +26,18 @@ export function CalibrationEditor({ stations }: { stations: Station[] }) {
     set_text(JSON.stringify(loaded.calibration, null, 2));
   }
 
-  useEffect(() => {
-    if (chosen_id === null) return;
-    let current = true;
+  // Another station: nothing of the last one's calibration stays on screen while its own loads.
+  const [shown_id, set_shown_id] = useState(chosen_id);
+  if (shown_id !== chosen_id) {
+    set_shown_id(chosen_id);
     set_answer(null);
     set_text('');
     set_load_error(null);
+  }
+
+  useEffect(() => {
+    if (chosen_id === null) return;
+    let current = true;
     api.calibration(chosen_id).then(
       (loaded) => current && show(loaded),
       (reason: unknown) => current && set_load_error(`Could not load the calibration: ${error_text(reason)}`),
@@ -40,7 +47,7 @@ export function CalibrationEditor({ stations }: { stations: Station[] }) {
     };
   }, [chosen_id]);
 
-  async function on_submit(event: FormEvent<HTMLFormElement>) {
+  async function on_submit(event: SubmitEvent<HTMLFormElement>) {
     event.preventDefault();
     if (chosen_id === null) return;
     await run(async () => {
@@ -85,15 +92,19 @@ export function CalibrationEditor({ stations }: { stations: Station[] }) {
       {answer?.default && (
         <p className="hint">Nothing stored for this station yet: this is the default (two pens, identity mappings).</p>
       )}
-      <textarea
-        className="calibration-text"
-        aria-label="Calibration JSON"
-        spellCheck={false}
-        rows={18}
-        value={text}
-        disabled={!answer}
-        onChange={(e) => set_text(e.target.value)}
-      />
+      {answer && <CalibrationFields text={text} disabled={busy} on_change={set_text} />}
+      <details className="power-user">
+        <summary>Edit as JSON</summary>
+        <textarea
+          className="calibration-text"
+          aria-label="Calibration JSON"
+          spellCheck={false}
+          rows={18}
+          value={text}
+          disabled={!answer}
+          onChange={(e) => set_text(e.target.value)}
+        />
+      </details>
       <ErrorAlert message={error} />
       <StatusMessage message={status} />
       <button type="submit" className="button-primary" disabled={busy || !answer}>

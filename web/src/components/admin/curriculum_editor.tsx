@@ -1,7 +1,7 @@
-import { useEffect, useState, type FormEvent } from 'react';
-import { api, type CurriculumEntry } from '../api';
-import { parse_json, useFormAction } from '../use_form_action';
-import { ErrorAlert, StatusMessage } from './alerts';
+import { useState, type SubmitEvent } from 'react';
+import { api, type CurriculumEntry } from '../../api';
+import { parse_json, useFormAction } from '../../use_form_action';
+import { ErrorAlert, StatusMessage } from '../common/alerts';
 
 /**
  * A whole curriculum as JSON text to edit: modules, tasks, their metrics, zones, targets, forces
@@ -11,16 +11,18 @@ import { ErrorAlert, StatusMessage } from './alerts';
  */
 export function CurriculumEditor({ curricula, on_saved }: { curricula: CurriculumEntry[]; on_saved: () => void }) {
   const [chosen_id, set_chosen_id] = useState<number | null>(curricula[0]?.id ?? null);
-  const [text, set_text] = useState('');
   const { busy, error, status, run, clear } = useFormAction();
   const chosen = curricula.find((c) => c.id === chosen_id) ?? curricula[0] ?? null;
 
   // The stored definition, whenever another curriculum is chosen or the list reloads.
-  useEffect(() => {
-    set_text(chosen ? JSON.stringify(chosen.definition, null, 2) : '');
-  }, [chosen]);
+  const [text, set_text] = useState(() => definition_text(chosen));
+  const [shown, set_shown] = useState(chosen);
+  if (shown !== chosen) {
+    set_shown(chosen);
+    set_text(definition_text(chosen));
+  }
 
-  async function on_submit(event: FormEvent<HTMLFormElement>) {
+  async function on_submit(event: SubmitEvent<HTMLFormElement>) {
     event.preventDefault();
     if (!chosen) return;
     await run(async () => {
@@ -66,4 +68,8 @@ export function CurriculumEditor({ curricula, on_saved }: { curricula: Curriculu
       </button>
     </form>
   );
+}
+
+function definition_text(entry: CurriculumEntry | null): string {
+  return entry ? JSON.stringify(entry.definition, null, 2) : '';
 }

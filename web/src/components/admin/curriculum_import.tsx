@@ -1,7 +1,7 @@
-import { useState, type FormEvent } from 'react';
-import { api } from '../api';
-import { parse_json, useFormAction } from '../use_form_action';
-import { ErrorAlert, StatusMessage } from './alerts';
+import { useState, type SubmitEvent } from 'react';
+import { api } from '../../api';
+import { parse_json, useFormAction } from '../../use_form_action';
+import { ErrorAlert, StatusMessage } from '../common/alerts';
 
 /**
  * Imports a curriculum file (the format GET /api/curricula/{id}/export downloads) as a new
@@ -14,7 +14,7 @@ export function CurriculumImport({ on_imported }: { on_imported: () => void }) {
   const [input_generation, set_input_generation] = useState(0);
   const { busy, error, status, run, clear } = useFormAction();
 
-  async function on_submit(event: FormEvent<HTMLFormElement>) {
+  async function on_submit(event: SubmitEvent<HTMLFormElement>) {
     event.preventDefault();
     if (!file) return;
     await run(async () => {

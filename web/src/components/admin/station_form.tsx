@@ -1,7 +1,7 @@
-import { useState, type FormEvent } from 'react';
-import { api, type Station } from '../api';
-import { useFormAction } from '../use_form_action';
-import { ErrorAlert } from './alerts';
+import { useState, type SubmitEvent } from 'react';
+import { api, type Station } from '../../api';
+import { useFormAction } from '../../use_form_action';
+import { ErrorAlert } from '../common/alerts';
 
 /** Creates a station and shows its agent token, which the server reveals only this once. */
 export function StationForm({ on_created }: { on_created: (station: Station) => void }) {
@@ -12,7 +12,7 @@ export function StationForm({ on_created }: { on_created: (station: Station) => 
   const [created, set_created] = useState<{ station: Station; token: string } | null>(null);
   const [copied, set_copied] = useState(false);
 
-  async function on_submit(event: FormEvent<HTMLFormElement>) {
+  async function on_submit(event: SubmitEvent<HTMLFormElement>) {
     event.preventDefault();
     await run(async () => {
       const result = await api.create_station(name.trim(), location.trim(), kind.trim());

@@ -1,7 +1,7 @@
 import { useState } from 'react';
 
-import { api, ApiError, type CurriculumEntry } from '../api';
-import { from_display, metric_name, to_display, useMetricCatalogue } from '../metrics';
+import { api, ApiError, type CurriculumEntry } from '../../api';
+import { from_display, metric_name, to_display, useMetricCatalogue } from '../../metrics';
 
 /**
  * The pass thresholds of a curriculum's tasks, editable: one number per metric a task scores,

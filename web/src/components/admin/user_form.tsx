@@ -1,8 +1,8 @@
-import { useState, type FormEvent } from 'react';
-import { api, type Role, type User } from '../api';
-import { role_label } from '../pages/access';
-import { useFormAction } from '../use_form_action';
-import { ErrorAlert, StatusMessage } from './alerts';
+import { useState, type SubmitEvent } from 'react';
+import { api, type Role, type User } from '../../api';
+import { role_label } from '../../pages/access';
+import { useFormAction } from '../../use_form_action';
+import { ErrorAlert, StatusMessage } from '../common/alerts';
 
 const roles: Role[] = ['trainee', 'instructor', 'admin'];
 
@@ -13,7 +13,7 @@ export function UserForm({ on_created }: { on_created: (user: User) => void }) {
   const [password, set_password] = useState('');
   const { busy, error, status, run } = useFormAction();
 
-  async function on_submit(event: FormEvent<HTMLFormElement>) {
+  async function on_submit(event: SubmitEvent<HTMLFormElement>) {
     event.preventDefault();
     await run(async () => {
       const user = await api.create_user({ username: username.trim(), display_name: display_name.trim(), role, password });

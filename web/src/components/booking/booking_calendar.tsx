@@ -1,8 +1,9 @@
 import { useEffect, useState } from 'react';
-import { api, type ScheduleEntry, type Station, type User } from '../api';
-import { format_date, localize_utc_times, to_api_time } from '../time';
-import { error_text } from '../use_resource';
-import { ErrorAlert, StatusMessage } from './alerts';
+import { api, type ScheduleEntry, type Station, type User } from '../../api';
+import { format_date, localize_utc_times, to_api_time } from '../../time';
+import { useNow } from '../../use_now';
+import { error_text } from '../../use_resource';
+import { ErrorAlert, StatusMessage } from '../common/alerts';
 
 const first_hour = 8;
 const last_hour = 20;
@@ -70,6 +71,7 @@ export function BookingCalendar({
   const [schedule, set_schedule] = useState<{ station_id: number; entries: ScheduleEntry[] } | null>(null);
   const [load_error, set_load_error] = useState<string | null>(null);
   const [generation, set_generation] = useState(0);
+  const now = useNow(30_000);
   // Until the person picks one, the first station is shown.
   const found = stations.find((s) => String(s.id) === chosen_station) ?? stations[0];
   const station_id = found?.id;
@@ -92,7 +94,6 @@ export function BookingCalendar({
 
   if (!found) return <p className="empty">No stations yet.</p>;
   const station: Station = found;
-  const now = Date.now();
   const staff = viewer.role !== 'trainee';
   // Until the station's schedule is in, no slot can be booked: it may be taken.
   const loading = schedule?.station_id !== station.id;
@@ -193,7 +194,7 @@ export function BookingCalendar({
   }
 
   const today = monday_of(new Date()).getTime() === week.getTime() ? new Date().getDay() : null;
-  const week_label = `${format_date(week_days[0]!)} – ${format_date(week_days[6]!)}`;
+  const week_label = `${format_date(week)} – ${format_date(add_days(week, 6))}`;
 
   return (
     <div className="booking-calendar" data-testid="booking-calendar">

@@ -1,5 +1,5 @@
-import { useState, type FormEvent } from 'react';
-import { api, type Booking } from '../api';
+import { useState, type SubmitEvent } from 'react';
+import { api, type Booking } from '../../api';
 import {
   format_date,
   format_duration,
@@ -11,16 +11,16 @@ import {
   quarter_hours,
   to_api_time,
   tomorrow,
-} from '../time';
-import { error_text, useResource } from '../use_resource';
-import { ErrorAlert, StatusMessage } from './alerts';
+} from '../../time';
+import { error_text, useResource } from '../../use_resource';
+import { ErrorAlert, StatusMessage } from '../common/alerts';
 
 const durations = [15, 30, 45, 60, 90, 120];
 const start_times = quarter_hours();
 
 /** Books a slot for the logged-in user; times are entered in local time and sent as UTC. */
 export function BookingForm({ on_booked }: { on_booked: (booking: Booking) => void }) {
-  const stations = useResource(api.stations);
+  const stations = useResource(['stations'], api.stations);
   const [station_id, set_station_id] = useState('');
   const [date, set_date] = useState(tomorrow);
   const [start, set_start] = useState('09:00');
@@ -34,7 +34,7 @@ export function BookingForm({ on_booked }: { on_booked: (booking: Booking) => vo
   const selected = stations.data?.find((s) => String(s.id) === chosen_station);
   const slot = local_slot(date, start, minutes);
 
-  async function on_submit(event: FormEvent<HTMLFormElement>) {
+  async function on_submit(event: SubmitEvent<HTMLFormElement>) {
     event.preventDefault();
     set_error(null);
     set_status(null);

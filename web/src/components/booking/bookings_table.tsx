@@ -1,9 +1,9 @@
 import { useState } from 'react';
-import { api, type Booking, type User } from '../api';
-import { format_date, format_time, format_time_range } from '../time';
-import { error_text } from '../use_resource';
-import { ErrorAlert, StatusMessage } from './alerts';
-import { DataTable } from './data_table';
+import { api, type Booking, type User } from '../../api';
+import { format_date, format_time, format_time_range } from '../../time';
+import { error_text } from '../../use_resource';
+import { ErrorAlert, StatusMessage } from '../common/alerts';
+import { DataTable } from '../common/data_table';
 
 /**
  * Bookings, newest first as the server sends them; cancelled ones stay listed, greyed.

@@ -1,7 +1,7 @@
 import { useState } from 'react';
-import { api, type ListedUser, type User } from '../api';
-import { error_text } from '../use_resource';
-import { ErrorAlert } from './alerts';
+import { api, type ListedUser, type User } from '../../api';
+import { error_text } from '../../use_resource';
+import { ErrorAlert } from '../common/alerts';
 
 /**
  * Which instructors teach one trainee: a checkbox per instructor. Each toggle saves the new set at

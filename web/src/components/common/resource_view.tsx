@@ -1,5 +1,5 @@
 import type { ReactNode } from 'react';
-import type { Resource } from '../use_resource';
+import type { Resource } from '../../use_resource';
 import { ErrorAlert } from './alerts';
 
 /** Renders a resource's loading, error and empty states explicitly, and its data otherwise. */

@@ -1,4 +1,4 @@
-import type { StreamMetrics } from '../stream';
+import type { StreamMetrics } from '../../stream';
 
 const state_labels: Record<StreamMetrics['state'], string> = {
   running: 'Running',
@@ -26,7 +26,7 @@ const rows: Row[] = [
     key: 'state',
     label: 'State',
     value: (m) => {
-      const label = state_labels[m.state] ?? m.state;
+      const label = state_labels[m.state];
       return m.state === 'running' && m.behind_real_time ? `${label}, behind real time` : label;
     },
   },

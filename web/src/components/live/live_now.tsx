@@ -1,9 +1,9 @@
 import { useEffect } from 'react';
-import { api, type Session } from '../api';
-import { Link } from '../router';
-import { format_date_time } from '../time';
-import { useResource } from '../use_resource';
-import { DataTable } from './data_table';
+import { api, type Session } from '../../api';
+import { Link } from '../../router';
+import { format_date_time } from '../../time';
+import { useResource } from '../../use_resource';
+import { DataTable } from '../common/data_table';
 
 const refresh_ms = 10_000;
 
@@ -12,7 +12,7 @@ const refresh_ms = 10_000;
  * it live; refreshed every ten seconds, so that a session started a moment ago appears.
  */
 export function LiveNow() {
-  const sessions = useResource(api.sessions);
+  const sessions = useResource(['sessions'], api.sessions);
   const { reload } = sessions;
   useEffect(() => {
     const timer = window.setInterval(reload, refresh_ms);

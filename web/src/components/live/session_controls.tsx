@@ -1,7 +1,7 @@
 import { useState } from 'react';
-import { api, type LiveSession, type SessionAction } from '../api';
-import { error_text } from '../use_resource';
-import { ErrorAlert } from './alerts';
+import { api, type LiveSession, type SessionAction } from '../../api';
+import { error_text } from '../../use_resource';
+import { ErrorAlert } from '../common/alerts';
 
 const action_labels: Record<SessionAction, string> = { pause: 'Pause', resume: 'Resume', stop: 'Stop' };
 const busy_labels: Record<SessionAction, string> = { pause: 'Pausing…', resume: 'Resuming…', stop: 'Stopping…' };

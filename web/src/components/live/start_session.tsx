@@ -1,30 +1,29 @@
-import { useCallback, useEffect, useState, type FormEvent } from 'react';
-import { api, type Booking, type Station, type StationTask } from '../api';
-import { navigate } from '../router';
-import { format_time, format_time_range, localize_utc_times, to_api_time } from '../time';
-import { error_text, useResource } from '../use_resource';
-import { ErrorAlert } from './alerts';
+import { useEffect, useRef, useState, type ReactNode, type SubmitEvent } from 'react';
+import { api, type Booking, type Station, type StationTask } from '../../api';
+import { navigate } from '../../router';
+import { format_time, format_time_range, localize_utc_times, to_api_time } from '../../time';
+import { useNow } from '../../use_now';
+import { error_text, useResource } from '../../use_resource';
+import { ErrorAlert } from '../common/alerts';
 
-/** Milliseconds since the epoch, refreshed every `period_ms` so that slots begin and end on screen. */
-function useNow(period_ms: number): number {
-  const [now, set_now] = useState(Date.now);
-  useEffect(() => {
-    const timer = window.setInterval(() => set_now(Date.now()), period_ms);
-    return () => window.clearInterval(timer);
-  }, [period_ms]);
-  return now;
-}
+const kQuarterHourMs = 15 * 60 * 1000;
+const kWalkUpMinutes = [30, 60];
 
-function covers(booking: Booking, now: number): boolean {
-  return booking.status === 'active' && Date.parse(booking.starts_at) <= now && now < Date.parse(booking.ends_at);
-}
-
-/** A "Start session" form for each of `bookings` that covers the present moment; without one, a
- * walk-up form that books the slot in progress. `bookings` is null while they load: then neither
- * shows, so that the walk-up form does not flash up before a booking that covers now. */
-export function StartSession({ bookings, on_booked }: { bookings: Booking[] | null; on_booked: () => void }) {
+/** A "Start session" form for each of `bookings` that covers the present moment (the server says
+ * which: `covers_now`); without one, a walk-up form that books the slot in progress. `bookings` is
+ * null while they load: then neither shows, so that the walk-up form does not flash up before a
+ * booking that covers now. Slots begin and end on quarter hours: at each, `reload` asks again. */
+export function StartSession({ bookings, reload }: { bookings: Booking[] | null; reload: () => void }) {
   const now = useNow(15_000);
-  const stations = useResource(api.stations);
+  const stations = useResource(['stations'], api.stations);
+  const quarter = Math.floor(now / kQuarterHourMs);
+  const asked_in = useRef(quarter);
+  useEffect(() => {
+    if (quarter !== asked_in.current) {
+      asked_in.current = quarter;
+      reload();
+    }
+  }, [quarter, reload]);
   if (bookings === null) {
     return (
       <p className="muted" role="status">
@@ -32,25 +31,83 @@ export function StartSession({ bookings, on_booked }: { bookings: Booking[] | nu
       </p>
     );
   }
-  const current = bookings.filter((b) => covers(b, now));
+  const current = bookings.filter((b) => b.covers_now);
 
   if (current.length === 0) {
-    return <WalkUp stations={stations.data ?? []} now={now} on_booked={on_booked} />;
+    return <WalkUp stations={stations.data ?? []} now={now} on_booked={reload} />;
   }
   return (
     <>
       {current.map((b) => (
-        <StartSessionForm key={b.id} booking={b} station={stations.data?.find((s) => s.id === b.station_id)} />
+        <StartSessionForm
+          key={b.id}
+          station_id={b.station_id}
+          form_label={`Start a session at ${b.station_name}`}
+          heading={
+            <>
+              <strong>{b.station_name}</strong>, booked {format_time_range(b.starts_at, b.ends_at)}
+            </>
+          }
+          station={stations.data?.find((s) => s.id === b.station_id)}
+        />
       ))}
     </>
   );
 }
 
-function StartSessionForm({ booking, station }: { booking: Booking; station: Station | undefined }) {
+/**
+ * Staff run a task at any station in service, with no booking: to try it, to show it, or to record
+ * an expert run for the task's benchmark (the experts' band beside every attempt).
+ */
+export function StaffStartSession() {
+  const stations = useResource(['stations'], api.stations);
+  const in_service = (stations.data ?? []).filter((s) => !s.retired);
+  const [station_id, set_station_id] = useState('');
+  const chosen = in_service.find((s) => String(s.id) === station_id) ?? in_service.find((s) => s.online) ?? in_service[0];
+  if (!stations.data) return <p className="muted">Loading the stations…</p>;
+  if (!chosen) return <p className="empty">No station is in service.</p>;
+  return (
+    <>
+      <div className="form">
+        <label htmlFor="staff-station">Station</label>
+        <select id="staff-station" value={chosen.id} onChange={(e) => set_station_id(e.target.value)}>
+          {in_service.map((s) => (
+            <option key={s.id} value={s.id}>
+              {s.online ? s.name : `${s.name} (agent offline)`}
+            </option>
+          ))}
+        </select>
+      </div>
+      <StartSessionForm
+        key={chosen.id}
+        station_id={chosen.id}
+        form_label={`Run a task at ${chosen.name}`}
+        heading={<strong>{chosen.name}</strong>}
+        station={chosen}
+        expert_option
+      />
+    </>
+  );
+}
+
+function StartSessionForm({
+  station_id,
+  form_label,
+  heading,
+  station,
+  expert_option = false,
+}: {
+  station_id: number;
+  form_label: string;
+  heading: ReactNode;
+  station: Station | undefined;
+  /** Offer "Record as an expert run" (staff only; the server refuses it to trainees). */
+  expert_option?: boolean;
+}) {
   // The tasks this station can run, each with what locks it for this trainee: the server's rules
   // (curriculum/station_offer.h), which it enforces when the session starts as well.
-  const station_id = booking.station_id;
-  const offer = useResource(useCallback(() => api.station_tasks(station_id), [station_id]));
+  const [expert, set_expert] = useState(false);
+  const offer = useResource(['stations', station_id, 'tasks'], () => api.station_tasks(station_id));
   const tasks: StationTask[] = offer.data?.tasks ?? [];
   const [task, set_task] = useState('');
   const [error, set_error] = useState<string | null>(null);
@@ -60,12 +117,12 @@ function StartSessionForm({ booking, station }: { booking: Booking; station: Sta
   const locked_reasons = tasks.map((t) => t.locked_reason).filter((reason) => !!reason);
   const instructions = tasks.find((t) => t.key === chosen_task)?.instructions;
 
-  async function on_submit(event: FormEvent<HTMLFormElement>) {
+  async function on_submit(event: SubmitEvent<HTMLFormElement>) {
     event.preventDefault();
     set_busy(true);
     set_error(null);
     try {
-      const session = await api.start_session(booking.station_id, chosen_task);
+      const session = await api.start_session(station_id, chosen_task, expert);
       navigate(`/sessions/${session.id}`);
     } catch (reason) {
       // e.g. 409 "station 1 agent is offline": the server's own words tell the person what to do.
@@ -74,11 +131,10 @@ function StartSessionForm({ booking, station }: { booking: Booking; station: Sta
     }
   }
 
-  const form_label = `Start a session at ${booking.station_name}`;
   return (
     <form onSubmit={on_submit} className="form" aria-label={form_label}>
       <p>
-        <strong>{booking.station_name}</strong>, booked {format_time_range(booking.starts_at, booking.ends_at)}
+        {heading}
         {station && (
           <>
             {' '}
@@ -89,9 +145,9 @@ function StartSessionForm({ booking, station }: { booking: Booking; station: Sta
         )}
       </p>
       <ErrorAlert message={offer.error && `Could not load the station's tasks: ${offer.error}`} />
-      <label htmlFor={`start-task-${booking.id}`}>Task</label>
+      <label htmlFor={`start-task-${station_id}`}>Task</label>
       <select
-        id={`start-task-${booking.id}`}
+        id={`start-task-${station_id}`}
         value={chosen_task}
         onChange={(e) => set_task(e.target.value)}
         disabled={tasks.length === 0}
@@ -112,6 +168,12 @@ function StartSessionForm({ booking, station }: { booking: Booking; station: Sta
         </ul>
       )}
       {instructions && <p className="hint">{instructions}</p>}
+      {expert_option && (
+        <label className="checkbox-option">
+          <input type="checkbox" data-testid="start-expert" checked={expert} onChange={(e) => set_expert(e.target.checked)} /> Record
+          as an expert run (its scores join the task's benchmark)
+        </label>
+      )}
       <ErrorAlert message={error} />
       <button type="submit" className="button-primary" disabled={busy || !chosen_task}>
         {busy ? 'Starting…' : 'Start session'}
@@ -119,9 +181,6 @@ function StartSessionForm({ booking, station }: { booking: Booking; station: Sta
     </form>
   );
 }
-
-const kQuarterHourMs = 15 * 60 * 1000;
-const kWalkUpMinutes = [30, 60];
 
 /**
  * No booking covers now: offer the slot in progress (from the current quarter hour) at a station
@@ -137,7 +196,7 @@ function WalkUp({ stations, now, on_booked }: { stations: Station[]; now: number
   const starts = new Date(Math.floor(now / kQuarterHourMs) * kQuarterHourMs);
   const ends = new Date(starts.getTime() + minutes * 60 * 1000);
 
-  async function on_submit(event: FormEvent<HTMLFormElement>) {
+  async function on_submit(event: SubmitEvent<HTMLFormElement>) {
     event.preventDefault();
     set_busy(true);
     set_error(null);

@@ -1,7 +1,7 @@
 import { useState } from 'react';
-import type { FrameStream } from '../use_frame_stream';
-import { default_view } from '../use_frame_stream';
-import { ErrorAlert, StatusMessage } from './alerts';
+import type { FrameStream } from '../../use_frame_stream';
+import { default_view } from '../../use_frame_stream';
+import { ErrorAlert, StatusMessage } from '../common/alerts';
 import { LiveMetrics } from './live_metrics';
 
 /** The streamed picture with the metrics beside it, and what became of the connection. */
@@ -18,12 +18,14 @@ export function StreamView({
   label: string;
   replay: boolean;
 }) {
+  // The canvas's ref apart from the values that are rendered (React's rules for refs).
+  const { canvas_ref, metrics, fps } = stream;
   return (
     <>
       <div className="stream-layout">
         <div className="stream-picture">
           <canvas
-            ref={stream.canvas_ref}
+            ref={canvas_ref}
             className="stream-canvas"
             width={default_view.width}
             height={default_view.height}
@@ -32,9 +34,9 @@ export function StreamView({
             data-testid={test_id}
           />
         </div>
-        <LiveMetrics metrics={stream.metrics} fps={stream.fps} replay={replay} />
+        <LiveMetrics metrics={metrics} fps={fps} replay={replay} />
       </div>
-      {stream.metrics?.outside_view_allowed && <CameraSwitch stream={stream} />}
+      {metrics?.outside_view_allowed && <CameraSwitch stream={stream} />}
       <StreamStatus stream={stream} />
     </>
   );

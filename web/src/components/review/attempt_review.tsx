@@ -1,11 +1,11 @@
 import { useMemo } from 'react';
-import type { Review, ReviewResult, RunEvent } from '../api';
-import type { Resource } from '../use_resource';
-import { ErrorAlert } from './alerts';
+import type { Review, ReviewResult, RunEvent } from '../../api';
+import type { Resource } from '../../use_resource';
+import { ErrorAlert } from '../common/alerts';
 import './review.css';
-import { DataTable } from './data_table';
-import { format_metric, useMetricCatalogue, type MetricCatalogue } from '../metrics';
-import { format_seconds } from './format';
+import { DataTable } from '../common/data_table';
+import { format_metric, useMetricCatalogue, type MetricCatalogue } from '../../metrics';
+import { format_seconds } from '../common/format';
 import { MetricLabel } from './scores_table';
 import { event_colors, TimelineChart, type TimelineSeries } from './timeline_chart';
 
@@ -122,11 +122,15 @@ function ReviewBody({ review, position_s, on_seek }: { review: Review; position_
       </section>
       <section className="card" aria-labelledby="timelines-title">
         <h2 id="timelines-title">Timelines</h2>
-        <p className="hint">Click a chart to jump the replay there; the black line is the replay's position.</p>
+        <p className="hint">
+          Click a chart to jump the replay there, or focus it and use the arrow keys (Home, End: start,
+          end); the black line is the replay's position.
+        </p>
         {charts.map((chart) => (
           <TimelineChart
             key={chart.test_id}
             {...chart}
+            duration_s={review.duration_s}
             events={review.events}
             position_s={position_s}
             on_seek={on_seek}

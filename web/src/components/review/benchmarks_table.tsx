@@ -1,6 +1,6 @@
-import type { Benchmark } from '../api';
-import { format_metric, useMetricCatalogue, type MetricCatalogue } from '../metrics';
-import { DataTable } from './data_table';
+import type { Benchmark } from '../../api';
+import { format_metric, useMetricCatalogue, type MetricCatalogue } from '../../metrics';
+import { DataTable } from '../common/data_table';
 import { MetricLabel } from './scores_table';
 
 /** "12.3 s ± 1.4 s"; a single run has no spread to show. */

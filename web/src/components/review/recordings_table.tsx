@@ -1,7 +1,7 @@
-import type { Recording } from '../api';
-import { Link } from '../router';
-import { format_date_time } from '../time';
-import { DataTable } from './data_table';
+import type { Recording } from '../../api';
+import { Link } from '../../router';
+import { format_date_time } from '../../time';
+import { DataTable } from '../common/data_table';
 
 export function RecordingsTable({ recordings, show_trainee }: { recordings: Recording[]; show_trainee: boolean }) {
   return (

@@ -1,11 +1,12 @@
 import { useEffect, useRef, useState } from 'react';
-import type { ClientMessage, StreamMetrics } from '../stream';
+import type { ClientMessage, StreamMetrics } from '../../stream';
 
 const speeds = [0.25, 0.5, 1, 2, 4];
 
 /**
- * Play/pause, speed and a seek slider for a replay. The slider follows the replay's time from the
- * metrics, except while the person holds it; the seek is sent once, when they let go.
+ * Play/pause, speed and a seek slider for a replay, which opens paused. The slider follows the
+ * replay's time from the metrics, except while the person holds it; the seek is sent once, when
+ * they let go, and "Seeking to …" shows until the server says it landed.
  */
 export function ReplayControls({
   metrics,
@@ -49,7 +50,8 @@ export function ReplayControls({
     send({ type: 'speed', value });
   }
 
-  const position = held ?? metrics?.sim_time_s ?? 0;
+  const seeking = metrics?.seeking === true;
+  const position = held ?? (seeking ? metrics.seek_to_s : undefined) ?? metrics?.sim_time_s ?? 0;
   return (
     <div className="replay-controls" role="group" aria-label="Replay controls">
       <button
@@ -95,6 +97,11 @@ export function ReplayControls({
       <span className="replay-time" aria-hidden="true">
         {position.toFixed(1)} / {duration.toFixed(1)} s
       </span>
+      {seeking && (
+        <span className="replay-seeking" role="status" data-testid="replay-seeking">
+          <span className="spinner" aria-hidden="true" /> Seeking to {(metrics.seek_to_s ?? position).toFixed(1)} s…
+        </span>
+      )}
     </div>
   );
 }

@@ -1,10 +1,10 @@
-import { useMemo, useState, type FormEvent } from 'react';
-import { api, type Annotation, type ScoreAdjustment, type User } from '../api';
-import { format_date_time } from '../time';
-import { useFormAction } from '../use_form_action';
-import { useResource } from '../use_resource';
-import { ErrorAlert, StatusMessage } from './alerts';
-import { format_seconds } from './format';
+import { useMemo, useState, type SubmitEvent } from 'react';
+import { api, type Annotation, type ScoreAdjustment, type User } from '../../api';
+import { format_date_time } from '../../time';
+import { useFormAction } from '../../use_form_action';
+import { useResource } from '../../use_resource';
+import { ErrorAlert, StatusMessage } from '../common/alerts';
+import { format_seconds } from '../common/format';
 
 /**
  * What instructors add to an attempt: notes at a time of the replay (a click on one jumps there),
@@ -24,8 +24,8 @@ export function ReviewNotes({
   const can_write = viewer.role !== 'trainee';
   const load_annotations = useMemo(() => () => api.annotations(session_id), [session_id]);
   const load_adjustments = useMemo(() => () => api.adjustments(session_id), [session_id]);
-  const annotations = useResource(load_annotations);
-  const adjustments = useResource(load_adjustments);
+  const annotations = useResource(['sessions', session_id, 'annotations'], load_annotations);
+  const adjustments = useResource(['sessions', session_id, 'adjustments'], load_adjustments);
 
   return (
     <div className="columns">
@@ -65,7 +65,7 @@ function AnnotationForm({ session_id, position_s, on_added }: { session_id: numb
   const [text, set_text] = useState('');
   const { busy, error, run } = useFormAction();
 
-  async function on_submit(event: FormEvent<HTMLFormElement>) {
+  async function on_submit(event: SubmitEvent<HTMLFormElement>) {
     event.preventDefault();
     await run(async () => {
       await api.add_annotation(session_id, Math.max(0, position_s), text.trim());
@@ -109,7 +109,7 @@ function AdjustmentForm({ session_id, on_added }: { session_id: number; on_added
   const [reason, set_reason] = useState('');
   const { busy, error, status, run } = useFormAction();
 
-  async function on_submit(event: FormEvent<HTMLFormElement>) {
+  async function on_submit(event: SubmitEvent<HTMLFormElement>) {
     event.preventDefault();
     await run(async () => {
       await api.adjust_score(session_id, passed, reason.trim());

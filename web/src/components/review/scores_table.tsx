@@ -1,7 +1,7 @@
-import type { Benchmark, Score } from '../api';
-import { format_metric, metric_name, useMetricCatalogue, type MetricCatalogue } from '../metrics';
-import { format_date_time } from '../time';
-import { DataTable } from './data_table';
+import type { Benchmark, Score } from '../../api';
+import { format_metric, metric_name, useMetricCatalogue, type MetricCatalogue } from '../../metrics';
+import { format_date_time } from '../../time';
+import { DataTable } from '../common/data_table';
 
 /** A metric's name as people read it, with its key (what curricula and exports use) beside it. */
 export function MetricLabel({ catalogue, metric }: { catalogue: MetricCatalogue | null; metric: string }) {

@@ -1,10 +1,10 @@
 import { useCallback } from 'react';
-import { api, type Progress, type Score, type ScoreAdjustment, type Session } from '../api';
-import { format_metric, metric_name, useMetricCatalogue, type MetricCatalogue } from '../metrics';
-import { Link } from '../router';
-import { useResource } from '../use_resource';
-import { Card } from './card';
-import { ResourceView } from './resource_view';
+import { api, type Progress, type Score, type ScoreAdjustment, type Session } from '../../api';
+import { format_metric, metric_name, useMetricCatalogue, type MetricCatalogue } from '../../metrics';
+import { Link } from '../../router';
+import { useResource } from '../../use_resource';
+import { Card } from '../common/card';
+import { ResourceView } from '../common/resource_view';
 import { ScoresTable } from './scores_table';
 import './review.css';
 
@@ -23,11 +23,11 @@ export function SessionResult({ session }: { session: Session }) {
   );
   const load_adjustments = useCallback(() => api.adjustments(session_id), [session_id]);
   const load_progress = useCallback(() => api.trainee_progress(trainee_id), [trainee_id]);
-  const scores = useResource(load_scores);
-  const recordings = useResource(load_recordings);
-  const adjustments = useResource(load_adjustments);
-  const progress = useResource(load_progress);
-  const benchmarks = useResource(api.benchmarks);
+  const scores = useResource(['scores', { session_id }], load_scores);
+  const recordings = useResource(['recordings', { session_id }], load_recordings);
+  const adjustments = useResource(['sessions', session_id, 'adjustments'], load_adjustments);
+  const progress = useResource(['trainees', trainee_id, 'progress'], load_progress);
+  const benchmarks = useResource(['benchmarks'], api.benchmarks);
   const catalogue = useMetricCatalogue();
 
   function reload() {

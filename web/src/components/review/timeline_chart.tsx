@@ -1,9 +1,11 @@
-import { useEffect, useRef } from 'react';
+import { useEffect, useRef, type KeyboardEvent } from 'react';
 import type uPlot from 'uplot';
-import type { EventKind, RunEvent } from '../api';
-import { useUplot, type ChartMaker } from '../use_uplot';
+import type { EventKind, RunEvent } from '../../api';
+import { useUplot, type ChartMaker } from '../../use_uplot';
 
 const chart_height = 120;
+/** How far an arrow key moves the replay [s]; Page Up/Down move ten times as far. */
+export const seek_step_s = 1;
 
 /** The colour of each kind of event, shared by the chart's marker lines and the event list. */
 export const event_colors: Record<EventKind, string> = {
@@ -25,12 +27,14 @@ export interface TimelineSeries {
 /**
  * One signal of an attempt over time (e.g. force per hand) under the replay: a line per series,
  * a vertical line at each event in its kind's colour, and a cursor line at the replay's position.
- * A click on the plot seeks the replay to that time.
+ * A click on the plot seeks the replay to that time; so do the keys of a slider when the chart
+ * has the focus (arrows: ±1 s, Page Up/Down: ±10 s, Home/End: start/end).
  */
 export function TimelineChart({
   title,
   unit,
   t_s,
+  duration_s,
   series,
   events,
   position_s,
@@ -40,6 +44,8 @@ export function TimelineChart({
   title: string;
   unit: string;
   t_s: number[];
+  /** The attempt's length [s]: the end a seek can reach. */
+  duration_s: number;
   series: TimelineSeries[];
   events: RunEvent[];
   position_s: number;
@@ -50,7 +56,9 @@ export function TimelineChart({
   // The draw hook reads these, so that a new position redraws without rebuilding the chart.
   const position = useRef(position_s);
   const seek = useRef(on_seek);
-  seek.current = on_seek;
+  useEffect(() => {
+    seek.current = on_seek;
+  }, [on_seek]);
 
   const make: ChartMaker = (width) => {
     const draw_markers = (u: uPlot) => {
@@ -103,10 +111,45 @@ export function TimelineChart({
     plot.current?.redraw(false, false);
   }, [position_s, plot]);
 
+  function on_key_down(event: KeyboardEvent<HTMLDivElement>) {
+    const target = seek_target(event.key, position_s, duration_s);
+    if (target === null) return;
+    event.preventDefault();
+    on_seek(target);
+  }
+
   return (
     <figure className="timeline-chart" data-testid={test_id}>
       <figcaption>{title}</figcaption>
-      <div ref={box} />
+      <div
+        ref={box}
+        className="timeline-plot"
+        tabIndex={0}
+        role="slider"
+        aria-label={`${title}: replay position`}
+        aria-valuemin={0}
+        aria-valuemax={duration_s}
+        aria-valuenow={position_s}
+        aria-valuetext={`${position_s.toFixed(1)} s of ${duration_s.toFixed(1)} s`}
+        onKeyDown={on_key_down}
+      />
     </figure>
   );
+}
+
+/** Where a key sends the replay from `position_s` (null: not a seeking key), within [0, duration_s]. */
+export function seek_target(key: string, position_s: number, duration_s: number): number | null {
+  const moves: Record<string, number> = {
+    ArrowLeft: -seek_step_s,
+    ArrowDown: -seek_step_s,
+    ArrowRight: seek_step_s,
+    ArrowUp: seek_step_s,
+    PageDown: -10 * seek_step_s,
+    PageUp: 10 * seek_step_s,
+    Home: -Infinity,
+    End: Infinity,
+  };
+  const move = moves[key];
+  if (move === undefined) return null;
+  return Math.min(duration_s, Math.max(0, position_s + move));
 }

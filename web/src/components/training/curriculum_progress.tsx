@@ -1,5 +1,5 @@
-import type { Progress, TaskProgress } from '../api';
-import { DataTable } from './data_table';
+import type { Progress, TaskProgress } from '../../api';
+import { DataTable } from '../common/data_table';
 
 function status(task: TaskProgress): string {
   if (task.mastered) return 'Mastered';

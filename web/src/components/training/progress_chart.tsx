@@ -1,8 +1,8 @@
 import { useMemo, useRef, useState } from 'react';
 import uPlot from 'uplot';
-import type { Benchmark, CurriculumEntry, MetricRequirement, Score } from '../api';
-import { useUplot, type ChartMaker } from '../use_uplot';
-import { format_value } from './format';
+import type { Benchmark, CurriculumEntry, MetricRequirement, Score } from '../../api';
+import { useUplot, type ChartMaker } from '../../use_uplot';
+import { format_value } from '../common/format';
 
 const chart_height = 220;
 const colors = { line: '#0f5e66', passed: '#1e6b34', failed: '#b3261e', threshold: '#c98a00', experts: '#2f6fd6' };

@@ -1,4 +1,4 @@
-import type { TaskProgress, TraineeProgress } from '../api';
+import type { TaskProgress, TraineeProgress } from '../../api';
 
 /** One task's standing in a cell: mastered, the current run of passes, or locked. */
 function TaskCell({ task }: { task: TaskProgress }) {

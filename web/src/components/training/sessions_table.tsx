@@ -1,7 +1,7 @@
-import type { Session } from '../api';
-import { Link } from '../router';
-import { format_date_time } from '../time';
-import { DataTable } from './data_table';
+import type { Session } from '../../api';
+import { Link } from '../../router';
+import { format_date_time } from '../../time';
+import { DataTable } from '../common/data_table';
 
 const state_labels: Record<Session['state'], string> = {
   created: 'Created',
@@ -31,7 +31,7 @@ export function SessionsTable({ sessions, show_trainee }: { sessions: Session[];
         { header: 'Station', cell: (s) => s.station || '—' },
         {
           header: 'State',
-          cell: (s) => <span className={`badge badge-${s.state}`}>{state_labels[s.state] ?? s.state}</span>,
+          cell: (s) => <span className={`badge badge-${s.state}`}>{state_labels[s.state]}</span>,
         },
         { header: 'Started', cell: (s) => format_date_time(s.started_at) },
         { header: 'Ended', cell: (s) => format_date_time(s.ended_at) },

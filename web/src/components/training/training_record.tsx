@@ -1,9 +1,9 @@
-import { api } from '../api';
-import { useResource } from '../use_resource';
-import { Card } from './card';
-import { RecordingsTable } from './recordings_table';
-import { ResourceView } from './resource_view';
-import { ScoresTable } from './scores_table';
+import { api } from '../../api';
+import { useResource } from '../../use_resource';
+import { Card } from '../common/card';
+import { RecordingsTable } from '../review/recordings_table';
+import { ResourceView } from '../common/resource_view';
+import { ScoresTable } from '../review/scores_table';
 import { SessionsTable } from './sessions_table';
 
 /** Titles and empty-state messages: a trainee reads about their own training, an instructor about everyone's. */
@@ -26,9 +26,9 @@ const text = {
  * column is worth showing.
  */
 export function TrainingRecord({ whose }: { whose: 'own' | 'everyone' }) {
-  const sessions = useResource(api.sessions);
-  const scores = useResource(api.scores);
-  const recordings = useResource(api.recordings);
+  const sessions = useResource(['sessions'], api.sessions);
+  const scores = useResource(['scores'], api.scores);
+  const recordings = useResource(['recordings'], api.recordings);
   const show_trainee = whose === 'everyone';
   const words = text[whose];
 

@@ -1,0 +1,85 @@
+// Helpers for component tests: a fake server answering fetch from a table of JSON bodies, and a
+// render inside a fresh request cache (so that no answer leaks from one test into the next).
+import { QueryClientProvider } from '@tanstack/react-query';
+import { render, type RenderResult } from '@testing-library/react';
+import type { ReactElement } from 'react';
+import { vi } from 'vitest';
+import type { MetricInfo } from './api';
+import { make_query_client } from './query_client';
+import type { StreamMetrics } from './stream';
+
+export interface SentRequest {
+  method: string;
+  path: string;
+  body: unknown;
+}
+
+/**
+ * Replaces fetch: "GET /api/x" answers `routes["GET /api/x"]` with 200 (a function of the request
+ * body for other methods), anything else 404. Returns the requests sent, in order.
+ */
+export function fake_server(routes: Record<string, unknown>): SentRequest[] {
+  const sent: SentRequest[] = [];
+  const fetch = vi.fn((input: RequestInfo | URL, init?: RequestInit) => {
+    const method = init?.method ?? 'GET';
+    const path = typeof input === 'string' ? input : input instanceof URL ? input.pathname : input.url;
+    const body: unknown = typeof init?.body === 'string' ? JSON.parse(init.body) : undefined;
+    sent.push({ method, path, body });
+    const key = `${method} ${path}`;
+    if (!(key in routes)) {
+      return Promise.resolve(new Response(JSON.stringify({ error: `no ${key}` }), { status: 404 }));
+    }
+    const route = routes[key];
+    const answer: unknown = typeof route === 'function' ? (route as (b: unknown) => unknown)(body) : route;
+    return Promise.resolve(new Response(JSON.stringify(answer), { status: 200 }));
+  });
+  vi.stubGlobal('fetch', fetch);
+  return sent;
+}
+
+export function render_with_queries(ui: ReactElement): RenderResult {
+  return render(<QueryClientProvider client={make_query_client()}>{ui}</QueryClientProvider>);
+}
+
+/** A catalogue entry like the server's cut area: stored in m², shown in mm² with no decimals. */
+export const cut_area: MetricInfo = {
+  key: 'cut_area',
+  name: 'Cut area',
+  unit: 'm^2',
+  display_unit: 'mm²',
+  display_scale: 1e6,
+  decimals: 0,
+  better: 'higher',
+  definition: 'The area of tissue cut.',
+};
+
+/** A catalogue entry for a force in N, shown with two decimals. */
+export const peak_force: MetricInfo = {
+  key: 'peak_force',
+  name: 'Peak force',
+  unit: 'N',
+  display_unit: 'N',
+  display_scale: 1,
+  decimals: 2,
+  better: 'lower',
+  definition: 'The largest force on the tissue.',
+};
+
+/** View-stream metrics as the server sends them, with `change` over a quiet running session's. */
+export function stream_metrics(change: Partial<StreamMetrics>): StreamMetrics {
+  return {
+    state: 'running',
+    reason: '',
+    sim_time_s: 0,
+    agent_online: true,
+    tool: [0, 0, 0],
+    force_n: 0,
+    peak_force_n: 0,
+    path_length_m: 0,
+    contact: false,
+    steps: 0,
+    sim_rate_hz: 500,
+    frames_sent: 1,
+    ...change,
+  };
+}
