@@ -24,6 +24,13 @@ nlohmann::json value_at(const nlohmann::json& doc, const std::string& pointer) {
   const nlohmann::json::json_pointer at(pointer);
   return doc.contains(at) ? doc.at(at) : nlohmann::json(nullptr);
 }
+
+bool is_list_of_values(const nlohmann::json& value) {
+  if (!value.is_array()) return false;
+  for (const auto& element : value)
+    if (element.is_structured()) return false;
+  return true;
+}
 }  // namespace
 
 ChangedFields changed_fields(const nlohmann::json& before, const nlohmann::json& after) {
@@ -42,6 +49,15 @@ ChangedFields changed_fields(const nlohmann::json& before, const nlohmann::json&
       const auto array = value_at(after, place.substr(0, place.size() - 2));
       place = place.substr(0, place.size() - 1) +
               std::to_string(array.is_array() && !array.empty() ? array.size() - 1 : 0);
+    }
+    // A list of plain values (instructor ids) reads best whole: [2] -> [], not "0: 2 -> null".
+    const auto parent = place.substr(0, place.rfind('/'));
+    if (!place.empty() && (is_list_of_values(value_at(before, parent)) ||
+                           is_list_of_values(value_at(after, parent)))) {
+      const auto key = readable_path(parent);
+      out.before[key] = value_at(before, parent);
+      out.after[key] = value_at(after, parent);
+      continue;
     }
     const auto kind = op.at("op").get<std::string>();
     const auto key = readable_path(place);

@@ -34,10 +34,24 @@ TEST(ChangedFields, NamesANestedChangeByItsPath) {
 }
 
 TEST(ChangedFields, AddedAndRemovedFieldsAreNullOnTheOtherSide) {
-  const auto changed =
-      changed_fields({{"old", 1}, {"list", {1}}}, {{"new", "x"}, {"list", {1, 2}}});
-  EXPECT_EQ(changed.before, (json{{"old", 1}, {"new", nullptr}, {"list/1", nullptr}}));
-  EXPECT_EQ(changed.after, (json{{"old", nullptr}, {"new", "x"}, {"list/1", 2}}));
+  const json task_a = {{"key", "a"}};
+  const json task_b = {{"key", "b"}};
+  const auto changed = changed_fields({{"old", 1}, {"tasks", {task_a}}},
+                                      {{"new", "x"}, {"tasks", {task_a, task_b}}});
+  EXPECT_EQ(changed.before, (json{{"old", 1}, {"new", nullptr}, {"tasks/1", nullptr}}));
+  EXPECT_EQ(changed.after, (json{{"old", nullptr}, {"new", "x"}, {"tasks/1", task_b}}));
+}
+
+TEST(ChangedFields, AListOfPlainValuesChangesWhole) {
+  // Who teaches a trainee: [2] -> [], [] -> [2, 3], [2, 3] -> [3].
+  const auto ids = [](json list) { return json{{"instructor_ids", std::move(list)}}; };
+  for (const auto& [from, to] :
+       {std::pair{json{2}, json::array()}, std::pair{json::array(), json{2, 3}},
+        std::pair{json{2, 3}, json{3}}}) {
+    const auto changed = changed_fields(ids(from), ids(to));
+    EXPECT_EQ(changed.before, ids(from)) << from << " -> " << to;
+    EXPECT_EQ(changed.after, ids(to)) << from << " -> " << to;
+  }
 }
 
 TEST(ChangedFields, ACreationKeepsItsWholeAfter) {
