@@ -87,6 +87,18 @@ std::vector<curriculum::AttemptRecord> attempt_records(db::Database& db, std::in
   return out;
 }
 
+std::optional<bool> session_passed(db::Database& db, const db::SessionRecord& session) {
+  curriculum::AttemptRecord attempt;
+  attempt.task = session.task;
+  attempt.finished = session.state == "finished";
+  for (const auto& score : db::TrainingRepo(db).session_scores(session.id))
+    attempt.scores.push_back(score.passed);
+  if (const auto adjustments = db::ReviewsRepo(db).adjustments(session.id); !adjustments.empty())
+    attempt.adjusted = adjustments.back().passed;
+  if (!attempt.finished || (attempt.scores.empty() && !attempt.adjusted)) return std::nullopt;
+  return curriculum::attempt_passed(attempt);
+}
+
 std::optional<curriculum::Task> find_curriculum_task(db::Database& db, const std::string& key) {
   const auto c = curriculum_with_task(db, key);
   if (!c) return std::nullopt;

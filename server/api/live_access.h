@@ -46,4 +46,8 @@ std::optional<curriculum::Curriculum> curriculum_with_task(db::Database& db,
 // task, whether finished, each score's pass, the latest adjustment.
 std::vector<curriculum::AttemptRecord> attempt_records(db::Database& db, std::int64_t trainee_id);
 
+// Whether the session passed as an attempt (curriculum::attempt_passed: its scores, or the latest
+// adjustment); nullopt while it is not a finished, scored attempt.
+std::optional<bool> session_passed(db::Database& db, const db::SessionRecord& session);
+
 }  // namespace incise::server::api

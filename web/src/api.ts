@@ -135,6 +135,9 @@ export type LiveState = z.infer<typeof live_state>;
 const live_session = session.extend({
   /** null once the server no longer holds the session. */
   live: live_state.nullable(),
+  /** Whether it passed as an attempt (its scores, or the instructor's latest adjustment): the
+   * server's verdict; null while it is not a finished, scored attempt. */
+  passed: z.boolean().nullable(),
 });
 export type LiveSession = z.infer<typeof live_session>;
 

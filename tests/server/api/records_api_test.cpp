@@ -10,6 +10,7 @@
 #include "api_test_app.h"
 #include "curriculum/curriculum_json.h"
 #include "db/auth_sessions_repo.h"
+#include "db/reviews_repo.h"
 #include "db/training_repo.h"
 #include "server/time_text.h"
 
@@ -88,6 +89,30 @@ TEST_F(RecordsApi, SessionShape) {
   EXPECT_EQ(demo["ended_at"], "2030-01-06T08:01:35Z");
   const auto other = by("trainee2");
   EXPECT_TRUE(other["station_id"].is_null());
+}
+
+// The verdict of one session is the server's, by the progress rules: its scores, or the latest
+// adjustment; none while it is not a finished, scored attempt.
+TEST_F(RecordsApi, ASessionCarriesTheServersVerdict) {
+  db::TrainingRepo training(db());
+  const auto trainee = user_id("trainee");
+  const auto session = training.create_session(trainee, std::nullopt, "palpation", now());
+  const auto passed = [&] {
+    return json_of(
+        get("/api/sessions/" + std::to_string(session), session_of(Who::trainee)))["passed"];
+  };
+  training.set_session_state(session, "running", now());
+  EXPECT_TRUE(passed().is_null());  // running
+  training.set_session_state(session, "finished", now() + 60);
+  EXPECT_TRUE(passed().is_null());  // finished, not scored yet
+  training.add_score(session, "completion_time_s", 60.0, "s", true, now() + 60);
+  EXPECT_EQ(passed(), true);
+  training.add_score(session, "peak_force_n", 5.0, "N", false, now() + 60);
+  EXPECT_EQ(passed(), false);  // one missed threshold fails the attempt
+  db::ReviewsRepo(db()).adjust(session, user_id("instructor"), true, "sensor glitch", now() + 90);
+  EXPECT_EQ(passed(), true);  // the instructor's adjustment rules
+  db::ReviewsRepo(db()).adjust(session, user_id("instructor"), false, "on second look", now() + 95);
+  EXPECT_EQ(passed(), false);  // the latest one
 }
 
 TEST_F(RecordsApi, StationsShowWhetherAnAgentIsOnline) {

@@ -53,8 +53,10 @@ function task(key: string, name: string, consecutive_passes: number, mastered: b
   };
 }
 
-function server(scores: Score[], progress: Progress, adjustments: ScoreAdjustment[] = []) {
+/** The server's answers; `passed` is its verdict on session 7. */
+function server(scores: Score[], progress: Progress, adjustments: ScoreAdjustment[] = [], passed: boolean | null = false) {
   fake_server({
+    'GET /api/sessions/7': { ...session, live: null, passed },
     'GET /api/scores': scores,
     'GET /api/recordings': [],
     'GET /api/sessions/7/adjustments': adjustments,
@@ -121,6 +123,7 @@ describe('SessionResult', () => {
       [score(2, 'peak_force', 2.5, false, false)],
       { trainee_id: 3, curriculum: 'Basics', next_task: null, tasks: [task('palpation', 'Palpation', 3, true)] },
       [adjustment],
+      true,
     );
     render_with_queries(<SessionResult session={session} />);
 
@@ -129,5 +132,17 @@ describe('SessionResult', () => {
     expect((await screen.findByTestId('attempt-standing')).textContent).toBe(
       'Palpation: mastered; every task of the curriculum is mastered.',
     );
+  });
+
+  it('says the result is being worked out until the server has decided', async () => {
+    server(
+      [score(2, 'peak_force', 2.5, true, false)],
+      { trainee_id: 3, curriculum: 'Basics', next_task: 'palpation', tasks: [task('palpation', 'Palpation', 0, false)] },
+      [],
+      null,
+    );
+    render_with_queries(<SessionResult session={session} />);
+    expect((await screen.findByText('Working out the result…')).getAttribute('role')).toBe('status');
+    expect(screen.queryByTestId('attempt-verdict')).toBeNull();
   });
 });

@@ -28,9 +28,15 @@ export function SessionResult({ session }: { session: Session }) {
   const adjustments = useResource(['sessions', session_id, 'adjustments'], load_adjustments);
   const progress = useResource(['trainees', trainee_id, 'progress'], load_progress);
   const benchmarks = useResource(['benchmarks'], api.benchmarks);
+  // The verdict is the server's (GET /api/sessions/{id} "passed"), asked when this mounts, after
+  // the session ended and was scored. Its own key: the live page keeps its answer from before the
+  // end (the picture stays up beside the result).
+  const load_verdict = useCallback(() => api.session(session_id), [session_id]);
+  const verdict = useResource(['sessions', session_id, 'verdict'], load_verdict);
   const catalogue = useMetricCatalogue();
 
   function reload() {
+    verdict.reload();
     scores.reload();
     recordings.reload();
     adjustments.reload();
@@ -42,7 +48,12 @@ export function SessionResult({ session }: { session: Session }) {
       <ResourceView resource={scores} what="scores" empty="No scores are stored for this session yet.">
         {(data) => (
           <>
-            <Verdict scores={data} adjustment={adjustments.data?.at(-1) ?? null} catalogue={catalogue} />
+            <Verdict
+              passed={verdict.data?.passed ?? null}
+              scores={data}
+              adjustment={adjustments.data?.at(-1) ?? null}
+              catalogue={catalogue}
+            />
             {progress.data && <Standing progress={progress.data} task={session.task} />}
             <CompletionCriteria scores={data.filter((s) => s.criterion)} catalogue={catalogue} />
             <ScoresTable
@@ -73,20 +84,28 @@ export function SessionResult({ session }: { session: Session }) {
 }
 
 /**
- * Whether the attempt passed: every metric it was scored on met its threshold, unless an
- * instructor's adjustment (the latest one counts, as in the progress) says otherwise.
+ * Whether the attempt passed, as the server decided (null while it does not know yet), said with
+ * its reasons: the instructor's adjustment, the criteria not met, or the metrics that missed.
  */
-function Verdict({
+export function Verdict({
+  passed,
   scores,
   adjustment,
   catalogue,
 }: {
+  passed: boolean | null;
   scores: Score[];
   adjustment: ScoreAdjustment | null;
   catalogue: MetricCatalogue | null;
 }) {
+  if (passed === null) {
+    return (
+      <p className="muted" role="status">
+        Working out the result…
+      </p>
+    );
+  }
   const missed = scores.filter((s) => !s.passed);
-  const passed = adjustment ? adjustment.passed : missed.length === 0;
   let text: string;
   if (adjustment) {
     text = `${passed ? 'Passed' : 'Not passed'}, as adjusted by ${adjustment.author}: ${adjustment.reason}`;
