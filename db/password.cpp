@@ -6,9 +6,50 @@
 
 namespace incise::db {
 
-std::string password_problem(std::string_view password) {
-  if (password.size() < 10) return "must have at least 10 characters";
-  if (password.size() > 256) return "must have at most 256 characters";
+namespace {
+// The most common passwords of 10 or more characters in public breach corpora, lower case. A
+// password equal to one of them, ignoring case, is refused.
+constexpr std::string_view kCommonPasswords[] = {
+    "0123456789",  "1234567890",  "0987654321",   "9876543210",  "12345678910",   "123456789a",
+    "a123456789",  "1234567890a", "123456789q",   "1q2w3e4r5t",  "1qaz2wsx3edc",  "qwertyuiop",
+    "qwerty1234",  "qwerty12345", "qwerty123456", "asdfghjkl1",  "asdfghjkl;",    "zxcvbnm123",
+    "abcdefghij",  "abcd123456",  "abc1234567",   "password12",  "password123",   "password1234",
+    "password01",  "passw0rd12",  "p@ssw0rd12",   "iloveyou12",  "iloveyou123",   "letmein123",
+    "welcome123",  "welcome1234", "changeme12",   "changeme123", "administrator", "admin12345",
+    "admin123456", "trustno1234", "football12",   "baseball12",  "sunshine12",    "princess12",
+    "monkey1234",  "dragon1234",  "master1234",   "superman12",  "starwars12",    "computer12",
+    "michael123",  "jessica123",
+};
+
+std::string lower_ascii(std::string_view text) {
+  std::string out(text);
+  for (auto& c : out)
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  return out;
+}
+}  // namespace
+
+std::string password_problem(std::string_view password, std::string_view username) {
+  // Characters, not bytes: a continuation byte (10xxxxxx) does not start one. The JSON reader has
+  // refused invalid UTF-8 before this.
+  std::size_t characters = 0;
+  for (std::size_t i = 0; i < password.size(); ++i) {
+    const auto byte = static_cast<unsigned char>(password[i]);
+    if ((byte & 0xC0) != 0x80) ++characters;
+    // C0 controls, DEL, and C1 controls (U+0080-U+009F, 0xC2 0x80-0x9F in UTF-8).
+    const bool c1 = byte == 0xC2 && i + 1 < password.size() &&
+                    static_cast<unsigned char>(password[i + 1]) >= 0x80 &&
+                    static_cast<unsigned char>(password[i + 1]) <= 0x9F;
+    if (byte < 0x20 || byte == 0x7F || c1) return "must not contain control characters";
+  }
+  if (characters < 10) return "must have at least 10 characters";
+  if (characters > 256) return "must have at most 256 characters";
+  const auto lower = lower_ascii(password);
+  if (!username.empty() && lower == lower_ascii(username)) return "must not be the username";
+  if (password.find_first_not_of(password.front()) == std::string_view::npos)
+    return "must not be one character repeated";
+  for (const auto common : kCommonPasswords)
+    if (lower == common) return "is one of the most common passwords; choose another";
   return "";
 }
 

@@ -9,8 +9,10 @@
 namespace incise::db {
 
 std::string hash_password(std::string_view password);
-// What a new password lacks ("" when it is acceptable): 10 to 256 characters.
-std::string password_problem(std::string_view password);
+// What is wrong with a new password for `username` ("" when it is acceptable; docs/security.md):
+// 10 to 256 characters (code points of its UTF-8, not bytes), no control characters, not the
+// username, not one character repeated, not one of the most common passwords.
+std::string password_problem(std::string_view password, std::string_view username);
 // Constant-time check; false for a malformed hash.
 bool verify_password(std::string_view password, const std::string& stored_hash);
 

@@ -85,6 +85,20 @@ std::string clip_utf8(std::string_view text, std::size_t max_bytes) {
   return out;
 }
 
+bool is_plain_text(std::string_view text, bool multiline) {
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto byte = static_cast<unsigned char>(text[i]);
+    const auto next = i + 1 < text.size() ? static_cast<unsigned char>(text[i + 1]) : 0u;
+    const auto third = i + 2 < text.size() ? static_cast<unsigned char>(text[i + 2]) : 0u;
+    if (byte < 0x20 && !(multiline && (byte == '\n' || byte == '\t'))) return false;
+    if (byte == 0x7F) return false;
+    if (byte == 0xC2 && next >= 0x80 && next <= 0x9F) return false;  // C1: U+0080..U+009F
+    if (byte == 0xE2 && next == 0x80 && third >= 0xAA && third <= 0xAE) return false;  // 202A..E
+    if (byte == 0xE2 && next == 0x81 && third >= 0xA6 && third <= 0xA9) return false;  // 2066..9
+  }
+  return true;
+}
+
 std::string dump_json(const nlohmann::json& value) {
   return value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }

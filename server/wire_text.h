@@ -31,6 +31,12 @@ inline std::string close_reason_text(std::string_view text) {
   return clip_utf8(text, kMaxCloseReasonBytes);
 }
 
+// Whether `text` (valid UTF-8) is fit to show as a name or a note: no control characters (C0,
+// DEL, C1; a note may hold line breaks and tabs when `multiline`), and none of the bidirectional
+// embeddings, overrides and isolates (U+202A..U+202E, U+2066..U+2069) that make text read other
+// than it is stored ("exe.txt" shown for "txt.exe").
+bool is_plain_text(std::string_view text, bool multiline);
+
 // value.dump(), with any invalid UTF-8 inside strings replaced by U+FFFD instead of nlohmann's
 // type_error 316.
 std::string dump_json(const nlohmann::json& value);

@@ -69,7 +69,7 @@ ApiResponse change_own_password(ApiContext& ctx) {
   const RequestFields fields(body, {"current_password", "new_password"});
   const auto current = fields.string("current_password");
   const auto next = fields.string("new_password");
-  check_new_password("new_password", next);
+  check_new_password("new_password", next, user.username);
   if (next == current) {
     throw ApiError(http::status::unprocessable_entity,
                    "new_password must differ from the current one");

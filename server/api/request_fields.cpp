@@ -5,6 +5,7 @@
 
 #include "db/password.h"
 #include "server/api/api_error.h"
+#include "server/wire_text.h"
 
 namespace incise::server {
 
@@ -43,6 +44,22 @@ std::string RequestFields::string_or(std::string_view key, std::string fallback)
   return string(key);
 }
 
+std::string RequestFields::text(std::string_view key, bool multiline) const {
+  auto value = string(key);
+  if (!is_plain_text(value, multiline)) {
+    throw ApiError(status::unprocessable_entity,
+                   "field '" + std::string(key) +
+                       "' must not contain control characters or text-direction overrides");
+  }
+  return value;
+}
+
+std::string RequestFields::text_or(std::string_view key, std::string fallback,
+                                   bool multiline) const {
+  if (!body_.contains(key) || body_.at(key).is_null()) return fallback;
+  return text(key, multiline);
+}
+
 std::int64_t RequestFields::integer(std::string_view key) const {
   const auto& value = required(key);
   if (!value.is_number_integer()) {
@@ -76,8 +93,9 @@ bool RequestFields::boolean(std::string_view key) const {
   return value.get<bool>();
 }
 
-void check_new_password(std::string_view field, const std::string& password) {
-  if (const auto problem = db::password_problem(password); !problem.empty())
+void check_new_password(std::string_view field, const std::string& password,
+                        std::string_view username) {
+  if (const auto problem = db::password_problem(password, username); !problem.empty())
     throw ApiError(status::unprocessable_entity, std::string(field) + " " + problem);
 }
 

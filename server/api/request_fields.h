@@ -9,8 +9,10 @@
 
 namespace incise::server {
 
-// 422 "<field> must have at least 10 characters" unless db::password_problem accepts it.
-void check_new_password(std::string_view field, const std::string& password);
+// 422 "<field> must have at least 10 characters" (and so on) unless db::password_problem accepts
+// the password for the user `username`.
+void check_new_password(std::string_view field, const std::string& password,
+                        std::string_view username);
 
 class RequestFields {
  public:
@@ -19,6 +21,10 @@ class RequestFields {
 
   std::string string(std::string_view key) const;
   std::string string_or(std::string_view key, std::string fallback) const;
+  // A string to show people (a name, a note): 422 when it holds control characters or direction
+  // overrides (server/wire_text.h is_plain_text; `multiline` lets a note break lines).
+  std::string text(std::string_view key, bool multiline = false) const;
+  std::string text_or(std::string_view key, std::string fallback, bool multiline = false) const;
   std::int64_t integer(std::string_view key) const;
   double number(std::string_view key) const;  // any JSON number
   bool boolean(std::string_view key) const;

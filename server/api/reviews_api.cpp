@@ -48,7 +48,7 @@ ApiResponse add_annotation(ApiContext& ctx) {
   const auto body = ctx.json_body();
   const RequestFields fields(body, {"t_s", "text"});
   const double t_s = fields.number("t_s");
-  const auto text = fields.string("text");
+  const auto text = fields.text("text", true);
   // Within the recording: 0 .. its duration (a live session's grows; its end is now).
   const auto recording = db::RecordingsRepo(ctx.app.db()).find_by_session(session.id);
   const double duration = recording ? recording->duration_s : 0.0;
@@ -88,7 +88,7 @@ ApiResponse adjust_score(ApiContext& ctx) {
   const auto body = ctx.json_body();
   const RequestFields fields(body, {"passed", "reason"});
   const bool passed = fields.boolean("passed");
-  const auto reason = fields.string("reason");
+  const auto reason = fields.text("reason", true);
   if (reason.size() < 3 || reason.size() > kMaxReason) {
     throw ApiError(http::status::unprocessable_entity,
                    "reason must be 3-" + std::to_string(kMaxReason) + " characters");

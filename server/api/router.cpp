@@ -106,8 +106,7 @@ void check_csrf(const Request& req) {
   if (!is_state_changing(req.method())) return;
   if (is_cross_origin(req)) throw ApiError(http::status::forbidden, "cross-origin request refused");
   if (req.method() == http::verb::delete_ && req.body().empty()) return;
-  const auto type = req[http::field::content_type];
-  if (type.substr(0, 16) != "application/json") {
+  if (!is_json_media_type(req[http::field::content_type])) {
     throw ApiError(http::status::bad_request, "Content-Type must be application/json");
   }
 }
@@ -134,14 +133,32 @@ ApiResponse dispatch(ApiContext& ctx, std::string_view path) {
 
 }  // namespace
 
+bool is_json_media_type(std::string_view content_type) {
+  // The media type is what precedes any parameters ("; charset=utf-8"), case-insensitive (RFC
+  // 9110 section 8.3.1): "application/json", never "application/jsonx".
+  auto type = content_type.substr(0, content_type.find(';'));
+  while (!type.empty() && (type.back() == ' ' || type.back() == '\t'))
+    type.remove_suffix(1);
+  constexpr std::string_view kJson = "application/json";
+  if (type.size() != kJson.size()) return false;
+  for (std::size_t i = 0; i < type.size(); ++i) {
+    const char c =
+        type[i] >= 'A' && type[i] <= 'Z' ? static_cast<char>(type[i] - 'A' + 'a') : type[i];
+    if (c != kJson[i]) return false;
+  }
+  return true;
+}
+
 bool is_cross_origin(const Request& req) {
   const auto origin = req[http::field::origin];
   if (origin.empty()) return false;
   const auto host = req[http::field::host];
-  const auto scheme_end = origin.find("://");
-  const auto origin_host =
-      scheme_end == std::string_view::npos ? origin : origin.substr(scheme_end + 3);
-  return origin_host != host;
+  // A page of this server: http or https (behind a TLS proxy) and this host. Anything else, "null"
+  // (a sandboxed frame, a file) and other schemes among it, is another origin.
+  for (const std::string_view scheme : {"http://", "https://"}) {
+    if (origin.starts_with(scheme)) return origin.substr(scheme.size()) != host;
+  }
+  return true;
 }
 
 Response json_error(http::status status, std::string_view message, unsigned version,

@@ -53,11 +53,11 @@ ApiResponse create_station(ApiContext& ctx) {
   const auto& admin = ctx.require_role({db::Role::admin});
   const auto body = ctx.json_body();
   const RequestFields fields(body, {"name", "location", "kind"});
-  const auto name = fields.string("name");
+  const auto name = fields.text("name");
   if (name.empty() || name.size() > 64) {
     throw ApiError(http::status::unprocessable_entity, "name must be 1-64 characters");
   }
-  const auto location = fields.string_or("location", "");
+  const auto location = fields.text_or("location", "");
   if (location.size() > 120) {
     throw ApiError(http::status::unprocessable_entity, "location must be at most 120 characters");
   }

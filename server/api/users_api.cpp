@@ -102,7 +102,7 @@ ApiResponse create_user(ApiContext& ctx) {
   db::NewUser user;
   user.username = fields.string("username");
   check_username(user.username);
-  user.display_name = fields.string_or("display_name", user.username);
+  user.display_name = fields.text_or("display_name", user.username);
   if (user.display_name.empty() || user.display_name.size() > 80) {
     throw ApiError(http::status::unprocessable_entity, "display_name must be 1-80 characters");
   }
@@ -114,7 +114,7 @@ ApiResponse create_user(ApiContext& ctx) {
   }
   user.role = *role;
   user.password = fields.string("password");
-  check_new_password("password", user.password);
+  check_new_password("password", user.password, user.username);
   std::vector<std::int64_t> instructors;
   if (body.contains("instructor_ids")) {
     if (user.role != db::Role::trainee) {
@@ -170,10 +170,10 @@ ApiResponse reset_user_password(ApiContext& ctx) {
   const auto body = ctx.json_body();
   const RequestFields fields(body, {"password"});
   const auto password = fields.string("password");
-  check_new_password("password", password);
   auto& db = ctx.app.db();
   db::UsersRepo users(db);
   const auto before = existing_user(users, ctx.path_id);
+  check_new_password("password", password, before.username);
   if (before.id == admin.id) {
     throw ApiError(http::status::conflict,
                    "reset only others' passwords; change your own with POST /api/me/password");

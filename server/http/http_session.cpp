@@ -75,6 +75,12 @@ void HttpSession::on_read(beast::error_code ec, std::size_t) {
                    "the request target must be printable ASCII (percent-encode other bytes)",
                    request.version(), request.keep_alive()));
   }
+  if (request.version() >= 11 && request[http::field::host].empty()) {
+    // RFC 9112 section 3.2: a server must answer 400 to an HTTP/1.1 request without Host. The
+    // origin checks (CSRF, the WebSocket upgrades) compare against it.
+    return send(json_error(http::status::bad_request, "a Host header is required (HTTP/1.1)",
+                           request.version(), request.keep_alive()));
+  }
   if (beast::websocket::is_upgrade(request)) {
     stream_.expires_never();
     if (target == "/agent") {
@@ -102,9 +108,24 @@ void HttpSession::on_read(beast::error_code ec, std::size_t) {
   send(serve_static(request, app_->config().web_root));
 }
 
+void set_security_headers(Response& response) {
+  // The dashboard loads only its own scripts, styles, images and sockets (no inline script: Vite
+  // emits modules); no page may frame it (clickjacking); no response is sniffed into another type;
+  // no address leaves in a Referer. React and uPlot set styles through the CSSOM, which
+  // style-src does not govern; a canvas draws decoded frames from blobs.
+  response.set("Content-Security-Policy",
+               "default-src 'self'; script-src 'self'; style-src 'self'; img-src 'self' data: "
+               "blob:; connect-src 'self'; object-src 'none'; base-uri 'none'; form-action "
+               "'self'; frame-ancestors 'none'");
+  response.set("X-Frame-Options", "DENY");
+  response.set("X-Content-Type-Options", "nosniff");
+  response.set("Referrer-Policy", "no-referrer");
+}
+
 void HttpSession::send(Response&& response) {
   response_ = std::make_shared<Response>(std::move(response));
   response_->set(http::field::server, "incise-server");
+  set_security_headers(*response_);
   const bool keep_alive = response_->keep_alive();
   http::async_write(
       stream_, *response_,

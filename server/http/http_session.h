@@ -12,6 +12,10 @@
 
 namespace incise::server {
 
+// The headers every HTTP response carries (docs/security.md): a Content-Security-Policy without
+// inline scripts and with frame-ancestors 'none', X-Frame-Options, nosniff and Referrer-Policy.
+void set_security_headers(Response& response);
+
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
   HttpSession(boost::asio::ip::tcp::socket&& socket, std::shared_ptr<AppState> app);

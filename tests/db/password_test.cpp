@@ -100,3 +100,44 @@ TEST(TokenHash, DependsOnEveryByte) {
 
 }  // namespace
 }  // namespace incise::db
+
+namespace incise::db {
+namespace {
+
+// The policy for a new password (docs/security.md): each rule with a password that just fails it
+// and one that just passes.
+TEST(PasswordPolicy, CountsCharactersNotBytes) {
+  const std::string four_emoji = "\xF0\x9F\x98\x80\xF0\x9F\x98\x80\xF0\x9F\x98\x80\xF0\x9F\x98\x80";
+  ASSERT_EQ(four_emoji.size(), 16u);  // 16 bytes, 4 characters
+  EXPECT_EQ(password_problem(four_emoji, "dana"), "must have at least 10 characters");
+  EXPECT_EQ(password_problem("kestrel-09", "dana"), "");  // 10
+  EXPECT_EQ(password_problem("kestrel-0", "dana"), "must have at least 10 characters");
+  EXPECT_EQ(password_problem("fl\xC3\xBCgelhorn-1", "dana"), "");  // ü is one character
+  EXPECT_EQ(password_problem(std::string(256, 'x') + "y", "dana"),
+            "must have at most 256 characters");
+}
+
+TEST(PasswordPolicy, RefusesControlCharacters) {
+  EXPECT_EQ(password_problem(std::string("kestrel\0-0942", 13), "dana"),
+            "must not contain control characters");
+  EXPECT_EQ(password_problem("kestrel\t-0942", "dana"), "must not contain control characters");
+  EXPECT_EQ(password_problem("kestrel\x7F-0942", "dana"), "must not contain control characters");
+  EXPECT_EQ(password_problem("kestrel\xC2\x85-0942", "dana"),  // U+0085, a C1 control
+            "must not contain control characters");
+  EXPECT_EQ(password_problem("kestrel\xC2\xA0-0942", "dana"), "");  // U+00A0 is a character
+}
+
+TEST(PasswordPolicy, RefusesTheUsernameRepeatsAndCommonPasswords) {
+  EXPECT_EQ(password_problem("Dana.Smith-1", "dana.smith-1"), "must not be the username");
+  EXPECT_EQ(password_problem("aaaaaaaaaa", "dana"), "must not be one character repeated");
+  EXPECT_EQ(password_problem("          ", "dana"), "must not be one character repeated");
+  for (const char* common : {"password12", "PassWord12", "1234567890", "qwertyuiop"}) {
+    EXPECT_EQ(password_problem(common, "dana"),
+              "is one of the most common passwords; choose another")
+        << common;
+  }
+  EXPECT_EQ(password_problem("password12!", "dana"), "");
+}
+
+}  // namespace
+}  // namespace incise::db

@@ -100,3 +100,33 @@ TEST(WireText, DumpReplacesWhatTheStrictSerialiserRefuses) {
 
 }  // namespace
 }  // namespace incise::server
+
+namespace incise::server {
+namespace {
+
+TEST(PlainText, RefusesControlCharactersAndDirectionOverrides) {
+  EXPECT_TRUE(is_plain_text("Station 1, room 2", false));
+  EXPECT_TRUE(is_plain_text("Gr\xC3\xBC\xC3\x9F Gott \xE2\x80\x94 caf\xC3\xA9", false));  // ü ß — é
+  EXPECT_FALSE(is_plain_text(std::string("Bad\0name", 8), false));
+  EXPECT_FALSE(is_plain_text("tab\there", false));
+  EXPECT_FALSE(is_plain_text("del\x7F", false));
+  EXPECT_FALSE(is_plain_text("c1 \xC2\x85 next line", false));
+  EXPECT_TRUE(is_plain_text("no-break\xC2\xA0space", false));
+  // U+202E RIGHT-TO-LEFT OVERRIDE shows "report\u202Efdp.exe" as "reportexe.pdf".
+  EXPECT_FALSE(
+      is_plain_text("report\xE2\x80\xAE"
+                    "fdp.exe",
+                    false));
+  EXPECT_FALSE(is_plain_text("\xE2\x80\xAA embedding", false));  // U+202A
+  EXPECT_FALSE(is_plain_text("\xE2\x81\xA6 isolate", false));    // U+2066
+  EXPECT_FALSE(is_plain_text("\xE2\x81\xA9", false));            // U+2069
+  EXPECT_TRUE(is_plain_text("\xE2\x80\xA9", false));  // U+2029 is not a direction control
+  // A note may break lines and hold tabs; never other controls.
+  EXPECT_TRUE(is_plain_text("first line\nsecond\tline", true));
+  EXPECT_FALSE(is_plain_text("first line\nsecond\tline", false));
+  EXPECT_FALSE(is_plain_text("bell\a", true));
+  EXPECT_FALSE(is_plain_text("carriage\rreturn", true));
+}
+
+}  // namespace
+}  // namespace incise::server

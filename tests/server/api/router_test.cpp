@@ -187,7 +187,8 @@ TEST_F(Router, StateChangingRequestsMustBeJson) {
   const auto token = session_of(Who::trainee);
   const auto bookings = count("bookings");
   for (const char* type :
-       {"", "text/plain", "application/x-www-form-urlencoded", "multipart/form-data; boundary=x"}) {
+       {"", "text/plain", "application/x-www-form-urlencoded", "multipart/form-data; boundary=x",
+        "application/jsonx", "application/json-patch+json", "application/jsonp; charset=utf-8"}) {
     Call c{http::verb::post, "/api/bookings", next_slot_body().dump(), token};
     c.content_type = type;
     EXPECT_TRUE(
@@ -196,7 +197,7 @@ TEST_F(Router, StateChangingRequestsMustBeJson) {
   }
   EXPECT_EQ(count("bookings"), bookings);
   Call c{http::verb::post, "/api/bookings", next_slot_body().dump(), token};
-  c.content_type = "application/json; charset=utf-8";
+  c.content_type = "Application/JSON ; charset=utf-8";  // the media type is case-insensitive
   EXPECT_EQ(call(c).result(), http::status::created);
   // Logging in is state-changing too.
   Call login{http::verb::post, "/api/login", R"({"username": "a", "password": "b"})"};
@@ -208,8 +209,12 @@ TEST_F(Router, StateChangingRequestsMustBeJson) {
 TEST_F(Router, ForeignOriginsAreRefused) {
   const auto token = session_of(Who::trainee);
   const auto bookings = count("bookings");
-  for (const char* origin : {"http://evil.example", "https://evil.example:8080",
-                             "http://incise.test:8081", "null", "http://incise.test"}) {
+  // Another scheme on this very host is another origin too (ftp://, a data: or file page).
+  const std::string host = kHost;
+  for (const std::string& origin :
+       {std::string("http://evil.example"), std::string("https://evil.example:8080"),
+        std::string("http://incise.test:8081"), std::string("null"),
+        std::string("http://incise.test"), "ftp://" + host, "file://" + host, host, "//" + host}) {
     Call c{http::verb::post, "/api/bookings", next_slot_body().dump(), token};
     c.origin = origin;
     EXPECT_TRUE(is_error(call(c), http::status::forbidden, "cross-origin request refused"))
@@ -233,6 +238,10 @@ TEST_F(Router, SameOriginIsAccepted) {
               std::nullopt, token};
   cancel.origin = std::string("http://") + kHost;
   EXPECT_EQ(call(cancel).result(), http::status::no_content);
+  // Behind a TLS proxy the page is https on the same host.
+  Call tls{http::verb::post, "/api/logout", "{}", token};
+  tls.origin = std::string("https://") + kHost;
+  EXPECT_EQ(call(tls).result(), http::status::no_content);
 }
 
 TEST_F(Router, ReadsNeedNoJsonContentType) {

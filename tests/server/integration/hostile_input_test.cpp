@@ -106,6 +106,32 @@ class HostileInput : public LiveSession {
   double sim_time_s_ = 0;
 };
 
+// Every response, API, static or error, carries the browser hardening headers; an HTTP/1.1
+// request without Host is refused (the origin checks compare against it).
+TEST_F(HostileInput, EveryResponseIsHardenedAndARequestWithoutHostIs400) {
+  const auto port = server().port();
+  for (const std::string request :
+       {"GET /api/health HTTP/1.1\r\nHost: x\r\n\r\n", "GET / HTTP/1.1\r\nHost: x\r\n\r\n",
+        "GET /api/nothing HTTP/1.1\r\nHost: x\r\n\r\n", "GET /api/\xff HTTP/1.1\r\nHost: x\r\n\r\n",
+        "GET /api/health HTTP/1.1\r\n\r\n"}) {
+    SCOPED_TRACE(printable(request));
+    const auto reply = raw_exchange(port, request);
+    const auto head = reply.substr(0, reply.find("\r\n\r\n"));
+    EXPECT_NE(head.find("\r\nContent-Security-Policy: default-src 'self'; script-src 'self';"),
+              std::string::npos)
+        << head;
+    EXPECT_NE(head.find("frame-ancestors 'none'"), std::string::npos);
+    EXPECT_NE(head.find("\r\nX-Frame-Options: DENY"), std::string::npos);
+    EXPECT_NE(head.find("\r\nX-Content-Type-Options: nosniff"), std::string::npos);
+    EXPECT_NE(head.find("\r\nReferrer-Policy: no-referrer"), std::string::npos);
+  }
+  const auto no_host = parse_reply(raw_exchange(port, "GET /api/health HTTP/1.1\r\n\r\n"));
+  EXPECT_TRUE(is_clean_error(no_host, 400));
+  EXPECT_EQ(no_host.body.value("error", ""), "a Host header is required (HTTP/1.1)");
+  // HTTP/1.0 has no Host requirement.
+  EXPECT_EQ(raw_exchange(port, "GET /api/health HTTP/1.0\r\n\r\n").rfind("HTTP/1.0 200", 0), 0u);
+}
+
 TEST_F(HostileInput, NothingAClientSendsStopsTheServerOrDisturbsALiveSession) {
   Running run;
   ASSERT_NO_FATAL_FAILURE(start_booked_session(run));

@@ -69,7 +69,7 @@ TEST_F(Requests, WrongRoleIs403) {
   const auto before = snapshot();
   EXPECT_TRUE(is_error(
       trainee.post("/api/users",
-                   {{"username", "mallory"}, {"password", "0123456789"}, {"role", "admin"}}),
+                   {{"username", "mallory"}, {"password", "kestrel-0942"}, {"role", "admin"}}),
       403, "this needs the role admin (you are trainee)"));
   EXPECT_TRUE(
       is_error(trainee.get("/api/users"), 403, "this needs the role admin (you are trainee)"));

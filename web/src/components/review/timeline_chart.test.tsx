@@ -69,3 +69,22 @@ describe('seek_target', () => {
     expect(seek_target('Enter', 5, 30)).toBeNull();
   });
 });
+
+describe('TimelineChart without samples', () => {
+  it('says so instead of drawing a chart over an empty range', () => {
+    render(
+      <TimelineChart
+        title="Force"
+        unit="N"
+        t_s={[]}
+        duration_s={95}
+        series={[{ label: 'Right hand', values: [], color: '#000' }]}
+        events={[]}
+        position_s={0}
+        on_seek={vi.fn()}
+        test_id="timeline-force"
+      />,
+    );
+    expect(screen.getByText('No samples were recorded.')).toBeDefined();
+  });
+});

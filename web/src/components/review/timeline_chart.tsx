@@ -60,7 +60,9 @@ export function TimelineChart({
     seek.current = on_seek;
   }, [on_seek]);
 
-  const make: ChartMaker = (width) => {
+  // No samples (a recording without ticks): uPlot cannot lay out axes over an empty range.
+  const empty = t_s.length === 0;
+  const make: ChartMaker | null = empty ? null : (width) => {
     const draw_markers = (u: uPlot) => {
       const ctx = u.ctx;
       const top = u.bbox.top;
@@ -121,6 +123,7 @@ export function TimelineChart({
   return (
     <figure className="timeline-chart" data-testid={test_id}>
       <figcaption>{title}</figcaption>
+      {empty && <p className="empty">No samples were recorded.</p>}
       <div
         ref={box}
         className="timeline-plot"
