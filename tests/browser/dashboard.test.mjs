@@ -449,11 +449,22 @@ scenario('an admin disables a user, who can no longer log in, resets a password,
   assert.equal(reset.status(), 200, await reset.text());
   await sees(row.getByRole('status').filter({ hasText: `${username} must choose a new password at their next login.` }), 'the reset confirmed');
 
+  // A station retired: kept in the list, marked, and no longer offered for booking.
+  const station = await api_call(page, 'POST', '/api/stations', { name: `Old bench ${username}`, location: 'Basement' });
+  assert.equal(station.status, 201, JSON.stringify(station.body));
+  const station_id = station.body.station.id;
+  await admin_area(page, 'Stations');
+  const retired = await click_for_response(page, page.getByTestId(`station-${station_id}-retire`), 'PATCH', /^\/api\/stations\/\d+$/);
+  assert.equal(retired.status(), 200, await retired.text());
+  await sees(page.getByTestId(`station-${station_id}-state`).filter({ hasText: 'Retired' }), 'the station shown retired');
+  await sees(page.getByTestId(`station-${station_id}-retire`).filter({ hasText: 'Return to service' }), 'the way back');
+
   // Before and after, and never the password, in the audit log.
   await admin_area(page, 'Audit log');
   const audit = page.getByTestId('audit-log');
   await sees(audit.getByRole('row').filter({ hasText: 'user.disable' }).filter({ hasText: username }).filter({ hasText: 'disabled: false → true' }), 'the disabling with before and after');
   await sees(audit.getByRole('row').filter({ hasText: 'user.password_reset' }).filter({ hasText: 'must_change_password: false → true' }), 'the reset with before and after');
+  await sees(audit.getByRole('row').filter({ hasText: 'station.retire' }).filter({ hasText: 'retired: false → true' }), 'the retirement with before and after');
   assert.equal(await audit.getByText('temporary-pass-2').count(), 0, 'no password in the audit log');
   await snap(page, 'admin-audit');
 
@@ -481,4 +492,8 @@ scenario('an admin disables a user, who can no longer log in, resets a password,
   assert.equal(changed.status(), 200, await changed.text());
   await page.waitForURL('**/trainee');
   await sees(page.getByRole('heading', { name: 'My training' }), "the trainee's page after the change");
+  const station_choice = page.getByRole('form', { name: 'Book a slot' }).getByLabel('Station', { exact: true });
+  await station_choice.locator('option', { hasText: 'Station 1' }).waitFor({ state: 'attached' });
+  const offered = await station_choice.locator('option').allTextContents();
+  assert.ok(offered.length > 0 && !offered.some((o) => o.startsWith('Old bench')), `the retired station is not offered: ${offered}`);
 });

@@ -41,7 +41,7 @@ export function TraineePage() {
       </div>
       <Card id="calendar" title="Station calendar">
         {stations.data && (
-          <BookingCalendar stations={stations.data} viewer={user} on_changed={bookings.reload} reload_on={bookings.data} />
+          <BookingCalendar stations={stations.data.filter((s) => !s.retired)} viewer={user} on_changed={bookings.reload} reload_on={bookings.data} />
         )}
       </Card>
       <Card id="curriculum" title="My curriculum">

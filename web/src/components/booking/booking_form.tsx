@@ -20,7 +20,9 @@ const start_times = quarter_hours();
 
 /** Books a slot for the logged-in user; times are entered in local time and sent as UTC. */
 export function BookingForm({ on_booked }: { on_booked: (booking: Booking) => void }) {
-  const stations = useResource(['stations'], api.stations);
+  const all_stations = useResource(['stations'], api.stations);
+  // A retired station is listed for its history, never offered for booking (the server refuses).
+  const stations = { ...all_stations, data: all_stations.data?.filter((s) => !s.retired) ?? null };
   const [station_id, set_station_id] = useState('');
   const [date, set_date] = useState(tomorrow);
   const [start, set_start] = useState('09:00');
