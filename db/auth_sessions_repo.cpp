@@ -45,6 +45,13 @@ void AuthSessionsRepo::remove(std::string_view token) {
       .run();
 }
 
+void AuthSessionsRepo::remove_others(std::int64_t user_id, std::string_view keep) {
+  db_.prepare("DELETE FROM auth_sessions WHERE user_id = ? AND token_hash != ?")
+      .bind(1, user_id)
+      .bind_blob(2, token_hash(keep))
+      .run();
+}
+
 int AuthSessionsRepo::purge_expired(std::int64_t now) {
   db_.prepare("DELETE FROM auth_sessions WHERE expires_at <= ?").bind(1, now).run();
   return db_.changes();

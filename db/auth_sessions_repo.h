@@ -19,6 +19,9 @@ class AuthSessionsRepo {
   // The session's user if the token is known and not expired; slides the expiry to now + ttl_s.
   std::optional<User> touch(std::string_view token, std::int64_t now, std::int64_t ttl_s);
   void remove(std::string_view token);
+  // Ends every session of the user but the one of `keep` (after they changed their password, a
+  // cookie someone else holds stops working).
+  void remove_others(std::int64_t user_id, std::string_view keep);
   // Deletes expired sessions; returns how many.
   int purge_expired(std::int64_t now);
 

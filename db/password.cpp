@@ -46,8 +46,14 @@ std::string password_problem(std::string_view password, std::string_view usernam
   if (characters > 256) return "must have at most 256 characters";
   const auto lower = lower_ascii(password);
   if (!username.empty() && lower == lower_ascii(username)) return "must not be the username";
-  if (password.find_first_not_of(password.front()) == std::string_view::npos)
-    return "must not be one character repeated";
+  // One character repeated: the whole is copies of its first character's UTF-8 sequence.
+  const auto lead = static_cast<unsigned char>(password.front());
+  const std::size_t width = lead < 0x80 ? 1 : lead < 0xE0 ? 2 : lead < 0xF0 ? 3 : 4;
+  const auto first = password.substr(0, width);
+  bool repeated = password.size() % first.size() == 0;
+  for (std::size_t i = 0; repeated && i < password.size(); i += first.size())
+    repeated = password.substr(i, first.size()) == first;
+  if (repeated) return "must not be one character repeated";
   for (const auto common : kCommonPasswords)
     if (lower == common) return "is one of the most common passwords; choose another";
   return "";

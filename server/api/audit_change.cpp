@@ -1,5 +1,7 @@
 #include "server/api/audit_change.h"
 
+#include <map>
+
 #include "db/audit_repo.h"
 
 namespace incise::server::api {
@@ -41,14 +43,16 @@ ChangedFields changed_fields(const nlohmann::json& before, const nlohmann::json&
     return out;
   }
   // A JSON Patch from before to after names every changed place once (add, remove, replace).
+  std::map<std::string, std::size_t> appended;  // per array: the "-" appends seen so far
   for (const auto& op : nlohmann::json::diff(before, after)) {
     const auto pointer = op.at("path").get<std::string>();
-    // "-" (append) is not a place in `after`; the array's new element is at its last index.
+    // "-" (append) is not a place: the k-th append to an array of n elements lands at n + k.
     std::string place = pointer;
     if (place.size() >= 2 && place.ends_with("/-")) {
-      const auto array = value_at(after, place.substr(0, place.size() - 2));
-      place = place.substr(0, place.size() - 1) +
-              std::to_string(array.is_array() && !array.empty() ? array.size() - 1 : 0);
+      const auto array_path = place.substr(0, place.size() - 2);
+      const auto array = value_at(before, array_path);
+      const auto index = (array.is_array() ? array.size() : 0) + appended[array_path]++;
+      place = array_path + "/" + std::to_string(index);
     }
     // A list of plain values (instructor ids) reads best whole: [2] -> [], not "0: 2 -> null".
     const auto parent = place.substr(0, place.rfind('/'));

@@ -76,12 +76,21 @@ ApiResponse change_own_password(ApiContext& ctx) {
   }
   auto& db = ctx.app.db();
   db::UsersRepo users(db);
+  // A stolen cookie must not be able to take the account over, nor guess the password here
+  // faster than at the login: the same limiter counts these failures.
+  auto& limiter = ctx.app.login_limiter();
+  if (const auto wait = limiter.retry_after(ctx.client, ctx.now); wait > 0) {
+    throw ApiError(http::status::too_many_requests,
+                   "too many failed attempts; try again in " + std::to_string(wait) + " s");
+  }
   if (!users.password_matches(user.id, current)) {
-    // A stolen cookie must not be able to take the account over.
+    limiter.record_failure(ctx.client, ctx.now);
     throw ApiError(http::status::unprocessable_entity, "current_password is wrong");
   }
   db::Transaction tx(db);
   users.set_password(user.id, next, false);
+  // Every other login of theirs ends: whoever else held a cookie is out.
+  db::AuthSessionsRepo(db).remove_others(user.id, ctx.cookie(kSessionCookie).value_or(""));
   audit_change(db, user.id, "user.password_change", user.username, ctx.now,
                {{"must_change_password", user.must_change_password}},
                {{"must_change_password", false}});

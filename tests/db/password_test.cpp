@@ -131,6 +131,11 @@ TEST(PasswordPolicy, RefusesTheUsernameRepeatsAndCommonPasswords) {
   EXPECT_EQ(password_problem("Dana.Smith-1", "dana.smith-1"), "must not be the username");
   EXPECT_EQ(password_problem("aaaaaaaaaa", "dana"), "must not be one character repeated");
   EXPECT_EQ(password_problem("          ", "dana"), "must not be one character repeated");
+  std::string euros;
+  for (int i = 0; i < 10; ++i)
+    euros += "\xE2\x82\xAC";  // U+20AC, three bytes
+  EXPECT_EQ(password_problem(euros, "dana"), "must not be one character repeated");
+  EXPECT_EQ(password_problem(euros + "x", "dana"), "");
   for (const char* common : {"password12", "PassWord12", "1234567890", "qwertyuiop"}) {
     EXPECT_EQ(password_problem(common, "dana"),
               "is one of the most common passwords; choose another")

@@ -42,6 +42,16 @@ TEST(ChangedFields, AddedAndRemovedFieldsAreNullOnTheOtherSide) {
   EXPECT_EQ(changed.after, (json{{"old", nullptr}, {"new", "x"}, {"tasks/1", task_b}}));
 }
 
+TEST(ChangedFields, EveryAppendedElementKeepsItsOwnPlace) {
+  // Two tasks added to a module: both are in the log, each at its index.
+  const json t0 = {{"key", "a"}};
+  const json t1 = {{"key", "b"}};
+  const json t2 = {{"key", "c"}};
+  const auto changed = changed_fields({{"tasks", {t0}}}, {{"tasks", {t0, t1, t2}}});
+  EXPECT_EQ(changed.before, (json{{"tasks/1", nullptr}, {"tasks/2", nullptr}}));
+  EXPECT_EQ(changed.after, (json{{"tasks/1", t1}, {"tasks/2", t2}}));
+}
+
 TEST(ChangedFields, AListOfPlainValuesChangesWhole) {
   // Who teaches a trainee: [2] -> [], [] -> [2, 3], [2, 3] -> [3].
   const auto ids = [](json list) { return json{{"instructor_ids", std::move(list)}}; };

@@ -141,6 +141,33 @@ TEST_F(UserAdminApi, AResetPasswordMustBeReplacedBeforeAnythingElse) {
   }
 }
 
+TEST_F(UserAdminApi, ChangingOnesPasswordEndsOtherLoginsAndGuessingIsLimited) {
+  const auto here = token_of(login("trainee", kTraineePassword));
+  const auto elsewhere = session_of(Who::trainee);  // say, a cookie someone else holds
+  // Guesses at the current password count like failed logins: after a few, 429 with the wait.
+  int guesses = 0;
+  for (; guesses < 20; ++guesses) {
+    const auto r = post("/api/me/password",
+                        {{"current_password", "guess-" + std::to_string(guesses) + "-xyz"},
+                         {"new_password", "mine-now-123"}},
+                        here);
+    if (r.result() == http::status::too_many_requests) break;
+    ASSERT_TRUE(is_error(r, http::status::unprocessable_entity, "current_password is wrong"));
+  }
+  EXPECT_LT(guesses, 20);
+  EXPECT_TRUE(is_error(
+      post("/api/me/password",
+           {{"current_password", kTraineePassword}, {"new_password", "mine-now-123"}}, here),
+      http::status::too_many_requests));
+  set_now(now() + 3600);  // the wait is over
+  const auto changed =
+      post("/api/me/password",
+           {{"current_password", kTraineePassword}, {"new_password", "mine-now-123"}}, here);
+  ASSERT_EQ(changed.result(), http::status::ok) << changed.body();
+  EXPECT_EQ(get("/api/me", here).result(), http::status::ok);                    // this login stays
+  EXPECT_TRUE(is_error(get("/api/me", elsewhere), http::status::unauthorized));  // the other ends
+}
+
 TEST_F(UserAdminApi, AnAdminResetsOnlyOthersPasswords) {
   EXPECT_TRUE(is_error(post("/api/users/" + std::to_string(user_id("admin")) + "/password",
                             {{"password", "temporary-123"}}, admin_),
