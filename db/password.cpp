@@ -82,6 +82,11 @@ bool verify_password(std::string_view password, const std::string& stored_hash) 
   return crypto_pwhash_str_verify(stored_hash.c_str(), password.data(), password.size()) == 0;
 }
 
+void spend_password_check(std::string_view password) {
+  static const std::string dummy = hash_password("incise-timing-equaliser");
+  verify_password(password, dummy);
+}
+
 std::string random_token() {
   ensure_sodium();
   unsigned char bytes[32];

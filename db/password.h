@@ -15,6 +15,9 @@ std::string hash_password(std::string_view password);
 std::string password_problem(std::string_view password, std::string_view username);
 // Constant-time check; false for a malformed hash.
 bool verify_password(std::string_view password, const std::string& stored_hash);
+// Spends the work of a verification and fails: for an unknown username, so that the response
+// time does not reveal which usernames exist.
+void spend_password_check(std::string_view password);
 
 // A random token for cookies and station keys: 32 random bytes as 64 hex characters.
 std::string random_token();

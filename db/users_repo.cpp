@@ -73,17 +73,27 @@ std::optional<User> UsersRepo::find_by_username(std::string_view username) {
 }
 
 std::optional<User> UsersRepo::authenticate(std::string_view username, std::string_view password) {
+  auto found = credentials(username);
+  if (!found) {
+    spend_password_check(password);
+    return std::nullopt;
+  }
+  if (!verify_password(password, found->password_hash)) return std::nullopt;
+  return std::move(found->user);
+}
+
+std::optional<UsersRepo::Credentials> UsersRepo::credentials(std::string_view username) {
   auto q = db_.prepare(std::string("SELECT ") + kColumns +
                        ", password_hash FROM users WHERE username = ?");
   q.bind(1, username);
-  if (!q.step()) {
-    // Spend the same hashing work as for a real user.
-    static const std::string dummy = hash_password("incise-timing-equaliser");
-    verify_password(password, dummy);
-    return std::nullopt;
-  }
-  if (!verify_password(password, q.text(7))) return std::nullopt;
-  return read_user(q);
+  if (!q.step()) return std::nullopt;
+  return Credentials{read_user(q), q.text(7)};
+}
+
+std::string UsersRepo::password_hash(std::int64_t id) {
+  auto q = db_.prepare("SELECT password_hash FROM users WHERE id = ?");
+  q.bind(1, id);
+  return q.step() ? q.text(0) : std::string();
 }
 
 std::vector<User> UsersRepo::list() {
@@ -148,12 +158,8 @@ void UsersRepo::set_password(std::int64_t id, std::string_view password, bool mu
 }
 
 bool UsersRepo::password_matches(std::int64_t id, std::string_view password) {
-  auto q = db_.prepare("SELECT password_hash FROM users WHERE id = ?");
-  q.bind(1, id);
-  if (!q.step()) return false;
-  const std::string hash = q.text(0);
-  q.reset();
-  return verify_password(password, hash);
+  const auto hash = password_hash(id);
+  return !hash.empty() && verify_password(password, hash);
 }
 
 std::int64_t UsersRepo::count() {

@@ -42,6 +42,14 @@ class UsersRepo {
   // The user when the password matches; takes about as long for an unknown username, so the
   // response time does not reveal which usernames exist.
   std::optional<User> authenticate(std::string_view username, std::string_view password);
+  // The user and their stored hash, for a caller that verifies the password without holding the
+  // database (verify_password or, for nullopt, spend_password_check: the same time either way).
+  struct Credentials {
+    User user;
+    std::string password_hash;
+  };
+  std::optional<Credentials> credentials(std::string_view username);
+  std::string password_hash(std::int64_t id);  // "" for an unknown id
   std::vector<User> list();
   std::int64_t count();
 

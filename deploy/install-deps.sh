@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs every system and npm package that the build, the run and the tests need.
 # Idempotent: it installs only what is missing, so the run and test commands call it every time.
+#   --fuzz  also clang with libFuzzer and the sanitizer runtimes (deploy/fuzz.sh)
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(dirname "$here")
@@ -15,6 +16,10 @@ apt_packages=(
   calculix-ccx
   chromium curl ca-certificates
 )
+
+if [ "${1:-}" = "--fuzz" ]; then
+  apt_packages+=(clang libclang-rt-14-dev)
+fi
 
 missing=()
 for p in "${apt_packages[@]}"; do

@@ -46,20 +46,21 @@ for _ in $(seq 1 100); do
   sleep 0.1
 done
 
-# The demo station's agent, with the simulated (scripted) device.
-"$bin/incise-agent" --server "ws://$host:$port/agent" --token incise-demo-station-token \
+# The demo station's agent, with the simulated (scripted) device. Tokens go in the environment,
+# not on the command line, where any local user could read them in ps.
+INCISE_STATION_TOKEN=incise-demo-station-token "$bin/incise-agent" --server "ws://$host:$port/agent" \
   2>> "$log_dir/agent.log" &
 agent_pid=$!
 # The surgical station's agent: its simulated scalpel cuts along the liver's marked line every 12 s
 # (deploy/agent/liver_cut_demo.json); its grasper (device 1) is not connected.
-"$bin/incise-agent" --server "ws://$host:$port/agent" --token incise-demo-surgical-station-token \
-  --script "$root/deploy/agent/liver_cut_demo.json" 2>> "$log_dir/surgical-agent.log" &
+INCISE_STATION_TOKEN=incise-demo-surgical-station-token "$bin/incise-agent" \
+  --server "ws://$host:$port/agent" --script "$root/deploy/agent/liver_cut_demo.json" 2>> "$log_dir/surgical-agent.log" &
 surgical_agent_pid=$!
 # The arthroscopy station's agent: a simulated arthroscope at the knee's anterolateral portal and
 # a probe at the anteromedial one, touring the joint's landmarks every 28 s
 # (deploy/agent/knee_scope_tour.json, knee_probe_tour.json).
-"$bin/incise-agent" --server "ws://$host:$port/agent" --token incise-demo-arthroscopy-station-token \
-  --device "knee-scope:$root/deploy/agent/knee_scope_tour.json" \
+INCISE_STATION_TOKEN=incise-demo-arthroscopy-station-token "$bin/incise-agent" \
+  --server "ws://$host:$port/agent" --device "knee-scope:$root/deploy/agent/knee_scope_tour.json" \
   --device "knee-instrument:$root/deploy/agent/knee_probe_tour.json" \
   2>> "$log_dir/arthroscopy-agent.log" &
 knee_agent_pid=$!

@@ -9,6 +9,8 @@
 #include "db/stations_repo.h"
 #include "devices/protocol.h"
 #include "devices/station_calibration_json.h"
+#include "server/demo_data.h"
+#include "server/server_options.h"
 #include "server/wire_text.h"
 
 namespace incise::server {
@@ -20,6 +22,8 @@ namespace net = boost::asio;
 namespace {
 constexpr std::size_t kBeastReadLimit = 64 * 1024;
 constexpr auto kAgentIdleTimeout = std::chrono::seconds(3);
+// The wrong-token limiter counts per address only (one "account" for all stations).
+constexpr std::string_view kAgentAccount = "station-token";
 
 std::uint64_t monotonic_us() {
   return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(
@@ -29,7 +33,11 @@ std::uint64_t monotonic_us() {
 }  // namespace
 
 AgentSession::AgentSession(net::ip::tcp::socket&& socket, std::shared_ptr<AppState> app)
-    : ws_(std::move(socket)), app_(std::move(app)) {}
+    : ws_(std::move(socket)), app_(std::move(app)), hello_timer_(ws_.get_executor()) {
+  beast::error_code ec;
+  const auto remote = beast::get_lowest_layer(ws_).socket().remote_endpoint(ec);
+  address_ = ec ? "unknown" : remote.address().to_string();
+}
 
 AgentSession::~AgentSession() {
   if (station_id_ != 0) {
@@ -39,6 +47,7 @@ AgentSession::~AgentSession() {
 }
 
 void AgentSession::run(beast::http::request<beast::http::string_body> upgrade) {
+  address_ = request_client(address_, upgrade["X-Forwarded-For"], app_->config().trusted_proxy);
   // Agents stream hundreds of states a second, so a few seconds of silence means the station is
   // gone (a crashed machine or a pulled cable sends no FIN): close, so that its session pauses
   // now and not after Beast's default five minutes.
@@ -55,7 +64,17 @@ void AgentSession::run(beast::http::request<beast::http::string_body> upgrade) {
 
 void AgentSession::on_accept(beast::error_code ec) {
   if (ec) return;
+  // Keep-alive pings would hold a silent connection open for ever: the hello has a deadline.
+  hello_timer_.expires_after(kHelloDeadline);
+  hello_timer_.async_wait(
+      beast::bind_front_handler(&AgentSession::on_hello_deadline, shared_from_this()));
   do_read();
+}
+
+void AgentSession::on_hello_deadline(beast::error_code ec) {
+  if (ec || station_id_ != 0) return;  // cancelled by the hello, or it came
+  do_close(websocket::close_code::policy_error,
+           "no hello within " + std::to_string(kHelloDeadline.count()) + " s");
 }
 
 void AgentSession::do_read() {
@@ -112,6 +131,21 @@ void AgentSession::handle_hello() {
   const auto hello = devices::parse_hello(beast::buffers_to_string(buffer_.data()));
   if (!hello) return do_close(websocket::close_code::policy_error, hello.error);
 
+  auto& limiter = app_->agent_limiter();
+  const auto now = app_->now();
+  if (const auto wait = limiter.retry_after(kAgentAccount, address_, now); wait > 0) {
+    // 1013: the agent retries later (a good token from a held address is held back too).
+    return do_close(websocket::close_code::try_again_later, "too many wrong station tokens from " +
+                                                                address_ + "; try again in " +
+                                                                std::to_string(wait) + " s");
+  }
+  if (!app_->config().demo && is_demo_station_token(hello.value->station_token)) {
+    // Demo stations exist only in a demo: their tokens are public (docs/security.md).
+    limiter.record_failure(kAgentAccount, address_, now);
+    return do_close(websocket::close_code::policy_error,
+                    "demo station tokens are accepted only by a server started with --demo");
+  }
+
   std::optional<db::Station> station;
   std::string calibration;
   {
@@ -128,16 +162,29 @@ void AgentSession::handle_hello() {
               << devices::parse_station_calibration(calibration).error << "\n";
     calibration.clear();
   }
-  if (!station) return do_close(websocket::close_code::policy_error, "unknown station token");
+  if (!station) {
+    limiter.record_failure(kAgentAccount, address_, now);
+    std::cerr << "incise-server: unknown station token from " << address_ << "\n";
+    return do_close(websocket::close_code::policy_error, "unknown station token");
+  }
+  // No success clears the count: one valid token must not buy guesses at the others.
   if (station->retired()) {
     return do_close(websocket::close_code::policy_error,
                     "station " + station->name + " is retired; an admin can return it to service");
   }
-
+  if (const auto holder = app_->agent_try_join(station->id, shared_from_this()); !holder.empty()) {
+    // A stolen token must not take a running station over, nor two agents drive one hand. The
+    // agent retries on 1013, so a reconnect goes through once the old link has gone.
+    std::cerr << "incise-server: station " << station->id << ": second link from " << address_
+              << " refused; the agent from " << holder << " holds it\n";
+    return do_close(websocket::close_code::try_again_later,
+                    "station " + station->name + " already has a connected agent (from " + holder +
+                        "); try again once it has gone");
+  }
   station_id_ = station->id;
-  app_->agent_joined(station_id_, shared_from_this());
+  hello_timer_.cancel();
   std::cerr << "incise-server: station " << station->id << " (" << station->name
-            << ") agent connected: " << hello.value->agent << "\n";
+            << ") agent connected from " << address_ << ": " << hello.value->agent << "\n";
   texts_.push_back(devices::build_welcome({station->id, station->name, calibration}));
   do_write();
   do_read();

@@ -4,11 +4,21 @@
 #include <vector>
 
 #include "server/agent_session.h"
+#include "server/view_session.h"
 
 namespace incise::server {
 
 AppState::AppState(db::Database& db, ServerConfig config)
-    : db_(db), config_(std::move(config)), clock_([] {
+    : db_(db),
+      config_(std::move(config)),
+      // Ten wrong tokens from an address are free (a mistyped configuration), then the wait
+      // doubles; ten quiet minutes forget them.
+      agent_limiter_(LoginPolicy{.free_per_pair = 10,
+                                 .free_per_address = 1 << 30,
+                                 .free_per_account = 1 << 30,
+                                 .max_wait_s = 300,
+                                 .forget_after_s = 600}),
+      clock_([] {
         return std::chrono::duration_cast<std::chrono::seconds>(
                    std::chrono::system_clock::now().time_since_epoch())
             .count();
@@ -22,10 +32,17 @@ AppState::~AppState() {
 // The live session hears of agents joining and leaving under agents_mutex_, so that a leave and a
 // join racing during a reconnect cannot leave it believing the station is offline. (Lock order:
 // agents_mutex_, then LiveSessions, then a LiveSession; nothing takes them the other way round.)
-void AppState::agent_joined(std::int64_t station_id, const std::shared_ptr<AgentSession>& session) {
+std::string AppState::agent_try_join(std::int64_t station_id,
+                                     const std::shared_ptr<AgentSession>& session) {
   std::lock_guard lock(agents_mutex_);
+  for (const auto& [_, entry] : agents_) {
+    if (entry.station_id != station_id) continue;
+    const auto holder = entry.session.lock();
+    if (holder && !holder->closing()) return holder->address();
+  }
   agents_[session.get()] = AgentEntry{station_id, session, ++joins_};
   live_sessions_.on_agent(station_id, true);
+  return {};
 }
 
 void AppState::agent_left(const AgentSession* session) {
@@ -74,6 +91,27 @@ void AppState::close_all_agents() {
   }
   for (const auto& s : live)
     s->close("server shutting down");
+}
+
+void AppState::view_opened(std::int64_t user_id, const std::shared_ptr<ViewSession>& view) {
+  std::lock_guard lock(views_mutex_);
+  std::erase_if(views_, [](const auto& entry) { return entry.second.expired(); });
+  views_.emplace(user_id, view);
+}
+
+int AppState::close_views_of(std::int64_t user_id, const std::string& reason) {
+  std::vector<std::shared_ptr<ViewSession>> open;
+  {
+    std::lock_guard lock(views_mutex_);
+    const auto [first, last] = views_.equal_range(user_id);
+    for (auto it = first; it != last; ++it) {
+      if (auto view = it->second.lock()) open.push_back(std::move(view));
+    }
+    views_.erase(first, last);
+  }
+  for (const auto& view : open)
+    view->close(boost::beast::websocket::close_code::policy_error, reason);
+  return static_cast<int>(open.size());
 }
 
 }  // namespace incise::server

@@ -13,10 +13,13 @@
 #include "db/database.h"
 #include "server/live_sessions.h"
 #include "server/login_limiter.h"
+#include "server/password_workers.h"
+#include "server/replay_slots.h"
 
 namespace incise::server {
 
 class AgentSession;
+class ViewSession;
 
 struct ServerConfig {
   std::filesystem::path web_root;  // the built dashboard (web/dist)
@@ -24,6 +27,8 @@ struct ServerConfig {
   std::int64_t session_ttl_s = 12 * 3600;
   std::size_t api_body_limit = 64 * 1024;
   bool secure_cookies = false;  // set behind TLS
+  bool demo = false;            // --demo: the demo stations' public tokens are accepted
+  std::string trusted_proxy;    // --trusted-proxy (server_options.h, request_client)
 };
 
 class AppState {
@@ -35,13 +40,20 @@ class AppState {
   std::mutex& db_mutex() { return db_mutex_; }
   const ServerConfig& config() const { return config_; }
   LoginLimiter& login_limiter() { return login_limiter_; }
+  PasswordWorkers& password_workers() { return password_workers_; }
+  ReplaySlots& replay_slots() { return replay_slots_; }
 
   // Unix seconds; replaceable so that tests can move time.
   std::int64_t now() const { return clock_(); }
   void set_clock(std::function<std::int64_t()> clock) { clock_ = std::move(clock); }
 
-  // Station agents currently connected (a station may briefly have two during a reconnect).
-  void agent_joined(std::int64_t station_id, const std::shared_ptr<AgentSession>& session);
+  // Wrong station tokens per address (server/agent_session.h).
+  LoginLimiter& agent_limiter() { return agent_limiter_; }
+
+  // Station agents currently connected, one per station. Registers `session` for the station
+  // and returns "" or, when another live link holds the station, refuses and returns that link's
+  // address.
+  std::string agent_try_join(std::int64_t station_id, const std::shared_ptr<AgentSession>& session);
   void agent_left(const AgentSession* session);
   bool station_online(std::int64_t station_id) const;
   // The station's most recently connected agent, or nullptr.
@@ -51,11 +63,20 @@ class AppState {
 
   LiveSessions& live_sessions() { return live_sessions_; }
 
+  // The open view WebSockets (live and replay) by the user who opened them, so that disabling a
+  // user or resetting their password also ends what they are watching. Thread-safe.
+  void view_opened(std::int64_t user_id, const std::shared_ptr<ViewSession>& view);
+  // Closes every open view of `user_id` with 1008 and `reason`; returns how many.
+  int close_views_of(std::int64_t user_id, const std::string& reason);
+
  private:
   db::Database& db_;
   std::mutex db_mutex_;
   ServerConfig config_;
   LoginLimiter login_limiter_;
+  LoginLimiter agent_limiter_;
+  PasswordWorkers password_workers_;
+  ReplaySlots replay_slots_;
   std::function<std::int64_t()> clock_;
   mutable std::mutex agents_mutex_;
   struct AgentEntry {
@@ -65,6 +86,8 @@ class AppState {
   };
   std::uint64_t joins_ = 0;
   bool station_online_locked(std::int64_t station_id) const;  // agents_mutex_ held
+  std::mutex views_mutex_;
+  std::multimap<std::int64_t, std::weak_ptr<ViewSession>> views_;
   // Last, so that it goes first: its sessions use the members above until they stop.
   LiveSessions live_sessions_;
   std::map<const AgentSession*, AgentEntry> agents_;

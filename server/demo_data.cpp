@@ -49,6 +49,11 @@ std::vector<db::ScoreInput> passing_scores(const curriculum::Task& task, double 
 
 }  // namespace
 
+bool is_demo_station_token(std::string_view token) {
+  return token == kDemoStationToken || token == kDemoSurgicalStationToken ||
+         token == kDemoArthroscopyStationToken;
+}
+
 bool seed_demo_data(db::Database& db, std::int64_t now) {
   db::UsersRepo users(db);
   if (users.count() > 0) return false;

@@ -1,4 +1,5 @@
 #pragma once
+#include <string_view>
 // The demo data of a first run: four logins (an admin, an instructor, a trainee at the start of the
 // course and one who has mastered its palpation tasks), three stations (the palpation bench, a
 // surgical station with a scalpel and a grasper, an arthroscopy station with a scope and a probe),
@@ -28,6 +29,9 @@ inline constexpr const char* kDemoSurgicalStationName = "Surgical station";
 inline constexpr const char* kDemoSurgicalStationToken = "incise-demo-surgical-station-token";
 inline constexpr const char* kDemoArthroscopyStationName = "Arthroscopy station";
 inline constexpr const char* kDemoArthroscopyStationToken = "incise-demo-arthroscopy-station-token";
+
+// Whether `token` is one of the demo stations' tokens above (public, so refused without --demo).
+bool is_demo_station_token(std::string_view token);
 
 // Seeds the demo data if the database has no users yet; returns whether it did.
 bool seed_demo_data(db::Database& db, std::int64_t now);

@@ -1,5 +1,6 @@
 #include "server/server_options.h"
 
+#include <boost/asio/ip/address.hpp>
 #include <charconv>
 
 namespace incise::server {
@@ -7,6 +8,7 @@ namespace incise::server {
 const char* const kServerUsage =
     "usage: incise-server [--host ADDR] [--port N] [--data DIR] [--web DIR] [--demo] [--threads "
     "N]\n"
+    "                     [--secure-cookies] [--trusted-proxy ADDR]\n"
     "\n"
     "Serves the Incise dashboard, REST API and station-agent WebSocket on one port.\n"
     "  --host ADDR   address to listen on (default 127.0.0.1)\n"
@@ -16,6 +18,10 @@ const char* const kServerUsage =
     "  --web DIR     the built dashboard (default ./web/dist)\n"
     "  --demo        on a new database, add demo logins, a station and a curriculum\n"
     "  --threads N   I/O threads (default 2)\n"
+    "  --secure-cookies  mark the login cookie Secure: set it when browsers reach the server over\n"
+    "                HTTPS (a TLS-terminating proxy such as nginx in front of it)\n"
+    "  --trusted-proxy ADDR  the proxy's address: for its requests, the client is the last\n"
+    "                address of X-Forwarded-For (login limits and logs count per client)\n"
     "  --help        this text\n"
     "Prints 'incise-server: listening on http://HOST:PORT' when ready; SIGINT/SIGTERM stop it.\n";
 
@@ -25,6 +31,25 @@ bool parse_int(const std::string& text, long min, long max, long& out) {
   return ec == std::errc{} && end == text.data() + text.size() && out >= min && out <= max;
 }
 }  // namespace
+
+bool is_ip_address(const std::string& text) {
+  boost::system::error_code ec;
+  boost::asio::ip::make_address(text, ec);
+  return !ec;
+}
+
+std::string request_client(const std::string& peer, std::string_view forwarded_for,
+                           const std::string& trusted_proxy) {
+  if (trusted_proxy.empty() || peer != trusted_proxy) return peer;
+  const auto comma = forwarded_for.rfind(',');
+  auto last = comma == std::string_view::npos ? forwarded_for : forwarded_for.substr(comma + 1);
+  while (!last.empty() && (last.front() == ' ' || last.front() == '\t'))
+    last.remove_prefix(1);
+  while (!last.empty() && (last.back() == ' ' || last.back() == '\t'))
+    last.remove_suffix(1);
+  std::string client(last);
+  return is_ip_address(client) ? client : peer;
+}
 
 ParsedOptions parse_server_options(const std::vector<std::string>& args) {
   ServerOptions o;
@@ -41,6 +66,13 @@ ParsedOptions parse_server_options(const std::vector<std::string>& args) {
       o.help = true;
     } else if (arg == "--demo") {
       o.demo = true;
+    } else if (arg == "--secure-cookies") {
+      o.secure_cookies = true;
+    } else if (arg == "--trusted-proxy") {
+      if (!value(v) || !is_ip_address(v)) {
+        return {std::nullopt, "--trusted-proxy needs an IP address"};
+      }
+      o.trusted_proxy = v;
     } else if (arg == "--host") {
       if (!value(o.host)) return {std::nullopt, "--host needs an address"};
     } else if (arg == "--port") {

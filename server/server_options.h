@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace incise::server {
@@ -14,6 +15,8 @@ struct ServerOptions {
   std::filesystem::path web_root = "web/dist";
   bool demo = false;
   int threads = 2;
+  bool secure_cookies = false;  // the login cookie carries Secure (served over HTTPS)
+  std::string trusted_proxy;    // "" or the address whose X-Forwarded-For is believed
   bool help = false;
 };
 
@@ -23,6 +26,13 @@ struct ParsedOptions {
   std::string error;
 };
 ParsedOptions parse_server_options(const std::vector<std::string>& args);
+bool is_ip_address(const std::string& text);  // IPv4 or IPv6
+
+// The client of a request that came from `peer`: the peer itself, unless it is `trusted_proxy`,
+// whose X-Forwarded-For's last address (the one the proxy appended) is the client then. Anything
+// else in the header may be the client's own invention and is ignored.
+std::string request_client(const std::string& peer, std::string_view forwarded_for,
+                           const std::string& trusted_proxy);
 
 extern const char* const kServerUsage;
 

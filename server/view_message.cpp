@@ -102,7 +102,12 @@ ViewMessageResult parse_view_message(std::string_view text, std::int64_t frames_
     m.type = ViewMessage::Type::pause;
   } else if (replay && type == "speed") {
     m.type = ViewMessage::Type::speed;
-    m.value = fields.number("value", true).value_or(0);
+    m.value = fields.number("value", true).value_or(1);
+    // The replay's range (live::ReplaySession::kMinSpeed..kMaxSpeed): refused, not clamped, so
+    // that a client asking for 10x learns it did not get it.
+    if (fields.error().empty() && !(m.value >= 0.25 && m.value <= 4.0)) {
+      return fail("speed: \"value\" must be in [0.25, 4]");
+    }
   } else if (replay && type == "seek") {
     m.type = ViewMessage::Type::seek;
     m.value = fields.number("t", true).value_or(0);

@@ -316,6 +316,12 @@ void ViewSession::on_write(beast::error_code ec, std::size_t) {
   do_write();
 }
 
+void ViewSession::close(websocket::close_code code, std::string reason) {
+  net::post(ws_.get_executor(), [self = shared_from_this(), code, reason = std::move(reason)] {
+    self->do_close(code, reason);
+  });
+}
+
 void ViewSession::do_close(websocket::close_code code, std::string reason) {
   if (closing_ || !ws_.is_open()) return;
   closing_ = true;

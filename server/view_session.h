@@ -47,6 +47,10 @@ class ViewSession : public std::enable_shared_from_this<ViewSession> {
   ~ViewSession();
 
   void run(boost::beast::http::request<boost::beast::http::string_body> upgrade);
+  // Thread-safe: closes the view with `code` and `reason` (AppState::close_views_of).
+  void close(boost::beast::websocket::close_code code, std::string reason);
+  // Keeps `resource` (a replay's slot) until this view has closed and its replay is gone.
+  void hold(std::shared_ptr<void> resource) { held_ = std::move(resource); }
 
  private:
   // One of live or replay.
@@ -74,6 +78,7 @@ class ViewSession : public std::enable_shared_from_this<ViewSession> {
   boost::beast::flat_buffer buffer_;
   std::shared_ptr<live::LiveSession> live_;
   std::unique_ptr<live::ReplaySession> replay_;
+  std::shared_ptr<void> held_;  // released after replay_ (the destructor resets that first)
   std::shared_ptr<Sink> sink_;
   bool outside_view_allowed_ = false;
 

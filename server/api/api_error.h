@@ -4,17 +4,24 @@
 #include <boost/beast/http/status.hpp>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace incise::server {
 
 class ApiError : public std::runtime_error {
  public:
-  ApiError(boost::beast::http::status status, const std::string& message)
-      : std::runtime_error(message), status_(status) {}
+  using Headers = std::vector<std::pair<std::string, std::string>>;
+
+  ApiError(boost::beast::http::status status, const std::string& message, Headers headers = {})
+      : std::runtime_error(message), status_(status), headers_(std::move(headers)) {}
   boost::beast::http::status status() const { return status_; }
+  // Sent with the error, such as Retry-After with a 429.
+  const Headers& headers() const { return headers_; }
 
  private:
   boost::beast::http::status status_;
+  Headers headers_;
 };
 
 }  // namespace incise::server

@@ -1,5 +1,7 @@
 #include "db/auth_sessions_repo.h"
+#include "db/password.h"
 #include "db/transaction.h"
+#include "db/users_repo.h"
 #include "server/api/api_error.h"
 #include "server/api/audit_change.h"
 #include "server/api/handlers.h"
@@ -23,23 +25,50 @@ ApiResponse health(ApiContext&) {
   return {http::status::ok, {{"status", "ok"}, {"version", "0.1.0"}}, {}};
 }
 
+namespace {
+// 429 with Retry-After while the limiter holds `account` at this address back.
+void check_login_limit(ApiContext& ctx, std::string_view account, std::string_view what) {
+  const auto wait = ctx.app.login_limiter().retry_after(account, ctx.client, ctx.now);
+  if (wait <= 0) return;
+  throw ApiError(http::status::too_many_requests,
+                 "too many " + std::string(what) + "; try again in " + std::to_string(wait) + " s",
+                 {{"Retry-After", std::to_string(wait)}});
+}
+
+// Whether `password` matches `hash` ("" when there is no such user: the same work is spent). The
+// check takes about 50 ms of argon2id, so it runs without the database lock: other requests go
+// on meanwhile (logins themselves run on the password workers, not the I/O threads).
+bool password_checks(ApiContext& ctx, std::string_view password, const std::string& hash) {
+  bool ok = false;
+  ctx.without_db_lock([&] {
+    if (hash.empty()) {
+      db::spend_password_check(password);
+    } else {
+      ok = db::verify_password(password, hash);
+    }
+  });
+  return ok;
+}
+}  // namespace
+
 ApiResponse login(ApiContext& ctx) {
   const auto body = ctx.json_body();
   const RequestFields fields(body, {"username", "password"});
   const auto username = fields.string("username");
   const auto password = fields.string("password");
 
+  check_login_limit(ctx, username, "failed logins");
+  db::UsersRepo users(ctx.app.db());
+  const auto found = users.credentials(username);
   auto& limiter = ctx.app.login_limiter();
-  if (const auto wait = limiter.retry_after(ctx.client, ctx.now); wait > 0) {
-    throw ApiError(http::status::too_many_requests,
-                   "too many failed logins; try again in " + std::to_string(wait) + " s");
-  }
-  const auto user = db::UsersRepo(ctx.app.db()).authenticate(username, password);
-  if (!user) {
-    limiter.record_failure(ctx.client, ctx.now);
+  if (!password_checks(ctx, password, found ? found->password_hash : std::string())) {
+    limiter.record_failure(username, ctx.client, ctx.now);
     throw ApiError(http::status::unauthorized, "wrong username or password");
   }
-  limiter.record_success(ctx.client);
+  limiter.record_success(username, ctx.client, ctx.now);
+  // Read again: the account may have changed while the password was checked without the lock.
+  const auto user = users.find(found->user.id);
+  if (!user) throw ApiError(http::status::unauthorized, "wrong username or password");
   // Said only to whoever knows the password, so it reveals nothing to a guesser.
   if (user->disabled_at) {
     throw ApiError(http::status::forbidden, "this account is disabled; ask an admin");
@@ -78,13 +107,9 @@ ApiResponse change_own_password(ApiContext& ctx) {
   db::UsersRepo users(db);
   // A stolen cookie must not be able to take the account over, nor guess the password here
   // faster than at the login: the same limiter counts these failures.
-  auto& limiter = ctx.app.login_limiter();
-  if (const auto wait = limiter.retry_after(ctx.client, ctx.now); wait > 0) {
-    throw ApiError(http::status::too_many_requests,
-                   "too many failed attempts; try again in " + std::to_string(wait) + " s");
-  }
-  if (!users.password_matches(user.id, current)) {
-    limiter.record_failure(ctx.client, ctx.now);
+  check_login_limit(ctx, user.username, "failed attempts");
+  if (!password_checks(ctx, current, users.password_hash(user.id))) {
+    ctx.app.login_limiter().record_failure(user.username, ctx.client, ctx.now);
     throw ApiError(http::status::unprocessable_entity, "current_password is wrong");
   }
   db::Transaction tx(db);

@@ -203,7 +203,10 @@ Response handle_api_request(const Request& request, AppState& app, const std::st
     res.prepare_payload();
     return res;
   } catch (const ApiError& e) {
-    return json_error(e.status(), e.what(), version, keep_alive);
+    auto res = json_error(e.status(), e.what(), version, keep_alive);
+    for (const auto& [name, value] : e.headers())
+      res.set(name, value);
+    return res;
   } catch (const db::Conflict& e) {
     return json_error(http::status::conflict, e.what(), version, keep_alive);
   } catch (const db::NotFound& e) {

@@ -161,6 +161,8 @@ ApiResponse update_user(ApiContext& ctx) {
     audit_change(db, admin.id, disabled ? "user.disable" : "user.enable", before.username, ctx.now,
                  {{"disabled", !disabled}}, {{"disabled", disabled}});
     tx.commit();
+    // Their logins ended with set_disabled; what they were watching ends too.
+    if (disabled) ctx.app.close_views_of(before.id, "your account was disabled");
   }
   return {http::status::ok, user_json(users, existing_user(users, before.id)), {}};
 }
@@ -184,6 +186,7 @@ ApiResponse reset_user_password(ApiContext& ctx) {
                {{"must_change_password", before.must_change_password}},
                {{"must_change_password", true}});
   tx.commit();
+  ctx.app.close_views_of(before.id, "an admin reset your password; log in again");
   return {http::status::ok, user_json(users, existing_user(users, before.id)), {}};
 }
 

@@ -45,7 +45,7 @@ ViewTarget live_target(ApiContext& ctx, std::int64_t session_id) {
                                                " is not live (" + record->state +
                                                "); open its recording instead");
   }
-  return {std::move(session), nullptr, api::may_look_outside(user)};
+  return {std::move(session), nullptr, api::may_look_outside(user), nullptr, {}, user.id};
 }
 
 // What a replay needs, read under the database lock; the replay itself is built after it.
@@ -109,6 +109,8 @@ std::variant<ViewTarget, Response> resolve_view(const Request& request, AppState
     }
     std::optional<ReplayInput> input;
     bool outside_view_allowed = false;
+    std::shared_ptr<void> slot;
+    std::int64_t user_id = 0;
     {
       std::lock_guard lock(app.db_mutex());
       ApiContext ctx(request, app, client);
@@ -121,13 +123,24 @@ std::variant<ViewTarget, Response> resolve_view(const Request& request, AppState
       }
       input = replay_input(ctx, id);
       outside_view_allowed = api::may_look_outside(ctx.user());
+      user_id = ctx.user().id;
+      std::string why;
+      slot = app.replay_slots().take(ctx.user().id, why);
+      if (!slot) {
+        ViewTarget busy;
+        busy.busy = std::move(why);
+        return busy;
+      }
     }
     // Building the engine takes a moment; other requests need not wait for it.
     return ViewTarget{nullptr,
                       std::make_unique<live::ReplaySession>(
                           live::load_session_scene(input->scene_id, input->scene_text),
                           input->tick_s, std::move(input->ticks), std::move(input->zones)),
-                      outside_view_allowed};
+                      outside_view_allowed,
+                      std::move(slot),
+                      {},
+                      user_id};
   } catch (const ApiError& e) {
     return json_error(e.status(), e.what(), request.version(), false);
   } catch (const std::exception& e) {

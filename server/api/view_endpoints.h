@@ -17,6 +17,13 @@ struct ViewTarget {
   std::unique_ptr<live::ReplaySession> replay;  // /api/recordings/{id}/replay (not started)
   // Whether this viewer may switch to the view from outside the body (api::may_look_outside).
   bool outside_view_allowed = false;
+  // The replay's slot (AppState::replay_slots), held by the view for as long as it is open.
+  std::shared_ptr<void> replay_slot;
+  // When no slot was free: why. The upgrade is accepted and closed with 1013 and this reason,
+  // which the browser can show (it never sees an HTTP refusal of an upgrade).
+  std::string busy;
+  // Who opened it (AppState::view_opened).
+  std::int64_t user_id = 0;
 };
 
 // Whether target is one of the view paths (so that other upgrades get a 404).

@@ -7,7 +7,9 @@
 #include "server/api/router.h"
 #include "server/api/view_endpoints.h"
 #include "server/http/static_files.h"
+#include "server/server_options.h"
 #include "server/view_session.h"
+#include "server/wire_text.h"
 
 namespace incise::server {
 
@@ -27,7 +29,30 @@ bool is_printable_ascii(std::string_view text) {
   }
   return true;
 }
+
+// Accepts a WebSocket upgrade only to close it at once with `code` and `reason`: a browser shows
+// a close reason, never the body of a refused upgrade.
+void refuse_websocket(net::ip::tcp::socket&& socket, Request&& upgrade,
+                      beast::websocket::close_code code, std::string reason) {
+  using Ws = beast::websocket::stream<beast::tcp_stream>;
+  auto ws = std::make_shared<Ws>(std::move(socket));
+  ws->set_option(beast::websocket::stream_base::timeout::suggested(beast::role_type::server));
+  auto request = std::make_shared<Request>(std::move(upgrade));
+  ws->async_accept(
+      *request, [ws, request, code, reason = close_reason_text(reason)](beast::error_code ec) {
+        if (ec) return;
+        ws->async_close(beast::websocket::close_reason(code, reason), [ws](beast::error_code) {});
+      });
+}
+
 }  // namespace
+
+bool checks_password(const Request& request) {
+  if (request.method() != http::verb::post) return false;
+  const auto target = request.target();
+  const auto path = target.substr(0, target.find('?'));
+  return path == "/api/login" || path == "/api/me/password";
+}
 
 HttpSession::HttpSession(net::ip::tcp::socket&& socket, std::shared_ptr<AppState> app)
     : stream_(std::move(socket)), app_(std::move(app)) {
@@ -68,19 +93,9 @@ void HttpSession::on_read(beast::error_code ec, std::size_t) {
 
   const auto& request = parser_->get();
   const auto target = request.target();
-  if (!is_printable_ascii(target)) {
-    // Refused before anything routes, echoes or upgrades on it; the connection stays usable.
-    return send(
-        json_error(http::status::bad_request,
-                   "the request target must be printable ASCII (percent-encode other bytes)",
-                   request.version(), request.keep_alive()));
-  }
-  if (request.version() >= 11 && request[http::field::host].empty()) {
-    // RFC 9112 section 3.2: a server must answer 400 to an HTTP/1.1 request without Host. The
-    // origin checks (CSRF, the WebSocket upgrades) compare against it.
-    return send(json_error(http::status::bad_request, "a Host header is required (HTTP/1.1)",
-                           request.version(), request.keep_alive()));
-  }
+  request_client_ =
+      request_client(client_, request["X-Forwarded-For"], app_->config().trusted_proxy);
+  if (auto refusal = refuse_request(request)) return send(std::move(*refusal));
   if (beast::websocket::is_upgrade(request)) {
     stream_.expires_never();
     if (target == "/agent") {
@@ -88,24 +103,68 @@ void HttpSession::on_read(beast::error_code ec, std::size_t) {
           ->run(parser_->release());
     }
     if (is_view_path(target)) {
-      auto resolved = resolve_view(request, *app_, client_);
+      auto resolved = resolve_view(request, *app_, request_client_);
       if (auto* error = std::get_if<Response>(&resolved)) return send(std::move(*error));
       auto& view = std::get<ViewTarget>(resolved);
+      if (!view.busy.empty()) {
+        return refuse_websocket(stream_.release_socket(), parser_->release(),
+                                beast::websocket::close_code::try_again_later, view.busy);
+      }
       auto session =
           view.replay
               ? std::make_shared<ViewSession>(stream_.release_socket(), std::move(view.replay),
                                               view.outside_view_allowed)
               : std::make_shared<ViewSession>(stream_.release_socket(), std::move(view.live),
                                               view.outside_view_allowed);
+      session->hold(std::move(view.replay_slot));
+      app_->view_opened(view.user_id, session);
       return session->run(parser_->release());
     }
     return send(json_error(http::status::not_found,
                            "no WebSocket endpoint at " + std::string(target), 11, false));
   }
-  if (target.starts_with("/api/") || target == "/api") {
-    return send(handle_api_request(request, *app_, client_));
+  if (checks_password(request)) return answer_on_password_worker();
+  send(answer_request(request, *app_, request_client_));
+}
+
+std::optional<Response> refuse_request(const Request& request) {
+  if (!is_printable_ascii(request.target())) {
+    // Refused before anything routes, echoes or upgrades on it; the connection stays usable.
+    return json_error(http::status::bad_request,
+                      "the request target must be printable ASCII (percent-encode other bytes)",
+                      request.version(), request.keep_alive());
   }
-  send(serve_static(request, app_->config().web_root));
+  if (request.version() >= 11 && request[http::field::host].empty()) {
+    // RFC 9112 section 3.2: a server must answer 400 to an HTTP/1.1 request without Host. The
+    // origin checks (CSRF, the WebSocket upgrades) compare against it.
+    return json_error(http::status::bad_request, "a Host header is required (HTTP/1.1)",
+                      request.version(), request.keep_alive());
+  }
+  return std::nullopt;
+}
+
+Response answer_request(const Request& request, AppState& app, const std::string& client) {
+  const auto target = request.target();
+  if (target.starts_with("/api/") || target == "/api") {
+    return handle_api_request(request, app, client);
+  }
+  return serve_static(request, app.config().web_root);
+}
+
+void HttpSession::answer_on_password_worker() {
+  auto job = [self = shared_from_this()] {
+    // No read is pending meanwhile, so the parsed request stays as it is.
+    auto response = handle_api_request(self->parser_->get(), *self->app_, self->request_client_);
+    net::post(self->stream_.get_executor(), [self, response = std::move(response)]() mutable {
+      self->send(std::move(response));
+    });
+  };
+  if (app_->password_workers().try_post(std::move(job))) return;
+  auto busy = json_error(http::status::service_unavailable,
+                         "too many logins are being checked; try again in a moment",
+                         parser_->get().version(), parser_->get().keep_alive());
+  busy.set(http::field::retry_after, "1");
+  send(std::move(busy));
 }
 
 void set_security_headers(Response& response) {

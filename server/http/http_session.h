@@ -16,6 +16,16 @@ namespace incise::server {
 // inline scripts and with frame-ancestors 'none', X-Frame-Options, nosniff and Referrer-Policy.
 void set_security_headers(Response& response);
 
+// The checks every request passes before anything routes it: a printable-ASCII target, and Host
+// on HTTP/1.1. The refusal, or nullopt.
+std::optional<Response> refuse_request(const Request& request);
+// Whether the request checks a password (POST /api/login, /api/me/password): such requests run on
+// AppState::password_workers(), never on an I/O thread.
+bool checks_password(const Request& request);
+// A plain (not upgrade, not password-checking) request that passed refuse_request: the REST API
+// under /api, the dashboard's files elsewhere.
+Response answer_request(const Request& request, AppState& app, const std::string& client);
+
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
   HttpSession(boost::asio::ip::tcp::socket&& socket, std::shared_ptr<AppState> app);
@@ -24,6 +34,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
  private:
   void do_read();
   void on_read(boost::beast::error_code ec, std::size_t bytes);
+  // Logins: handled on AppState::password_workers(), answered back on this connection's strand.
+  void answer_on_password_worker();
   void send(Response&& response);
   void on_write(bool keep_alive, boost::beast::error_code ec, std::size_t bytes);
   void do_close();
@@ -33,7 +45,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   std::shared_ptr<AppState> app_;
   std::optional<http::request_parser<http::string_body>> parser_;
   std::shared_ptr<Response> response_;  // kept alive while it is written
-  std::string client_;
+  std::string client_;                  // the peer's address
+  std::string request_client_;          // the current request's client (behind a trusted proxy)
 };
 
 }  // namespace incise::server

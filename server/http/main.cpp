@@ -63,6 +63,9 @@ int main(int argc, char** argv) {
   server::ServerConfig config;
   config.web_root = options.web_root;
   config.db_path = options.data_dir / "incise.db";
+  config.demo = options.demo;
+  config.secure_cookies = options.secure_cookies;
+  config.trusted_proxy = options.trusted_proxy;
   auto app = std::make_shared<server::AppState>(*database, config);
   if (options.demo) {
     try {
@@ -129,6 +132,8 @@ int main(int argc, char** argv) {
   run_io();
   for (auto& t : threads)
     t.join();
+  // Before the I/O context goes: a finishing login posts its answer to it.
+  app->password_workers().stop();
   std::cerr << "incise-server: stopped\n";
   return 0;
 }

@@ -60,8 +60,8 @@ TEST(ServerOptions, Help) {
     ASSERT_TRUE(parsed.options) << flag;
     EXPECT_TRUE(parsed.options->help) << flag;
   }
-  for (const char* flag :
-       {"--host", "--port", "--data", "--web", "--demo", "--threads", "--help"}) {
+  for (const char* flag : {"--host", "--port", "--data", "--web", "--demo", "--threads",
+                           "--secure-cookies", "--trusted-proxy", "--help"}) {
     EXPECT_NE(std::string(kServerUsage).find(flag), std::string::npos) << flag;
   }
 }
@@ -101,6 +101,30 @@ TEST(ServerOptions, ErrorsNameTheProblem) {
     EXPECT_FALSE(parsed.options) << line;
     EXPECT_EQ(parsed.error, c.error) << line;
   }
+}
+
+TEST(ServerOptions, BehindAProxy) {
+  const auto parsed = parse_server_options({"--secure-cookies", "--trusted-proxy", "10.0.0.2"});
+  ASSERT_TRUE(parsed.options) << parsed.error;
+  EXPECT_TRUE(parsed.options->secure_cookies);
+  EXPECT_EQ(parsed.options->trusted_proxy, "10.0.0.2");
+  EXPECT_FALSE(parse_server_options({}).options->secure_cookies);
+  EXPECT_EQ(parse_server_options({"--trusted-proxy", "proxy.local"}).error,
+            "--trusted-proxy needs an IP address");
+  EXPECT_EQ(parse_server_options({"--trusted-proxy"}).error, "--trusted-proxy needs an IP address");
+}
+
+TEST(RequestClient, OnlyTheTrustedProxysLastForwardedAddressIsBelieved) {
+  // Directly connected: the header is the client's own claim and ignored.
+  EXPECT_EQ(request_client("192.0.2.7", "203.0.113.1", ""), "192.0.2.7");
+  EXPECT_EQ(request_client("192.0.2.7", "203.0.113.1", "10.0.0.2"), "192.0.2.7");
+  // Through the proxy: the address it appended, not what the client put before it.
+  EXPECT_EQ(request_client("10.0.0.2", "203.0.113.1", "10.0.0.2"), "203.0.113.1");
+  EXPECT_EQ(request_client("10.0.0.2", "1.2.3.4, 203.0.113.1", "10.0.0.2"), "203.0.113.1");
+  EXPECT_EQ(request_client("10.0.0.2", "1.2.3.4,2001:db8::5 ", "10.0.0.2"), "2001:db8::5");
+  // A proxy that sent no usable address: the proxy it is.
+  EXPECT_EQ(request_client("10.0.0.2", "", "10.0.0.2"), "10.0.0.2");
+  EXPECT_EQ(request_client("10.0.0.2", "1.2.3.4, unknown", "10.0.0.2"), "10.0.0.2");
 }
 
 }  // namespace

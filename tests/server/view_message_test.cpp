@@ -67,6 +67,9 @@ TEST(ViewMessage, MalformedMessagesAreRefusedWithTheReason) {
   EXPECT_EQ(refused(R"({"frame": 1})"), "a message must be an object with a string \"type\"");
   EXPECT_EQ(refused(R"({"type": "ack"})"), "ack needs \"frame\"");
   EXPECT_EQ(refused(R"({"type": "speed"})"), "speed needs \"value\"");
+  EXPECT_EQ(refused(R"({"type": "speed", "value": 10})"), "speed: \"value\" must be in [0.25, 4]");
+  EXPECT_EQ(refused(R"({"type": "speed", "value": 0.2})"), "speed: \"value\" must be in [0.25, 4]");
+  EXPECT_EQ(accepted(R"({"type": "speed", "value": 4})").value, 4.0);
   EXPECT_EQ(refused(R"({"type": "seek"})"), "seek needs \"t\"");
   EXPECT_EQ(refused(R"({"type": "seek", "t": "soon"})"), "seek: \"t\" must be a number");
   // Only frames that were sent can be acknowledged: a larger number would switch off flow control.

@@ -127,6 +127,7 @@ HttpResponse HttpClient::exchange(const http::request<http::string_body>& reques
       out.status = res.result_int();
       out.body = res.body();
       out.content_type = std::string(res[http::field::content_type]);
+      out.retry_after = std::string(res[http::field::retry_after]);
       const auto [first, last] = res.equal_range(http::field::set_cookie);
       for (auto it = first; it != last; ++it)
         out.set_cookies.emplace_back(it->value());

@@ -24,6 +24,7 @@ struct HttpResponse {
   std::string body;
   std::string content_type;
   std::vector<std::string> set_cookies;  // every Set-Cookie header, in order
+  std::string retry_after;               // the Retry-After header, if any
   bool keep_alive = false;
   std::string transport_error;
 

@@ -71,6 +71,9 @@ TEST_F(AgentLink, TheRealAgentBringsTheStationOnlineUntilItStops) {
 TEST_F(AgentLink, MisbehavingAgentsAreClosedAndTheRealOneStays) {
   auto agent = start_agent();
   ASSERT_TRUE(station_1_becomes(true, 3s)) << agent->stderr_text();
+  const auto bench = as(kAdmin).post("/api/stations", {{"name", "Test bench"}});
+  ASSERT_EQ(bench.status, 201) << bench.body;
+  const auto bench_token = bench.json()["token"].get<std::string>();
 
   {
     auto ws = connect();
@@ -95,15 +98,27 @@ TEST_F(AgentLink, MisbehavingAgentsAreClosedAndTheRealOneStays) {
     EXPECT_EQ(event.close_reason, "the first message must be the hello");
   }
   {
-    // A valid hello with the same token as the real agent, then a frame shorter than a header.
+    // A second link with the real agent's token is refused while the real one holds the station,
+    // and retrying is invited (1013): a stolen token takes nothing over.
     auto ws = connect();
     ws->send_text(hello(kStationToken));
+    const auto event = ws->read();
+    EXPECT_TRUE(event.closed);
+    EXPECT_EQ(event.close_code, 1013) << event.error;
+    EXPECT_EQ(event.close_reason,
+              "station Station 1 already has a connected agent (from 127.0.0.1); try again once "
+              "it has gone");
+  }
+  {
+    // A valid hello of another station, then a frame shorter than a header.
+    auto ws = connect();
+    ws->send_text(hello(bench_token));
     const auto welcome = ws->read();
     ASSERT_FALSE(welcome.closed) << welcome.close_code << " " << welcome.close_reason;
     const auto w = nlohmann::json::parse(welcome.message, nullptr, false);
     EXPECT_EQ(w["type"], "welcome") << welcome.message;
     EXPECT_EQ(w["protocol"], 1);
-    EXPECT_EQ(w["station_name"], "Station 1");
+    EXPECT_EQ(w["station_name"], "Test bench");
     ws->send_binary({1, 0, 0, 0, 0});
     const auto event = ws->read();
     EXPECT_TRUE(event.closed);
@@ -112,7 +127,7 @@ TEST_F(AgentLink, MisbehavingAgentsAreClosedAndTheRealOneStays) {
   }
   {
     auto ws = connect();
-    ws->send_text(hello(kStationToken));
+    ws->send_text(hello(bench_token));
     ASSERT_FALSE(ws->read().closed);
     ws->send_binary(std::vector<std::uint8_t>(5000, 0));
     const auto event = ws->read();
@@ -121,7 +136,7 @@ TEST_F(AgentLink, MisbehavingAgentsAreClosedAndTheRealOneStays) {
   }
   {
     auto ws = connect();
-    ws->send_text(hello(kStationToken));
+    ws->send_text(hello(bench_token));
     ASSERT_FALSE(ws->read().closed);
     ws->send_text(R"({"type": "chat"})");
     const auto event = ws->read();
@@ -132,7 +147,7 @@ TEST_F(AgentLink, MisbehavingAgentsAreClosedAndTheRealOneStays) {
   {
     // A link report with a bad field: closed with 1007 and the field.
     auto ws = connect();
-    ws->send_text(hello(kStationToken));
+    ws->send_text(hello(bench_token));
     ASSERT_FALSE(ws->read().closed);
     ws->send_text(R"({"type": "link", "loop_hz": 1000, "rtt_p50_ms": 1, "rtt_p99_ms": 2,
                       "loss_down": 2, "states_sent": 1, "states_held": 0, "devices": []})");
@@ -154,8 +169,49 @@ TEST_F(AgentLink, MisbehavingAgentsAreClosedAndTheRealOneStays) {
   EXPECT_EQ(log.find("link lost"), std::string::npos) << log;
 }
 
+TEST_F(AgentLink, AConnectionThatNeverSaysHelloIsClosed) {
+  auto ws = connect();
+  const auto start = std::chrono::steady_clock::now();
+  const auto event = ws->read();  // the client answers the server's keep-alive pings meanwhile
+  EXPECT_TRUE(event.closed);
+  EXPECT_EQ(event.close_code, 1008) << event.error;
+  EXPECT_EQ(event.close_reason, "no hello within 5 s");
+  EXPECT_GE(std::chrono::steady_clock::now() - start, 4s);
+}
+
 TEST_F(AgentLink, OtherWebSocketPathsAreRefused) {
   EXPECT_THROW(WsClient("127.0.0.1", server().port(), "/chat"), boost::system::system_error);
+}
+
+// A suite of its own: after it, this address is held back for wrong tokens.
+using AgentTokenLimit = AgentLink;
+
+TEST_F(AgentTokenLimit, WrongTokensFromOneAddressAreHeldBackAndGoodOnesWait) {
+  int refused = 0;
+  for (; refused < 20; ++refused) {
+    auto ws = connect();
+    ws->send_text(hello("guess-" + std::to_string(refused)));
+    const auto event = ws->read();
+    ASSERT_TRUE(event.closed);
+    if (event.close_code == 1013) {
+      EXPECT_EQ(event.close_reason.rfind("too many wrong station tokens from 127.0.0.1; try "
+                                         "again in ",
+                                         0),
+                0u)
+          << event.close_reason;
+      break;
+    }
+    ASSERT_EQ(event.close_code, 1008) << event.error;
+    ASSERT_EQ(event.close_reason, "unknown station token");
+  }
+  EXPECT_EQ(refused, 11);
+  // A good token from the held address waits too (and is told to retry): a valid token of one's
+  // own station must not reset the count.
+  auto ws = connect();
+  ws->send_text(hello(kStationToken));
+  EXPECT_EQ(ws->read().close_code, 1013);
+  // The REST API and the rest of the server are untouched.
+  EXPECT_EQ(as(kTrainee).get("/api/stations").status, 200);
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "live_fixture.h"
+#include "server/replay_slots.h"
 #include "tests/support/hostile_json.h"
 
 namespace incise::server::test {
@@ -249,6 +250,32 @@ TEST_F(HostileInput, NothingAClientSendsStopsTheServerOrDisturbsALiveSession) {
   auto replay = view(replay_path, kInstructor);
   replay->send({{"type", "play"}});
   EXPECT_TRUE(replay->read_until([&] { return replay->frames.size() >= 3; }, 10s));
+
+  // Replays are bounded per viewer (each is a simulation and a renderer): the instructor's
+  // fourth is closed with 1013 and a reason the page shows; closing one frees its slot.
+  const int per_user = ReplaySlots::kDefaultPerUser;
+  std::vector<std::unique_ptr<Viewer>> more;
+  for (int i = 1; i < per_user; ++i) {
+    more.push_back(view(replay_path, kInstructor));
+    ASSERT_TRUE(more.back()->read_until([&] { return !more.back()->frames.empty(); }, 10s)) << i;
+  }
+  auto refused = view(replay_path, kInstructor);
+  ASSERT_TRUE(refused->read_until([&] { return refused->closed.has_value(); }, 10s));
+  EXPECT_EQ(refused->closed->close_code, 1013);
+  EXPECT_EQ(refused->closed->close_reason, "you have " + std::to_string(per_user) +
+                                               " replays open already; close one to open another");
+  // Another viewer is not held back by the instructor's share.
+  auto trainees = view(replay_path, kTrainee);
+  EXPECT_TRUE(trainees->read_until([&] { return !trainees->frames.empty(); }, 10s));
+  more.clear();
+  bool reopened = false;
+  for (int attempt = 0; attempt < 50 && !reopened; ++attempt) {
+    auto again = view(replay_path, kInstructor);
+    reopened = again->read_until([&] { return !again->frames.empty() || again->closed; }, 10s) &&
+               !again->closed;
+    if (!reopened) std::this_thread::sleep_for(100ms);
+  }
+  EXPECT_TRUE(reopened);
   EXPECT_TRUE(server().process().running());
   cancel(run.booking);
 }

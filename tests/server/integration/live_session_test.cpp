@@ -307,20 +307,24 @@ TEST_F(LiveSession, MisbehavingLinksNeverDisturbARunningSession) {
         {"type", "hello"}, {"protocol", 1}, {"station_token", token}, {"agent", "misbehaving"}}
         .dump();
   };
-  for (const auto& token : {other_token, std::string(kStationToken)}) {
+  {
     WsClient bad("127.0.0.1", server().port());
-    bad.send_text(hello(token));
+    bad.send_text(hello(other_token));
     ASSERT_FALSE(bad.read().closed);
     std::vector<std::uint8_t> frame(82, 0);  // a device state whose quaternion is all zeros
     frame[0] = 1;
     frame[4] = 62;
     bad.send_binary(frame);
-    // The newest link of Station 1 is sent force models until the close arrives.
-    auto closed = bad.read();
-    for (int i = 0; i < 1000 && !closed.closed; ++i)
-      closed = bad.read();
+    const auto closed = bad.read();
     EXPECT_EQ(closed.close_code, 1007) << closed.error;
     EXPECT_FALSE(closed.close_reason.empty());
+  }
+  {
+    // Station 1's own token on a second link: refused while its agent holds it.
+    WsClient second("127.0.0.1", server().port());
+    second.send_text(hello(kStationToken));
+    const auto closed = second.read();
+    EXPECT_EQ(closed.close_code, 1013) << closed.error;
   }
 
   const double t0 = as(kTrainee).get(session).json()["live"]["sim_time_s"].get<double>();
@@ -637,6 +641,38 @@ TEST_F(LiveSession, TheSurgicalStationCutsTheLiverLiveScoresTheCutAndReplaysIt) 
       [&] { return std::abs(replay->metrics.value("sim_time_s", -1.0) - 1.0) < 0.01; }, 20s))
       << replay->metrics.dump();
   EXPECT_EQ(replay->metrics["cut_area_m2"], 0.0);
+}
+
+// A suite of its own: it disables the trainee.
+using ViewsOfADisabledUser = LiveSession;
+
+TEST_F(ViewsOfADisabledUser, AreClosedWhileOthersViewsGoOn) {
+  Running run;
+  ASSERT_NO_FATAL_FAILURE(start_booked_session(run));
+  const auto session = "/api/sessions/" + std::to_string(run.session);
+  auto trainees = view(session + "/view?fps=10&width=160&height=120", kTrainee);
+  auto instructors = view(session + "/view?fps=10&width=160&height=120", kInstructor);
+  ASSERT_TRUE(trainees->read_until([&] { return !trainees->frames.empty(); }, 10s));
+  ASSERT_TRUE(instructors->read_until([&] { return !instructors->frames.empty(); }, 10s));
+
+  std::int64_t trainee_id = 0;
+  for (const auto& u : as(kAdmin).get("/api/users").json()) {
+    if (u["username"] == kTrainee.username) trainee_id = u["id"].get<std::int64_t>();
+  }
+  ASSERT_GT(trainee_id, 0);
+  const auto disabled =
+      as(kAdmin).request(http::verb::patch, "/api/users/" + std::to_string(trainee_id),
+                         R"({"disabled": true})", {{"Content-Type", "application/json"}});
+  ASSERT_EQ(disabled.status, 200) << disabled.body;
+
+  ASSERT_TRUE(trainees->read_until([&] { return trainees->closed.has_value(); }, 5s));
+  EXPECT_EQ(trainees->closed->close_code, 1008);
+  EXPECT_EQ(trainees->closed->close_reason, "your account was disabled");
+  const auto frames = instructors->frames.size();
+  EXPECT_TRUE(
+      instructors->read_until([&] { return instructors->frames.size() >= frames + 3; }, 5s));
+  EXPECT_FALSE(instructors->closed.has_value());
+  EXPECT_EQ(as(kInstructor).post(session + "/stop", nlohmann::json::object()).status, 200);
 }
 
 }  // namespace
