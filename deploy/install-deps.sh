@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs every system and npm package that the build, the run and the tests need.
 # Idempotent: it installs only what is missing, so the run and test commands call it every time.
-#   --fuzz  also clang with libFuzzer and the sanitizer runtimes (deploy/fuzz.sh)
+#   --fuzz   also clang with libFuzzer and the sanitizer runtimes (deploy/fuzz.sh)
+#   --bench  also the HTTP load generator wrk (deploy/bench_api.sh)
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(dirname "$here")
@@ -17,9 +18,13 @@ apt_packages=(
   chromium curl ca-certificates
 )
 
-if [ "${1:-}" = "--fuzz" ]; then
-  apt_packages+=(clang libclang-rt-14-dev)
-fi
+for extra in "$@"; do
+  case "$extra" in
+    --fuzz) apt_packages+=(clang libclang-rt-14-dev) ;;
+    --bench) apt_packages+=(wrk) ;;
+    *) echo "install-deps: unknown option $extra" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for p in "${apt_packages[@]}"; do

@@ -86,7 +86,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (server::refuse_request(request)) return 0;
   const auto response = server::answer_request(request, *w.app, "192.0.2.1");
   fuzz_check(response.result() != http::status::internal_server_error);
-  if (request.target().starts_with("/api")) {
+  if (server::is_api_target(request.target())) {
     fuzz_check(server::is_valid_utf8(response.body()));
     const bool csv = response[http::field::content_type].starts_with("text/csv");
     if (!csv && !response.body().empty()) {

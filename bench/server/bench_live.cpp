@@ -37,9 +37,10 @@ int main(int argc, char** argv) {
     if (std::string(argv[i]) == "--seconds") seconds = std::max(1, std::atoi(argv[i + 1]));
   }
   ServerProcess server;
-  ChildProcess agent({INCISE_AGENT_BIN, "--server",
-                      "ws://127.0.0.1:" + std::to_string(server.port()) + "/agent", "--token",
-                      kStationToken, "--rate", "500"});
+  ChildProcess agent(
+      {INCISE_AGENT_BIN, "--server", "ws://127.0.0.1:" + std::to_string(server.port()) + "/agent",
+       "--rate", "500"},
+      incise::test::environment_with("INCISE_STATION_TOKEN", kStationToken));
   auto client = server.client();
   client->login(kInstructor.username, kInstructor.password);
   HttpResponse started;

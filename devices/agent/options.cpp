@@ -174,6 +174,12 @@ ParseResult<AgentOptions> parse_agent_options(std::span<const char* const> args,
       if (!address) return Result::failure(address.error);
       options.server = std::move(*address.value);
     } else if (flag == "--token") {
+      if (command_line) {
+        // Any local user reads a process's command line (ps, /proc/PID/cmdline).
+        return Result::failure(
+            "--token on the command line is refused (any local user can read it in ps): set "
+            "INCISE_STATION_TOKEN or put token = ... in the --config file");
+      }
       options.token = value;
       token_given = true;
     } else if (flag == "--config") {
@@ -216,13 +222,14 @@ ParseResult<AgentOptions> parse_agent_options(std::span<const char* const> args,
   if (options.devices.empty()) options.devices.push_back("simulated");
   if (!token_given && env_token != nullptr) options.token = env_token;
   if (options.token.empty() && !options.list_drivers) {
-    return Result::failure("no station token: pass --token or set INCISE_STATION_TOKEN");
+    return Result::failure(
+        "no station token: set INCISE_STATION_TOKEN or put token = ... in the --config file");
   }
   return Result::success(std::move(options));
 }
 
 std::string agent_usage() {
-  return R"(usage: incise-agent [--config FILE] [--server URL] [--token TOKEN] [--device SPEC]...
+  return R"(usage: incise-agent [--config FILE] [--server URL] [--device SPEC]...
                     [--rate HZ] [--no-deadband] [--max-force N] [--coupling N/M]
                     [--record-states FILE] [--self-test] [--list-drivers]
 
@@ -237,8 +244,9 @@ WebSocket (held back while the hand is still), which is reconnected (0.25 s back
   --config FILE        settings file: "key = value" lines with these flags' names (see
                        deploy/agent/incise-agent.conf); the command line overrides it
   --server URL         the server's agent endpoint (default ws://127.0.0.1:8080/agent)
-  --token TOKEN        the station token shown when the station was created; prefer the
-                       INCISE_STATION_TOKEN environment variable, which other users cannot see
+  The station token (shown once when the station was created) comes from the environment,
+  INCISE_STATION_TOKEN, or from "token = ..." in the --config file (readable by the agent's user
+  only): never from the command line, which every local user can read.
   --device SPEC        a device driver, NAME[:ARGUMENT]; repeat for the second hand (device 1).
                        --list-drivers shows the drivers of this build. Default: simulated
   --script FILE        short for --device simulated:FILE

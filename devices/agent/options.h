@@ -21,7 +21,7 @@ struct ServerAddress {
 
 struct AgentOptions {
   ServerAddress server;
-  std::string token;  // station token: --token, else $INCISE_STATION_TOKEN
+  std::string token;  // station token: "token" in the config file, else $INCISE_STATION_TOKEN
   // Driver specs "name[:argument]", one per hand (at most 2): --device, repeated. Default: the
   // simulated device with its built-in script. --script FILE is short for --device simulated:FILE.
   std::vector<std::string> devices;
@@ -45,8 +45,9 @@ inline constexpr double kMaxRateHz = 1000.0;
 ParseResult<ServerAddress> parse_server_url(std::string_view url);
 
 // args excludes the program name. Flags take their value as the next argument or after '='.
-// env_token is $INCISE_STATION_TOKEN (nullptr if unset); --token wins over it. config_args are
-// the configuration file's settings (config_file_args), which the command line overrides.
+// env_token is $INCISE_STATION_TOKEN (nullptr if unset); the config file's token wins over it, and
+// --token on the command line is refused (ps shows it to every local user). config_args are the
+// configuration file's settings (config_file_args), which the command line overrides.
 ParseResult<AgentOptions> parse_agent_options(std::span<const char* const> args,
                                               const char* env_token,
                                               std::span<const std::string> config_args = {});

@@ -143,9 +143,13 @@ std::optional<Response> refuse_request(const Request& request) {
   return std::nullopt;
 }
 
+bool is_api_target(std::string_view target) {
+  const auto path = target.substr(0, target.find('?'));
+  return path == "/api" || path.starts_with("/api/");
+}
+
 Response answer_request(const Request& request, AppState& app, const std::string& client) {
-  const auto target = request.target();
-  if (target.starts_with("/api/") || target == "/api") {
+  if (is_api_target(request.target())) {
     return handle_api_request(request, app, client);
   }
   return serve_static(request, app.config().web_root);

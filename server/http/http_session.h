@@ -22,6 +22,8 @@ std::optional<Response> refuse_request(const Request& request);
 // Whether the request checks a password (POST /api/login, /api/me/password): such requests run on
 // AppState::password_workers(), never on an I/O thread.
 bool checks_password(const Request& request);
+// Whether a request target is the REST API's (/api, /api/..., with any query): else a file.
+bool is_api_target(std::string_view target);
 // A plain (not upgrade, not password-checking) request that passed refuse_request: the REST API
 // under /api, the dashboard's files elsewhere.
 Response answer_request(const Request& request, AppState& app, const std::string& client);

@@ -72,6 +72,10 @@ int main(int argc, char** argv) {
       if (server::seed_demo_data(*database, app->now())) {
         std::cerr << "incise-server: created demo data\n";
       }
+      // Public, so for a demo only: a server started without --demo refuses them.
+      std::cerr << "incise-server: demo mode: the demo stations' public tokens are accepted ("
+                << server::kDemoStationToken << ", " << server::kDemoSurgicalStationToken << ", "
+                << server::kDemoArthroscopyStationToken << ")\n";
     } catch (const std::exception& e) {
       std::cerr << "incise-server: demo data: " << e.what() << "\n";
       return 1;

@@ -32,10 +32,10 @@ std::vector<Place> places_of(const SurgicalSceneSetup& scene) {
   if (!scene.cut_target.empty()) {
     const std::pair<const char*, Vec3> ends[] = {{"cut_start", scene.cut_target.front()},
                                                  {"cut_end", scene.cut_target.back()}};
-    for (const auto& [name, point] : ends) {
-      const bool named =
-          std::any_of(places.begin(), places.end(), [&](const Place& p) { return p.name == name; });
-      if (!named) places.push_back({name, point, std::nullopt});
+    for (const auto& end : ends) {
+      const bool named = std::any_of(places.begin(), places.end(),
+                                     [&](const Place& p) { return p.name == end.first; });
+      if (!named) places.push_back({end.first, end.second, std::nullopt});
     }
   }
   return places;

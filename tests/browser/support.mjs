@@ -107,8 +107,8 @@ export function browser_suite({ time_zone, with_agent = false, agent = {} }) {
  * Spawns `bin` and resolves once its stdout or stderr matches `ready` (with the match), or rejects
  * with its output when it exits or stays silent for 20 s.
  */
-function start_process(bin, args, ready, what) {
-  const child = spawn(bin, args, { cwd: repo, stdio: ['ignore', 'pipe', 'pipe'] });
+function start_process(bin, args, ready, what, env = process.env) {
+  const child = spawn(bin, args, { cwd: repo, env, stdio: ['ignore', 'pipe', 'pipe'] });
   const log = { stdout: '', stderr: '' };
 
   return new Promise((resolve, reject) => {
@@ -149,8 +149,10 @@ async function start_server(data_dir) {
  */
 async function start_agent(server_url, { token = demo.station_token, args: extra = [] } = {}) {
   const agent_url = `${server_url.replace(/^http/, 'ws')}/agent`;
-  const args = ['--server', agent_url, '--token', token, ...extra];
-  const started = await start_process(agent_bin, args, /incise-agent: connected to \S+ as station (\d+)/, 'incise-agent');
+  const args = ['--server', agent_url, ...extra];
+  // The token goes in the environment: the agent refuses it on its command line.
+  const env = { ...process.env, INCISE_STATION_TOKEN: token };
+  const started = await start_process(agent_bin, args, /incise-agent: connected to \S+ as station (\d+)/, 'incise-agent', env);
   return { process: started.process, log: started.log, station_id: Number(started.match[1]) };
 }
 

@@ -27,6 +27,16 @@ std::string make_temp_file(const char* stem) {
 }
 }  // namespace
 
+std::vector<std::string> environment_with(std::string_view name, std::string_view value) {
+  const std::string prefix = std::string(name) + "=";
+  std::vector<std::string> env;
+  for (char** e = environ; *e != nullptr; ++e) {
+    if (!std::string_view(*e).starts_with(prefix)) env.emplace_back(*e);
+  }
+  env.push_back(prefix + std::string(value));
+  return env;
+}
+
 ChildProcess::ChildProcess(const std::vector<std::string>& args,
                            std::optional<std::vector<std::string>> environment)
     : stderr_path_(make_temp_file("incise-child-err")) {

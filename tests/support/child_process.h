@@ -13,6 +13,10 @@
 
 namespace incise::test {
 
+// Our environment with `name` set to `value` (any value it had replaced): for a child that takes
+// a secret from its environment, such as the agent's INCISE_STATION_TOKEN.
+std::vector<std::string> environment_with(std::string_view name, std::string_view value);
+
 class ChildProcess {
  public:
   // Runs argv[0] (a path) with `environment` ("NAME=value" entries), or with ours when it is

@@ -60,8 +60,8 @@ std::size_t frame_count(const FakeStationServer& server) {
 
 TEST(Agent, StreamsDeviceStatesAtTheRateAndStopsCleanlyOnSigterm) {
   FakeStationServer server;
-  AgentProcess agent(
-      {"--server", server.url(), "--token", "good-token", "--rate", "250", "--no-deadband"});
+  AgentProcess agent({"--server", server.url(), "--rate", "250", "--no-deadband"},
+                     {"INCISE_STATION_TOKEN=good-token"});
   ASSERT_TRUE(wait_until([&] { return frame_count(server) >= 1; }, 5s)) << agent.stderr_text();
 
   const auto start = Clock::now();
@@ -105,7 +105,7 @@ TEST(Agent, LogsSessionNoticesAndStatisticsOnSigusr1AndAtExit) {
   behaviour.force_model = model;
   behaviour.session_notice = build_session_notice({3, "running"});
   FakeStationServer server(behaviour);
-  AgentProcess agent({"--server", server.url(), "--token", "good-token"});
+  AgentProcess agent({"--server", server.url()}, {"INCISE_STATION_TOKEN=good-token"});
   // 60 written: at least the first 50 have been read by the time the agent stops (a few may
   // still be on the way when the server counts them).
   ASSERT_TRUE(wait_until([&] { return server.record().models_sent >= 60; }, 5s))
@@ -194,7 +194,7 @@ TEST(Agent, ReconnectsAfterTheServerDropsTheLink) {
 
 TEST(Agent, BacksOffWhileNoServerListensAndStopsDuringTheWait) {
   const std::string url = "ws://127.0.0.1:" + std::to_string(unused_port()) + "/agent";
-  AgentProcess agent({"--server", url, "--token", "t"});
+  AgentProcess agent({"--server", url}, {"INCISE_STATION_TOKEN=t"});
   const auto retry_line = [&](int attempt, const char* delay) {
     return "incise-agent: connection attempt " + std::to_string(attempt) + " to " + url +
            " failed: connect: Connection refused; retrying in " + delay + "\n";
@@ -220,35 +220,41 @@ TEST(Agent, CommandLine) {
   }
   const std::pair<std::vector<std::string>, std::string> bad[] = {
       {{"--bogus"}, "incise-agent: unknown option '--bogus' (see --help)\n"},
-      {{"--server", "http://x/agent", "--token", "t"},
+      {{"--server", "http://x/agent"},
        "incise-agent: --server http://x/agent: must start with ws:// (see --help)\n"},
-      {{"--rate", "fast", "--token", "t"},
+      {{"--rate", "fast"},
        "incise-agent: --rate fast: must be a number of Hz in [250, 1000] (see --help)\n"},
-      {{"--rate", "200", "--token", "t"},
+      {{"--rate", "200"},
        "incise-agent: --rate 200: must be a number of Hz in [250, 1000] (see --help)\n"},
-      {{"--rate", "1001", "--token", "t"},
+      {{"--rate", "1001"},
        "incise-agent: --rate 1001: must be a number of Hz in [250, 1000] (see --help)\n"},
-      {{},
-       "incise-agent: no station token: pass --token or set INCISE_STATION_TOKEN (see "
-       "--help)\n"},
-      {{"--token", "t", "--script", "/nonexistent/script.json"},
+      {{"--token", "t"},
+       "incise-agent: --token on the command line is refused (any local user can read it in ps): "
+       "set INCISE_STATION_TOKEN or put token = ... in the --config file (see --help)\n"},
+      {{"--script", "/nonexistent/script.json"},
        "incise-agent: simulated /nonexistent/script.json: cannot open\n"},
-      {{"--token", "t", "--device", "bogus"},
+      {{"--device", "bogus"},
        "incise-agent: --device bogus: unknown driver (have simulated, hand, scope, knee-scope, "
        "knee-instrument, replay, evdev)\n"},
-      {{"--token", "t", "--device", "knee-scope"},
+      {{"--device", "knee-scope"},
        "incise-agent: knee-scope: needs a script (knee-scope:SCRIPT.json)\n"},
-      {{"--token", "t", "--device", "simulated", "--device", "hand", "--device", "simulated"},
+      {{"--device", "simulated", "--device", "hand", "--device", "simulated"},
        "incise-agent: --device simulated: a station has at most 2 devices (see --help)\n"},
-      {{"--token", "t", "--device", "replay:/nonexistent.log"},
+      {{"--device", "replay:/nonexistent.log"},
        "incise-agent: replay /nonexistent.log: cannot open\n"},
-      {{"--token", "t", "--max-force", "50"},
+      {{"--max-force", "50"},
        "incise-agent: --max-force 50: must be a number of N in (0, 40] (see --help)\n"},
-      {{"--token", "t", "--config", "/nonexistent.conf"},
-       "incise-agent: config /nonexistent.conf: cannot open\n"},
+      {{"--config", "/nonexistent.conf"}, "incise-agent: config /nonexistent.conf: cannot open\n"},
   };
+  {
+    AgentProcess agent({});
+    EXPECT_EQ(agent.wait_for_exit(2s), std::optional<int>(2));
+    EXPECT_EQ(agent.stderr_text(),
+              "incise-agent: no station token: set INCISE_STATION_TOKEN or put token = ... in the "
+              "--config file (see --help)\n");
+  }
   for (const auto& [args, message] : bad) {
-    AgentProcess agent(args);
+    AgentProcess agent(args, {"INCISE_STATION_TOKEN=t"});
     EXPECT_EQ(agent.wait_for_exit(2s), std::optional<int>(2)) << message;
     EXPECT_EQ(agent.stderr_text(), message);
   }

@@ -91,11 +91,11 @@ TEST(AgentOptions, TheCommandLineOverridesTheFile) {
   EXPECT_EQ(from_file.value->rate_hz, 750.0);
   EXPECT_EQ(from_file.value->record_states, "/var/log/file.states");
 
-  const auto overridden = parse(file, {"--server", "ws://cli-host/x", "--token=cli-token", "--rate",
-                                       "300", "--record-states=cli.states"});
+  const auto overridden =
+      parse(file, {"--server", "ws://cli-host/x", "--rate", "300", "--record-states=cli.states"});
   ASSERT_TRUE(overridden) << overridden.error;
   EXPECT_EQ(overridden.value->server.url(), "ws://cli-host:80/x");
-  EXPECT_EQ(overridden.value->token, "cli-token");
+  EXPECT_EQ(overridden.value->token, "file-token");
   EXPECT_EQ(overridden.value->rate_hz, 300.0);
   EXPECT_EQ(overridden.value->record_states, "cli.states");
   // The file is still checked: a bad value there is an error even if the command line has one.
@@ -193,12 +193,19 @@ TEST(AgentOptions, MaxForceAndCouplingSetTheGuardWithinTheirRanges) {
 }
 
 TEST(AgentOptions, TokenAndUnknownFlags) {
-  // The command line's token wins over the environment's; without either it is an error.
-  const auto cli = parse("", {"--token", "cli"});
-  ASSERT_TRUE(cli) << cli.error;
-  EXPECT_EQ(cli.value->token, "cli");
+  // The token never comes from the command line (ps shows it to every local user), in either
+  // form; it comes from the environment or the configuration file, and without either it is an
+  // error.
+  const std::string refused =
+      "--token on the command line is refused (any local user can read it in ps): set "
+      "INCISE_STATION_TOKEN or put token = ... in the --config file";
+  EXPECT_EQ(parse("", {"--token", "cli"}).error, refused);
+  EXPECT_EQ(parse("", {"--token=cli"}).error, refused);
+  const auto env = parse("", {});
+  ASSERT_TRUE(env) << env.error;
+  EXPECT_EQ(env.value->token, "env-token");
   EXPECT_EQ(parse_agent_options(Args{}, nullptr).error,
-            "no station token: pass --token or set INCISE_STATION_TOKEN");
+            "no station token: set INCISE_STATION_TOKEN or put token = ... in the --config file");
   EXPECT_EQ(parse("", {"--frobnicate"}).error, "unknown option '--frobnicate'");
   EXPECT_EQ(parse("", {"--rate"}).error, "--rate needs a value");
   // --config is read by the caller, and accepted (and skipped) here.

@@ -24,7 +24,8 @@ class AgentLink : public ServerTest {
     return std::make_unique<ChildProcess>(
         std::vector<std::string>{INCISE_AGENT_BIN, "--server",
                                  "ws://127.0.0.1:" + std::to_string(server().port()) + "/agent",
-                                 "--token", kStationToken, "--rate", "250"});
+                                 "--rate", "250"},
+        incise::test::environment_with("INCISE_STATION_TOKEN", kStationToken));
   }
 
   // Whether Station 1 reaches `online` within `timeout`, polling /api/stations.

@@ -107,15 +107,12 @@ class LiveSession : public ServerTest {
   std::unique_ptr<ChildProcess> start_agent(std::vector<std::string> extra = {}, int port = 0,
                                             Station station = kBench) {
     std::vector<std::string> args = {
-        INCISE_AGENT_BIN,
-        "--server",
-        "ws://127.0.0.1:" + std::to_string(port ? port : server().port()) + "/agent",
-        "--token",
-        station.token,
-        "--rate",
+        INCISE_AGENT_BIN, "--server",
+        "ws://127.0.0.1:" + std::to_string(port ? port : server().port()) + "/agent", "--rate",
         "500"};
     args.insert(args.end(), extra.begin(), extra.end());
-    auto agent = std::make_unique<ChildProcess>(args);
+    auto agent = std::make_unique<ChildProcess>(
+        args, incise::test::environment_with("INCISE_STATION_TOKEN", station.token));
     const auto deadline = Clock::now() + 5s;
     while (Clock::now() < deadline && !station_online(station.id))
       std::this_thread::sleep_for(20ms);

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# The REST API under load (docs/benchmarks.md, "The API under load"): wrk against GET /api/me of
+# a logged-in admin on a fresh demo server over loopback, first alone, then while 20 connections
+# log in as fast as the server lets them (each login is an argon2id check). Prints wrk's summary
+# and latency percentiles of each run, and the logins completed meanwhile.
+#   deploy/bench_api.sh [SECONDS]   (default 15 per run)
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+seconds=${1:-15}
+
+bash deploy/install-deps.sh --bench
+bash deploy/build.sh > /dev/null
+bin=${INCISE_BUILD_DIR:-build}/bin
+work=$(mktemp -d)
+trap 'kill $server_pid 2>/dev/null || true; wait 2>/dev/null || true; rm -rf "$work"' EXIT
+
+"$bin/incise-server" --port 0 --data "$work/data" --web web/dist --demo > "$work/server.out" \
+  2> "$work/server.log" &
+server_pid=$!
+for _ in $(seq 1 100); do
+  grep -q "listening on" "$work/server.out" 2>/dev/null && break
+  sleep 0.1
+done
+url=$(sed -n 's/.*listening on \(http:\/\/[^ ]*\).*/\1/p' "$work/server.out")
+login='{"username": "admin", "password": "incise-admin-demo"}'
+cookie=$(curl -s -D - -o /dev/null -H 'Content-Type: application/json' -d "$login" \
+  "$url/api/login" | sed -n 's/^Set-Cookie: \(incise_session=[0-9a-f]*\).*/\1/p')
+[ -n "$cookie" ] || { echo "bench_api: cannot log in" >&2; exit 1; }
+
+cat > "$work/login.lua" <<LUA
+wrk.method = "POST"
+wrk.body = '$login'
+wrk.headers["Content-Type"] = "application/json"
+LUA
+
+echo "# GET /api/me alone: 2 threads, 32 connections, ${seconds} s ($(date -u +%F), git $(git rev-parse --short HEAD))"
+wrk -t2 -c32 -d"${seconds}s" --latency -H "Cookie: $cookie" "$url/api/me"
+echo
+echo "# GET /api/me while 20 connections log in"
+wrk -t1 -c20 -d"$((seconds + 4))s" -s "$work/login.lua" "$url/api/login" > "$work/logins.txt" &
+logins_pid=$!
+sleep 2
+wrk -t2 -c32 -d"${seconds}s" --latency -H "Cookie: $cookie" "$url/api/me"
+wait $logins_pid
+echo
+echo "# the logins meanwhile (POST /api/login, 20 connections)"
+cat "$work/logins.txt"
