@@ -20,28 +20,29 @@ bool refused_well(const Result& result) {
   fuzz_check(server::is_valid_utf8(result.reason()));
   return true;
 }
+
+// A frame `decode` accepts encodes back (`payload` picks what is encoded) to one that decodes to
+// the same message.
+template <typename Decode, typename Payload>
+void check_round_trip(Decode decode, std::span<const std::uint8_t> frame, Payload payload) {
+  const auto result = decode(frame);
+  if (refused_well(result)) return;
+  const auto& m = result.message();
+  std::array<std::uint8_t, 512> out{};
+  const auto n = devices::encode(payload(m), m.header.sequence, m.header.timestamp_us, out);
+  fuzz_check(n > 0);
+  const auto again = decode(std::span<const std::uint8_t>(out.data(), n));
+  fuzz_check(again && payload(again.message()) == payload(m) && again.message().header == m.header);
+}
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;
   const std::span<const std::uint8_t> frame(data + 1, size - 1);
-  std::array<std::uint8_t, 512> out{};
   if ((data[0] & 1) == 0) {
-    const auto result = devices::decode(frame);
-    if (refused_well(result)) return 0;
-    const auto& m = result.message();
-    const auto n = devices::encode(m.state, m.header.sequence, m.header.timestamp_us, out);
-    fuzz_check(n > 0);
-    const auto again = devices::decode(std::span<const std::uint8_t>(out.data(), n));
-    fuzz_check(again && again.message().state == m.state && again.message().header == m.header);
+    check_round_trip(devices::decode, frame, [](const auto& m) { return m.state; });
   } else {
-    const auto result = devices::decode_force_model(frame);
-    if (refused_well(result)) return 0;
-    const auto& m = result.message();
-    const auto n = devices::encode(m.model, m.header.sequence, m.header.timestamp_us, out);
-    fuzz_check(n > 0);
-    const auto again = devices::decode_force_model(std::span<const std::uint8_t>(out.data(), n));
-    fuzz_check(again && again.message().model == m.model && again.message().header == m.header);
+    check_round_trip(devices::decode_force_model, frame, [](const auto& m) { return m.model; });
   }
   return 0;
 }
