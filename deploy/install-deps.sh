@@ -12,7 +12,7 @@ apt_packages=(
   libeigen3-dev libcgal-dev libboost1.74-dev libfcl-dev libnifti2-dev
   nlohmann-json3-dev libsqlite3-dev sqlite3
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri libgles-dev
-  libturbojpeg0-dev libsodium-dev
+  libturbojpeg0-dev libsodium-dev libssl-dev openssl
   libgtest-dev libgmock-dev libbenchmark-dev
   calculix-ccx
   chromium curl ca-certificates

@@ -84,7 +84,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // slow the fuzzer down here.
   if (server::checks_password(request)) return 0;
   if (server::refuse_request(request)) return 0;
-  const auto response = server::answer_request(request, *w.app, "192.0.2.1");
+  const auto response = server::answer_request(request, *w.app, {"192.0.2.1"});
   fuzz_check(response.result() != http::status::internal_server_error);
   if (server::is_api_target(request.target())) {
     fuzz_check(server::is_valid_utf8(response.body()));

@@ -32,10 +32,10 @@ std::uint64_t monotonic_us() {
 }
 }  // namespace
 
-AgentSession::AgentSession(net::ip::tcp::socket&& socket, std::shared_ptr<AppState> app)
-    : ws_(std::move(socket)), app_(std::move(app)), hello_timer_(ws_.get_executor()) {
+AgentSession::AgentSession(transport::MaybeTlsStream&& stream, std::shared_ptr<AppState> app)
+    : ws_(std::move(stream)), app_(std::move(app)), hello_timer_(ws_.get_executor()) {
   beast::error_code ec;
-  const auto remote = beast::get_lowest_layer(ws_).socket().remote_endpoint(ec);
+  const auto remote = ws_.next_layer().tcp().socket().remote_endpoint(ec);
   address_ = ec ? "unknown" : remote.address().to_string();
 }
 

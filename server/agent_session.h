@@ -23,12 +23,13 @@
 
 #include "devices/protocol.h"
 #include "server/app_state.h"
+#include "transport/maybe_tls_stream.h"
 
 namespace incise::server {
 
 class AgentSession : public std::enable_shared_from_this<AgentSession> {
  public:
-  AgentSession(boost::asio::ip::tcp::socket&& socket, std::shared_ptr<AppState> app);
+  AgentSession(transport::MaybeTlsStream&& stream, std::shared_ptr<AppState> app);
   ~AgentSession();
 
   void run(boost::beast::http::request<boost::beast::http::string_body> upgrade);
@@ -62,7 +63,7 @@ class AgentSession : public std::enable_shared_from_this<AgentSession> {
 
   static constexpr std::size_t kMaxQueuedTexts = 8;
 
-  boost::beast::websocket::stream<boost::beast::tcp_stream> ws_;
+  boost::beast::websocket::stream<transport::MaybeTlsStream> ws_;
   boost::beast::flat_buffer buffer_;
   std::shared_ptr<AppState> app_;
   std::string address_;  // the remote address, for the logs and the wrong-token limit

@@ -8,7 +8,8 @@ namespace incise::server {
 const char* const kServerUsage =
     "usage: incise-server [--host ADDR] [--port N] [--data DIR] [--web DIR] [--demo] [--threads "
     "N]\n"
-    "                     [--secure-cookies] [--trusted-proxy ADDR]\n"
+    "                     [--tls-cert FILE --tls-key FILE] [--secure-cookies] [--trusted-proxy "
+    "ADDR]\n"
     "\n"
     "Serves the Incise dashboard, REST API and station-agent WebSocket on one port.\n"
     "  --host ADDR   address to listen on (default 127.0.0.1)\n"
@@ -18,12 +19,16 @@ const char* const kServerUsage =
     "  --web DIR     the built dashboard (default ./web/dist)\n"
     "  --demo        on a new database, add demo logins, a station and a curriculum\n"
     "  --threads N   I/O threads (default 2)\n"
-    "  --secure-cookies  mark the login cookie Secure: set it when browsers reach the server over\n"
-    "                HTTPS (a TLS-terminating proxy such as nginx in front of it)\n"
+    "  --tls-cert FILE  serve HTTPS and wss:// (TLS 1.2 or newer) with this PEM certificate\n"
+    "                chain; needs --tls-key FILE, its PEM private key. Without them: plain HTTP\n"
+    "  --secure-cookies  always mark the login cookie Secure (it is whenever a request came over\n"
+    "                TLS, directly or from --trusted-proxy with X-Forwarded-Proto: https)\n"
     "  --trusted-proxy ADDR  the proxy's address: for its requests, the client is the last\n"
-    "                address of X-Forwarded-For (login limits and logs count per client)\n"
+    "                address of X-Forwarded-For (login limits and logs count per client) and\n"
+    "                X-Forwarded-Proto says whether the browser used HTTPS\n"
     "  --help        this text\n"
-    "Prints 'incise-server: listening on http://HOST:PORT' when ready; SIGINT/SIGTERM stop it.\n";
+    "Prints 'incise-server: listening on http://HOST:PORT' (https:// with TLS) when ready;\n"
+    "SIGINT/SIGTERM stop it.\n";
 
 namespace {
 bool parse_int(const std::string& text, long min, long max, long& out) {
@@ -38,17 +43,31 @@ bool is_ip_address(const std::string& text) {
   return !ec;
 }
 
-std::string request_client(const std::string& peer, std::string_view forwarded_for,
-                           const std::string& trusted_proxy) {
-  if (trusted_proxy.empty() || peer != trusted_proxy) return peer;
-  const auto comma = forwarded_for.rfind(',');
-  auto last = comma == std::string_view::npos ? forwarded_for : forwarded_for.substr(comma + 1);
+namespace {
+// The last element of a comma-separated header, trimmed: what the proxy nearest to us appended.
+std::string_view last_list_value(std::string_view list) {
+  const auto comma = list.rfind(',');
+  auto last = comma == std::string_view::npos ? list : list.substr(comma + 1);
   while (!last.empty() && (last.front() == ' ' || last.front() == '\t'))
     last.remove_prefix(1);
   while (!last.empty() && (last.back() == ' ' || last.back() == '\t'))
     last.remove_suffix(1);
-  std::string client(last);
+  return last;
+}
+}  // namespace
+
+std::string request_client(const std::string& peer, std::string_view forwarded_for,
+                           const std::string& trusted_proxy) {
+  if (trusted_proxy.empty() || peer != trusted_proxy) return peer;
+  std::string client(last_list_value(forwarded_for));
   return is_ip_address(client) ? client : peer;
+}
+
+bool reached_over_tls(bool tls_connection, const std::string& peer,
+                      std::string_view forwarded_proto, const std::string& trusted_proxy) {
+  if (tls_connection) return true;
+  if (trusted_proxy.empty() || peer != trusted_proxy) return false;
+  return last_list_value(forwarded_proto) == "https";
 }
 
 ParsedOptions parse_server_options(const std::vector<std::string>& args) {
@@ -73,6 +92,12 @@ ParsedOptions parse_server_options(const std::vector<std::string>& args) {
         return {std::nullopt, "--trusted-proxy needs an IP address"};
       }
       o.trusted_proxy = v;
+    } else if (arg == "--tls-cert") {
+      if (!value(v)) return {std::nullopt, "--tls-cert needs a PEM certificate file"};
+      o.tls_cert = v;
+    } else if (arg == "--tls-key") {
+      if (!value(v)) return {std::nullopt, "--tls-key needs a PEM private key file"};
+      o.tls_key = v;
     } else if (arg == "--host") {
       if (!value(o.host)) return {std::nullopt, "--host needs an address"};
     } else if (arg == "--port") {
@@ -94,6 +119,9 @@ ParsedOptions parse_server_options(const std::vector<std::string>& args) {
     } else {
       return {std::nullopt, "unknown option '" + arg + "'"};
     }
+  }
+  if (o.tls_cert.empty() != o.tls_key.empty()) {
+    return {std::nullopt, "--tls-cert and --tls-key go together"};
   }
   return {o, ""};
 }

@@ -15,8 +15,10 @@ struct ServerOptions {
   std::filesystem::path web_root = "web/dist";
   bool demo = false;
   int threads = 2;
-  bool secure_cookies = false;  // the login cookie carries Secure (served over HTTPS)
-  std::string trusted_proxy;    // "" or the address whose X-Forwarded-For is believed
+  bool secure_cookies = false;     // the login cookie carries Secure (served over HTTPS)
+  std::string trusted_proxy;       // "" or the address whose X-Forwarded-For is believed
+  std::filesystem::path tls_cert;  // PEM certificate chain: HTTPS when set (with tls_key)
+  std::filesystem::path tls_key;   // PEM private key
   bool help = false;
 };
 
@@ -33,6 +35,11 @@ bool is_ip_address(const std::string& text);  // IPv4 or IPv6
 // else in the header may be the client's own invention and is ignored.
 std::string request_client(const std::string& peer, std::string_view forwarded_for,
                            const std::string& trusted_proxy);
+
+// Whether the browser reached us over TLS: on a TLS connection, or through `trusted_proxy` whose
+// X-Forwarded-Proto (its last value) says https. Decides the login cookie's Secure flag.
+bool reached_over_tls(bool tls_connection, const std::string& peer,
+                      std::string_view forwarded_proto, const std::string& trusted_proxy);
 
 extern const char* const kServerUsage;
 

@@ -112,17 +112,18 @@ class ViewSession::Sink final : public live::FrameSink {
   std::int64_t next_due_ns_ = 0;  // render thread only
 };
 
-ViewSession::ViewSession(net::ip::tcp::socket&& socket, std::shared_ptr<live::LiveSession> session,
-                         bool outside_view_allowed)
-    : ViewSession(std::move(socket), std::move(session), nullptr, outside_view_allowed) {}
+ViewSession::ViewSession(transport::MaybeTlsStream&& stream,
+                         std::shared_ptr<live::LiveSession> session, bool outside_view_allowed)
+    : ViewSession(std::move(stream), std::move(session), nullptr, outside_view_allowed) {}
 
-ViewSession::ViewSession(net::ip::tcp::socket&& socket, std::unique_ptr<live::ReplaySession> replay,
-                         bool outside_view_allowed)
-    : ViewSession(std::move(socket), nullptr, std::move(replay), outside_view_allowed) {}
-
-ViewSession::ViewSession(net::ip::tcp::socket&& socket, std::shared_ptr<live::LiveSession> session,
+ViewSession::ViewSession(transport::MaybeTlsStream&& stream,
                          std::unique_ptr<live::ReplaySession> replay, bool outside_view_allowed)
-    : ws_(std::move(socket)),
+    : ViewSession(std::move(stream), nullptr, std::move(replay), outside_view_allowed) {}
+
+ViewSession::ViewSession(transport::MaybeTlsStream&& stream,
+                         std::shared_ptr<live::LiveSession> session,
+                         std::unique_ptr<live::ReplaySession> replay, bool outside_view_allowed)
+    : ws_(std::move(stream)),
       metrics_timer_(ws_.get_executor()),
       live_(std::move(session)),
       replay_(std::move(replay)),

@@ -19,6 +19,7 @@
 #include "server/live/live_session.h"
 #include "server/live/replay_session.h"
 #include "server/view_message.h"
+#include "transport/maybe_tls_stream.h"
 
 namespace incise::server {
 
@@ -38,10 +39,10 @@ class ViewSession : public std::enable_shared_from_this<ViewSession> {
 
   // Watches a live session. outside_view_allowed: whether the viewer may ask for the outside view
   // (api::may_look_outside); a request for it otherwise closes with 1008.
-  ViewSession(boost::asio::ip::tcp::socket&& socket, std::shared_ptr<live::LiveSession> session,
+  ViewSession(transport::MaybeTlsStream&& stream, std::shared_ptr<live::LiveSession> session,
               bool outside_view_allowed);
   // Owns and drives a replay.
-  ViewSession(boost::asio::ip::tcp::socket&& socket, std::unique_ptr<live::ReplaySession> replay,
+  ViewSession(transport::MaybeTlsStream&& stream, std::unique_ptr<live::ReplaySession> replay,
               bool outside_view_allowed);
 
   ~ViewSession();
@@ -54,7 +55,7 @@ class ViewSession : public std::enable_shared_from_this<ViewSession> {
 
  private:
   // One of live or replay.
-  ViewSession(boost::asio::ip::tcp::socket&& socket, std::shared_ptr<live::LiveSession> live,
+  ViewSession(transport::MaybeTlsStream&& stream, std::shared_ptr<live::LiveSession> live,
               std::unique_ptr<live::ReplaySession> replay, bool outside_view_allowed);
   class Sink;
   live::StreamSource& source() const;
@@ -73,7 +74,7 @@ class ViewSession : public std::enable_shared_from_this<ViewSession> {
   void on_write(boost::beast::error_code ec, std::size_t bytes);
   void do_close(boost::beast::websocket::close_code code, std::string reason);
 
-  boost::beast::websocket::stream<boost::beast::tcp_stream> ws_;
+  boost::beast::websocket::stream<transport::MaybeTlsStream> ws_;
   boost::asio::steady_timer metrics_timer_;
   boost::beast::flat_buffer buffer_;
   std::shared_ptr<live::LiveSession> live_;

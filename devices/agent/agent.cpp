@@ -18,9 +18,10 @@ namespace incise::devices::agent {
 namespace {
 
 LinkSettings make_settings(const AgentOptions& options, const std::vector<Device*>& devices,
-                           StateLogWriter* recorder) {
+                           StateLogWriter* recorder, std::shared_ptr<asio::ssl::context> tls) {
   LinkSettings settings;
   settings.server = options.server;
+  settings.tls = std::move(tls);
   settings.hello.station_token = options.token;
   std::string names;
   for (const Device* device : devices)
@@ -67,9 +68,9 @@ LoopSettings loop_settings(const AgentOptions& options) {
 }  // namespace
 
 Agent::Agent(asio::io_context& io, const AgentOptions& options, std::vector<Device*> devices,
-             StateLogWriter* recorder)
+             StateLogWriter* recorder, std::shared_ptr<asio::ssl::context> tls)
     : io_(io),
-      settings_(make_settings(options, devices, recorder)),
+      settings_(make_settings(options, devices, recorder, std::move(tls))),
       devices_(std::move(devices)),
       loop_(devices_, channel_, loop_settings(options), settings_.epoch),
       signals_(io, SIGINT, SIGTERM),

@@ -31,9 +31,10 @@ inline constexpr int kExitRefused = 3;
 class Agent {
  public:
   // The devices (one per hand, at most kMaxDevices) and the recorder (may be null: no
-  // --record-states) must outlive the agent. Nothing happens until start().
+  // --record-states) must outlive the agent; `tls` verifies a wss:// server (null for ws://).
+  // Nothing happens until start().
   Agent(asio::io_context& io, const AgentOptions& options, std::vector<Device*> devices,
-        StateLogWriter* recorder = nullptr);
+        StateLogWriter* recorder = nullptr, std::shared_ptr<asio::ssl::context> tls = nullptr);
 
   // Starts the haptic loop, connects and keeps connecting; the io_context runs out of work once
   // the agent has stopped.

@@ -16,6 +16,7 @@
 #include "devices/agent/self_test.h"
 #include "devices/driver_registry.h"
 #include "devices/state_log.h"
+#include "transport/tls_contexts.h"
 
 namespace {
 
@@ -78,8 +79,17 @@ int run(int argc, char** argv) {
     hands.push_back(device.value->get());
     devices.push_back(std::move(*device.value));
   }
+  std::shared_ptr<asio::ssl::context> tls;
+  if (options.value->server.tls) {
+    try {
+      tls = incise::transport::make_client_tls(options.value->ca_file);
+    } catch (const std::exception& e) {
+      log_line(e.what());
+      return kExitUsage;
+    }
+  }
   if (options.value->self_test) {
-    return run_self_test(*options.value, hands, std::cout) ? kExitStopped : kExitFailure;
+    return run_self_test(*options.value, hands, tls.get(), std::cout) ? kExitStopped : kExitFailure;
   }
   std::unique_ptr<StateLogWriter> recorder;
   if (!options.value->record_states.empty()) {
@@ -91,7 +101,7 @@ int run(int argc, char** argv) {
     recorder = std::move(*writer.value);
   }
   asio::io_context io(1);
-  Agent agent(io, *options.value, hands, recorder.get());
+  Agent agent(io, *options.value, hands, recorder.get(), tls);
   agent.start();
   io.run();
   agent.finish();

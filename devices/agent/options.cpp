@@ -21,19 +21,17 @@ bool parse_rate(const std::string& text, double& rate) {
 
 ParseResult<ServerAddress> parse_server_url(std::string_view url) {
   using Result = ParseResult<ServerAddress>;
-  constexpr std::string_view kScheme = "ws://";
-  if (url.starts_with("wss://")) {
-    return Result::failure("--server " + std::string(url) + ": wss:// is not supported (no TLS)");
-  }
-  if (!url.starts_with(kScheme)) {
-    return Result::failure("--server " + std::string(url) + ": must start with ws://");
-  }
-  std::string_view rest = url.substr(kScheme.size());
   ServerAddress address;
+  address.tls = url.starts_with("wss://");
+  const std::string_view scheme = address.tls ? "wss://" : "ws://";
+  if (!url.starts_with(scheme)) {
+    return Result::failure("--server " + std::string(url) + ": must start with ws:// or wss://");
+  }
+  std::string_view rest = url.substr(scheme.size());
   const auto slash = rest.find('/');
   address.target = slash == std::string_view::npos ? "/" : std::string(rest.substr(slash));
   std::string_view authority = rest.substr(0, slash);
-  address.port = "80";
+  address.port = address.tls ? "443" : "80";
   // A bracketed IPv6 literal carries colons of its own: [::1]:8080.
   const auto close_bracket = authority.starts_with('[') ? authority.find(']') : 0;
   if (close_bracket == std::string_view::npos) {
@@ -60,8 +58,8 @@ namespace {
 // Flags that take a value, and those that are switches ("--no-deadband") with their config
 // file spelling ("deadband = off").
 constexpr std::string_view kValueFlags[] = {
-    "--server",   "--token",         "--device", "--script",   "--rate",     "--max-force",
-    "--coupling", "--record-states", "--config", "--deadband", "--passivity"};
+    "--server",    "--ca",       "--token",         "--device", "--script",   "--rate",
+    "--max-force", "--coupling", "--record-states", "--config", "--deadband", "--passivity"};
 
 bool takes_value(std::string_view flag) {
   for (std::string_view f : kValueFlags)
@@ -173,6 +171,8 @@ ParseResult<AgentOptions> parse_agent_options(std::span<const char* const> args,
       auto address = parse_server_url(value);
       if (!address) return Result::failure(address.error);
       options.server = std::move(*address.value);
+    } else if (flag == "--ca") {
+      options.ca_file = value;
     } else if (flag == "--token") {
       if (command_line) {
         // Any local user reads a process's command line (ps, /proc/PID/cmdline).
@@ -229,7 +229,7 @@ ParseResult<AgentOptions> parse_agent_options(std::span<const char* const> args,
 }
 
 std::string agent_usage() {
-  return R"(usage: incise-agent [--config FILE] [--server URL] [--device SPEC]...
+  return R"(usage: incise-agent [--config FILE] [--server URL] [--ca FILE] [--device SPEC]...
                     [--rate HZ] [--no-deadband] [--max-force N] [--coupling N/M]
                     [--record-states FILE] [--self-test] [--list-drivers]
 
@@ -243,7 +243,11 @@ WebSocket (held back while the hand is still), which is reconnected (0.25 s back
 
   --config FILE        settings file: "key = value" lines with these flags' names (see
                        deploy/agent/incise-agent.conf); the command line overrides it
-  --server URL         the server's agent endpoint (default ws://127.0.0.1:8080/agent)
+  --server URL         the server's agent endpoint (default ws://127.0.0.1:8080/agent);
+                       wss://HOST[:PORT]/agent over TLS, the server's certificate checked
+                       against the system's CAs and HOST
+  --ca FILE            with wss://: trust the server certificates this PEM file vouches for (a
+                       private CA, or the server's self-signed certificate) instead
   The station token (shown once when the station was created) comes from the environment,
   INCISE_STATION_TOKEN, or from "token = ..." in the --config file (readable by the agent's user
   only): never from the command line, which every local user can read.

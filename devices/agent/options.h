@@ -11,17 +11,21 @@
 
 namespace incise::devices::agent {
 
-// Where the server's /agent WebSocket endpoint is, from a ws:// URL.
+// Where the server's /agent WebSocket endpoint is, from a ws:// or wss:// URL.
 struct ServerAddress {
   std::string host = "127.0.0.1";
   std::string port = "8080";
   std::string target = "/agent";  // path and query
-  std::string url() const { return "ws://" + host + ":" + port + target; }
+  bool tls = false;               // wss://
+  std::string url() const { return (tls ? "wss://" : "ws://") + host + ":" + port + target; }
 };
 
 struct AgentOptions {
   ServerAddress server;
   std::string token;  // station token: "token" in the config file, else $INCISE_STATION_TOKEN
+  // --ca FILE: for wss://, the PEM certificates that vouch for the server (a private CA, or a
+  // self-signed server certificate itself); empty: the system's trusted CAs.
+  std::string ca_file;
   // Driver specs "name[:argument]", one per hand (at most 2): --device, repeated. Default: the
   // simulated device with its built-in script. --script FILE is short for --device simulated:FILE.
   std::vector<std::string> devices;
@@ -40,8 +44,8 @@ struct AgentOptions {
 inline constexpr double kMinRateHz = 250.0;
 inline constexpr double kMaxRateHz = 1000.0;
 
-// "ws://host[:port][/path]"; the port defaults to 80, the path to "/". wss:// is refused: this
-// build has no TLS.
+// "ws://host[:port][/path]" or "wss://..."; the port defaults to 80 (443 for wss://), the path to
+// "/".
 ParseResult<ServerAddress> parse_server_url(std::string_view url);
 
 // args excludes the program name. Flags take their value as the next argument or after '='.
@@ -53,7 +57,7 @@ ParseResult<AgentOptions> parse_agent_options(std::span<const char* const> args,
                                               std::span<const std::string> config_args = {});
 
 // A configuration file (deploy/agent/incise-agent.conf): one "key = value" per line, the keys
-// being the long flags without "--" (server, token, device, script, rate, deadband, max-force,
+// being the long flags without "--" (server, ca, token, device, script, rate, deadband, max-force,
 // coupling, passivity, record-states); '#' starts a comment. Returns the settings as "--key=value"
 // arguments, or the first bad line as `FILE:LINE: ...`.
 ParseResult<std::vector<std::string>> config_file_args(std::string_view text,

@@ -15,6 +15,7 @@
 #include <boost/beast/websocket.hpp>
 
 #include "devices/protocol.h"
+#include "transport/maybe_tls_stream.h"
 
 #ifndef INCISE_AGENT_VERSION
 #define INCISE_AGENT_VERSION "dev"
@@ -98,15 +99,20 @@ bool check_timer(std::ostream& out) {
       format("loop timer: 200 ticks at 1 kHz, period jitter p99 %.0f us (limit 1000 us)", p99));
 }
 
-bool check_link(const AgentOptions& options, std::ostream& out) {
+bool check_link(const AgentOptions& options, asio::ssl::context* tls, std::ostream& out) {
   const std::string what = "link " + options.server.url();
   try {
     asio::io_context io;
     asio::ip::tcp::resolver resolver(io);
-    websocket::stream<beast::tcp_stream> ws(io);
-    beast::get_lowest_layer(ws).expires_after(std::chrono::seconds(5));
+    websocket::stream<transport::MaybeTlsStream> ws(
+        transport::make_stream(beast::tcp_stream(io), tls));
+    ws.next_layer().tcp().expires_after(std::chrono::seconds(5));
     const auto endpoints = resolver.resolve(options.server.host, options.server.port);
-    beast::get_lowest_layer(ws).connect(endpoints);
+    ws.next_layer().tcp().connect(endpoints);
+    if (!ws.next_layer().expect_server(options.server.host)) {
+      return report(out, false, what + ": TLS: cannot name the server");
+    }
+    ws.next_layer().handshake(asio::ssl::stream_base::client);
     ws.handshake(options.server.host + ":" + options.server.port, options.server.target);
     ws.text(true);
     ws.write(asio::buffer(
@@ -165,7 +171,7 @@ bool check_link(const AgentOptions& options, std::ostream& out) {
       if (round_trips_ms.size() == before)
         failure = format(": ping %d got no pong within 500 ms", i);
     }
-    beast::get_lowest_layer(ws).expires_after(std::chrono::seconds(1));
+    ws.next_layer().tcp().expires_after(std::chrono::seconds(1));
     ws.async_close(websocket::close_code::normal, [](beast::error_code) {});
     io.run_for(std::chrono::seconds(1));
     if (!failure.empty()) return report(out, false, what + failure);
@@ -183,12 +189,12 @@ bool check_link(const AgentOptions& options, std::ostream& out) {
 }  // namespace
 
 bool run_self_test(const AgentOptions& options, const std::vector<Device*>& devices,
-                   std::ostream& out) {
+                   asio::ssl::context* tls, std::ostream& out) {
   bool ok = true;
   for (std::size_t i = 0; i < devices.size(); ++i)
     ok = check_device(i, *devices[i], out) && ok;
   ok = check_timer(out) && ok;
-  ok = check_link(options, out) && ok;
+  ok = check_link(options, tls, out) && ok;
   out << (ok ? "self-test passed" : "self-test FAILED") << "\n";
   return ok;
 }

@@ -7,6 +7,7 @@
 //   - the link: connect, hello, welcome (the token is valid), then 20 WebSocket pings timed
 //     (round-trip median and maximum; fails above 50 ms median).
 
+#include <boost/asio/ssl/context.hpp>
 #include <iosfwd>
 #include <vector>
 
@@ -15,8 +16,9 @@
 
 namespace incise::devices::agent {
 
-// Returns true if every check passed; writes the lines to out.
+// Returns true if every check passed; writes the lines to out. `tls`: for a wss:// server, the
+// context that verifies it (null for ws://).
 bool run_self_test(const AgentOptions& options, const std::vector<Device*>& devices,
-                   std::ostream& out);
+                   boost::asio::ssl::context* tls, std::ostream& out);
 
 }  // namespace incise::devices::agent

@@ -58,7 +58,7 @@ StationLink::StationLink(asio::io_context& io, const LinkSettings& settings, Hap
       on_welcome_(std::move(on_welcome)),
       on_end_(std::move(on_end)),
       resolver_(asio::make_strand(io)),
-      ws_(resolver_.get_executor()),
+      ws_(transport::make_stream(beast::tcp_stream(resolver_.get_executor()), settings.tls.get())),
       welcome_timer_(resolver_.get_executor()),
       drain_timer_(resolver_.get_executor()),
       hello_text_(build_hello(settings.hello)) {}
@@ -81,15 +81,26 @@ void StationLink::do_resolve() {
 
 void StationLink::on_resolve(beast::error_code ec, asio::ip::tcp::resolver::results_type results) {
   if (ec) return fail(ec, "resolve");
-  beast::get_lowest_layer(ws_).expires_after(kConnectTimeout);
-  beast::get_lowest_layer(ws_).async_connect(
+  ws_.next_layer().tcp().expires_after(kConnectTimeout);
+  ws_.next_layer().tcp().async_connect(
       results, beast::bind_front_handler(&StationLink::on_connect, shared_from_this()));
 }
 
 void StationLink::on_connect(beast::error_code ec, asio::ip::tcp::endpoint endpoint) {
   if (ec) return fail(ec, "connect");
+  // wss://: the TLS handshake first, under the connect deadline (nothing on ws://).
+  if (!ws_.next_layer().expect_server(settings_.server.host)) {
+    return finish(LinkEnd::Kind::Failed, "TLS: cannot name the server " + settings_.server.host);
+  }
+  ws_.next_layer().async_handshake(
+      asio::ssl::stream_base::client,
+      [self = shared_from_this(), endpoint](beast::error_code ec) { self->on_tls(ec, endpoint); });
+}
+
+void StationLink::on_tls(beast::error_code ec, asio::ip::tcp::endpoint endpoint) {
+  if (ec) return fail(ec, "TLS handshake");
   // The websocket stream keeps its own timeouts from here on.
-  beast::get_lowest_layer(ws_).expires_never();
+  ws_.next_layer().tcp().expires_never();
   websocket::stream_base::timeout timeouts;
   timeouts.handshake_timeout = kHandshakeTimeout;
   timeouts.idle_timeout = kIdleTimeout;
@@ -138,7 +149,7 @@ void StationLink::on_hello_sent(beast::error_code ec, std::size_t) {
 void StationLink::on_welcome_timeout(beast::error_code ec) {
   if (ec || welcomed_ || finished_) return;  // cancelled: the welcome (or an error) came first
   welcome_timed_out_ = true;
-  beast::get_lowest_layer(ws_).cancel();
+  ws_.next_layer().tcp().cancel();
 }
 
 void StationLink::on_welcome(beast::error_code ec, std::size_t) {
@@ -393,7 +404,7 @@ void StationLink::do_stop() {
   if (!ws_open_) {
     // Resolving, connecting or upgrading: abandon; the pending handler reports Stopped.
     resolver_.cancel();
-    beast::get_lowest_layer(ws_).cancel();
+    ws_.next_layer().tcp().cancel();
     return;
   }
   // Only one write may be in flight; on_sent / on_hello_sent close after it.
@@ -460,7 +471,7 @@ void StationLink::finish(LinkEnd::Kind kind, std::string reason) {
   // Abort whatever is still pending (a read after a failed write); after a clean close the
   // socket is already shut and this is a no-op.
   beast::error_code ignored;
-  beast::get_lowest_layer(ws_).socket().close(ignored);
+  ws_.next_layer().tcp().socket().close(ignored);
   LinkEnd end;
   end.kind = kind;
   end.reason = std::move(reason);

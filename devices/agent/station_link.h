@@ -26,6 +26,7 @@
 #include "devices/agent/histogram.h"
 #include "devices/agent/options.h"
 #include "devices/protocol.h"
+#include "transport/maybe_tls_stream.h"
 
 namespace incise::devices::agent {
 
@@ -49,6 +50,8 @@ struct LinkEnd {
 
 struct LinkSettings {
   ServerAddress server;
+  // For wss://: the context that verifies the server (transport::make_client_tls); null: ws://.
+  std::shared_ptr<asio::ssl::context> tls;
   Hello hello;
   Clock::time_point epoch;  // t = 0 of device polls and frame timestamps
   std::size_t device_count = 1;
@@ -110,6 +113,7 @@ class StationLink : public std::enable_shared_from_this<StationLink> {
   void do_resolve();
   void on_resolve(beast::error_code ec, asio::ip::tcp::resolver::results_type results);
   void on_connect(beast::error_code ec, asio::ip::tcp::endpoint endpoint);
+  void on_tls(beast::error_code ec, asio::ip::tcp::endpoint endpoint);
   void on_handshake(beast::error_code ec);
   void on_hello_sent(beast::error_code ec, std::size_t bytes);
   void on_welcome(beast::error_code ec, std::size_t bytes);
@@ -143,7 +147,7 @@ class StationLink : public std::enable_shared_from_this<StationLink> {
   EndHandler on_end_;
 
   asio::ip::tcp::resolver resolver_;
-  websocket::stream<beast::tcp_stream> ws_;
+  websocket::stream<transport::MaybeTlsStream> ws_;
   websocket::response_type upgrade_response_;
   beast::flat_buffer read_buffer_;
   asio::steady_timer welcome_timer_;

@@ -35,14 +35,26 @@ struct ApiResponse {
   std::string content_type;
 };
 
+// Who sent a request: the client's address (behind a trusted proxy, the one it forwarded) and
+// whether the browser reached us over TLS (server_options.h: reached_over_tls).
+struct Caller {
+  std::string address;
+  bool https = false;
+};
+
 class ApiContext {
  public:
-  ApiContext(const Request& request, AppState& app, std::string client)
-      : request(request), app(app), client(std::move(client)), now(app.now()) {}
+  ApiContext(const Request& request, AppState& app, Caller caller)
+      : request(request),
+        app(app),
+        client(std::move(caller.address)),
+        https(caller.https),
+        now(app.now()) {}
 
   const Request& request;
   AppState& app;
   const std::string client;                         // remote address, for the login limiter
+  const bool https;                                 // over TLS: the login cookie is Secure
   const std::int64_t now;                           // Unix seconds, fixed for the whole request
   std::int64_t path_id = 0;                         // the {id} of the matched route, if any
   std::unique_lock<std::mutex>* db_lock = nullptr;  // the router's database lock, held

@@ -13,10 +13,12 @@ namespace incise::server::api {
 namespace {
 // A browser-session cookie (no Max-Age): the server enforces the inactivity expiry, so an active
 // person is never logged out by a cookie that was dated at login. `clear` deletes the cookie.
-std::string session_cookie(const AppState& app, const std::string& token, bool clear) {
+// Secure whenever the browser reached us over TLS (directly or through the trusted proxy), or
+// always with --secure-cookies.
+std::string session_cookie(const ApiContext& ctx, const std::string& token, bool clear) {
   std::string c = std::string(kSessionCookie) + "=" + token + "; Path=/; HttpOnly; SameSite=Strict";
   if (clear) c += "; Max-Age=0";
-  if (app.config().secure_cookies) c += "; Secure";
+  if (ctx.https || ctx.app.config().secure_cookies) c += "; Secure";
   return c;
 }
 }  // namespace
@@ -78,14 +80,14 @@ ApiResponse login(ApiContext& ctx) {
   db::AuthSessionsRepo(ctx.app.db()).purge_expired(ctx.now);
   return {http::status::ok,
           {{"user", to_json(*user)}},
-          {{"Set-Cookie", session_cookie(ctx.app, token, false)}}};
+          {{"Set-Cookie", session_cookie(ctx, token, false)}}};
 }
 
 ApiResponse logout(ApiContext& ctx) {
   if (const auto token = ctx.cookie(kSessionCookie)) {
     db::AuthSessionsRepo(ctx.app.db()).remove(*token);
   }
-  return {http::status::no_content, nullptr, {{"Set-Cookie", session_cookie(ctx.app, "", true)}}};
+  return {http::status::no_content, nullptr, {{"Set-Cookie", session_cookie(ctx, "", true)}}};
 }
 
 ApiResponse me(ApiContext& ctx) {

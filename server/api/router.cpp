@@ -178,14 +178,14 @@ Response json_error(http::status status, std::string_view message, unsigned vers
   return res;
 }
 
-Response handle_api_request(const Request& request, AppState& app, const std::string& client) {
+Response handle_api_request(const Request& request, AppState& app, const Caller& caller) {
   const auto target = request.target();
   const auto path = target.substr(0, target.find('?'));
   const auto version = request.version();
   const bool keep_alive = request.keep_alive();
   try {
     std::unique_lock lock(app.db_mutex());
-    ApiContext ctx(request, app, client);
+    ApiContext ctx(request, app, caller);
     ctx.db_lock = &lock;
     const ApiResponse out = dispatch(ctx, std::string_view(path.data(), path.size()));
     Response res{out.status, version};

@@ -8,7 +8,7 @@
 
 namespace incise::server {
 
-Response handle_api_request(const Request& request, AppState& app, const std::string& client);
+Response handle_api_request(const Request& request, AppState& app, const Caller& caller);
 
 // Whether the request carries an Origin other than the Host it was sent to (a page of another site,
 // or of another port of this host). Browsers always send Origin on WebSocket upgrades.

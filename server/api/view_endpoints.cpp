@@ -113,7 +113,7 @@ std::variant<ViewTarget, Response> resolve_view(const Request& request, AppState
     std::int64_t user_id = 0;
     {
       std::lock_guard lock(app.db_mutex());
-      ApiContext ctx(request, app, client);
+      ApiContext ctx(request, app, Caller{client});
       if (const auto id = id_between(path, "/api/sessions/", "/view")) {
         return live_target(ctx, id);
       }

@@ -18,6 +18,9 @@ namespace net = boost::asio;
 
 namespace {
 constexpr auto kReadTimeout = std::chrono::seconds(30);
+// A TLS handshake is a few round trips; a client that stalls in it holds a socket, nothing more.
+constexpr auto kHandshakeTimeout = std::chrono::seconds(10);
+constexpr auto kShutdownTimeout = std::chrono::seconds(5);
 constexpr std::size_t kHeaderLimit = 16 * 1024;
 
 // A request target is printable ASCII (RFC 9112 section 3.2, RFC 3986): any other byte is
@@ -32,10 +35,10 @@ bool is_printable_ascii(std::string_view text) {
 
 // Accepts a WebSocket upgrade only to close it at once with `code` and `reason`: a browser shows
 // a close reason, never the body of a refused upgrade.
-void refuse_websocket(net::ip::tcp::socket&& socket, Request&& upgrade,
+void refuse_websocket(transport::MaybeTlsStream&& stream, Request&& upgrade,
                       beast::websocket::close_code code, std::string reason) {
-  using Ws = beast::websocket::stream<beast::tcp_stream>;
-  auto ws = std::make_shared<Ws>(std::move(socket));
+  using Ws = beast::websocket::stream<transport::MaybeTlsStream>;
+  auto ws = std::make_shared<Ws>(std::move(stream));
   ws->set_option(beast::websocket::stream_base::timeout::suggested(beast::role_type::server));
   auto request = std::make_shared<Request>(std::move(upgrade));
   ws->async_accept(
@@ -54,28 +57,46 @@ bool checks_password(const Request& request) {
   return path == "/api/login" || path == "/api/me/password";
 }
 
-HttpSession::HttpSession(net::ip::tcp::socket&& socket, std::shared_ptr<AppState> app)
-    : stream_(std::move(socket)), app_(std::move(app)) {
+HttpSession::HttpSession(net::ip::tcp::socket&& socket, std::shared_ptr<AppState> app,
+                         net::ssl::context* tls)
+    : stream_(transport::make_stream(beast::tcp_stream(std::move(socket)), tls)),
+      app_(std::move(app)) {
   beast::error_code ec;
-  const auto remote = stream_.socket().remote_endpoint(ec);
+  const auto remote = stream_.tcp().socket().remote_endpoint(ec);
   client_ = ec ? "unknown" : remote.address().to_string();
 }
 
 void HttpSession::run() {
-  net::dispatch(stream_.get_executor(), [self = shared_from_this()] { self->do_read(); });
+  net::dispatch(stream_.get_executor(), [self = shared_from_this()] {
+    // Plain HTTP "handshakes" at once.
+    self->stream_.tcp().expires_after(kHandshakeTimeout);
+    self->stream_.async_handshake(
+        net::ssl::stream_base::server,
+        beast::bind_front_handler(&HttpSession::on_handshake, self->shared_from_this()));
+  });
+}
+
+void HttpSession::on_handshake(beast::error_code ec) {
+  // Plain HTTP to the TLS port, an untrusted certificate at the client, a scanner: nothing to
+  // answer in (there is no TLS session), so the connection just ends.
+  if (ec) return stream_.tcp().close();
+  do_read();
 }
 
 void HttpSession::do_read() {
   parser_.emplace();
   parser_->header_limit(kHeaderLimit);
   parser_->body_limit(app_->config().api_body_limit);
-  stream_.expires_after(kReadTimeout);
+  stream_.tcp().expires_after(kReadTimeout);
   http::async_read(stream_, buffer_, *parser_,
                    beast::bind_front_handler(&HttpSession::on_read, shared_from_this()));
 }
 
 void HttpSession::on_read(beast::error_code ec, std::size_t) {
-  if (ec == http::error::end_of_stream || ec == beast::error::timeout) return do_close();
+  if (ec == http::error::end_of_stream || ec == beast::error::timeout ||
+      transport::is_truncation(ec)) {
+    return do_close();
+  }
   if (ec == http::error::body_limit) {
     // The rest of the body is still on the wire, so the connection cannot be reused.
     return send(json_error(
@@ -93,29 +114,31 @@ void HttpSession::on_read(beast::error_code ec, std::size_t) {
 
   const auto& request = parser_->get();
   const auto target = request.target();
-  request_client_ =
-      request_client(client_, request["X-Forwarded-For"], app_->config().trusted_proxy);
+  const auto& config = app_->config();
+  caller_.address = request_client(client_, request["X-Forwarded-For"], config.trusted_proxy);
+  caller_.https = reached_over_tls(stream_.is_tls(), client_, request["X-Forwarded-Proto"],
+                                   config.trusted_proxy);
   if (auto refusal = refuse_request(request)) return send(std::move(*refusal));
   if (beast::websocket::is_upgrade(request)) {
-    stream_.expires_never();
+    // From here on the stream belongs to the WebSocket session (which keeps its own timeouts);
+    // this HttpSession ends when this handler returns.
+    stream_.tcp().expires_never();
     if (target == "/agent") {
-      return std::make_shared<AgentSession>(stream_.release_socket(), app_)
-          ->run(parser_->release());
+      return std::make_shared<AgentSession>(std::move(stream_), app_)->run(parser_->release());
     }
     if (is_view_path(target)) {
-      auto resolved = resolve_view(request, *app_, request_client_);
+      auto resolved = resolve_view(request, *app_, caller_.address);
       if (auto* error = std::get_if<Response>(&resolved)) return send(std::move(*error));
       auto& view = std::get<ViewTarget>(resolved);
       if (!view.busy.empty()) {
-        return refuse_websocket(stream_.release_socket(), parser_->release(),
+        return refuse_websocket(std::move(stream_), parser_->release(),
                                 beast::websocket::close_code::try_again_later, view.busy);
       }
-      auto session =
-          view.replay
-              ? std::make_shared<ViewSession>(stream_.release_socket(), std::move(view.replay),
-                                              view.outside_view_allowed)
-              : std::make_shared<ViewSession>(stream_.release_socket(), std::move(view.live),
-                                              view.outside_view_allowed);
+      auto session = view.replay
+                         ? std::make_shared<ViewSession>(std::move(stream_), std::move(view.replay),
+                                                         view.outside_view_allowed)
+                         : std::make_shared<ViewSession>(std::move(stream_), std::move(view.live),
+                                                         view.outside_view_allowed);
       session->hold(std::move(view.replay_slot));
       app_->view_opened(view.user_id, session);
       return session->run(parser_->release());
@@ -124,7 +147,7 @@ void HttpSession::on_read(beast::error_code ec, std::size_t) {
                            "no WebSocket endpoint at " + std::string(target), 11, false));
   }
   if (checks_password(request)) return answer_on_password_worker();
-  send(answer_request(request, *app_, request_client_));
+  send(answer_request(request, *app_, caller_));
 }
 
 std::optional<Response> refuse_request(const Request& request) {
@@ -148,9 +171,9 @@ bool is_api_target(std::string_view target) {
   return path == "/api" || path.starts_with("/api/");
 }
 
-Response answer_request(const Request& request, AppState& app, const std::string& client) {
+Response answer_request(const Request& request, AppState& app, const Caller& caller) {
   if (is_api_target(request.target())) {
-    return handle_api_request(request, app, client);
+    return handle_api_request(request, app, caller);
   }
   return serve_static(request, app.config().web_root);
 }
@@ -158,7 +181,7 @@ Response answer_request(const Request& request, AppState& app, const std::string
 void HttpSession::answer_on_password_worker() {
   auto job = [self = shared_from_this()] {
     // No read is pending meanwhile, so the parsed request stays as it is.
-    auto response = handle_api_request(self->parser_->get(), *self->app_, self->request_client_);
+    auto response = handle_api_request(self->parser_->get(), *self->app_, self->caller_);
     net::post(self->stream_.get_executor(), [self, response = std::move(response)]() mutable {
       self->send(std::move(response));
     });
@@ -171,7 +194,7 @@ void HttpSession::answer_on_password_worker() {
   send(std::move(busy));
 }
 
-void set_security_headers(Response& response) {
+void set_security_headers(Response& response, bool tls) {
   // The dashboard loads only its own scripts, styles, images and sockets (no inline script: Vite
   // emits modules); no page may frame it (clickjacking); no response is sniffed into another type;
   // no address leaves in a Referer. React and uPlot set styles through the CSSOM, which
@@ -183,12 +206,16 @@ void set_security_headers(Response& response) {
   response.set("X-Frame-Options", "DENY");
   response.set("X-Content-Type-Options", "nosniff");
   response.set("Referrer-Policy", "no-referrer");
+  // Once a browser has reached us over TLS it never falls back to plain HTTP for a year (RFC
+  // 6797). Not over plain HTTP, where an attacker could have written it; a TLS proxy in front
+  // sets its own.
+  if (tls) response.set(http::field::strict_transport_security, "max-age=31536000");
 }
 
 void HttpSession::send(Response&& response) {
   response_ = std::make_shared<Response>(std::move(response));
   response_->set(http::field::server, "incise-server");
-  set_security_headers(*response_);
+  set_security_headers(*response_, stream_.is_tls());
   const bool keep_alive = response_->keep_alive();
   http::async_write(
       stream_, *response_,
@@ -202,8 +229,14 @@ void HttpSession::on_write(bool keep_alive, beast::error_code ec, std::size_t) {
 }
 
 void HttpSession::do_close() {
+  if (auto* tls = stream_.tls()) {
+    // close_notify, then the socket: the peer can tell a complete response from a cut one.
+    stream_.tcp().expires_after(kShutdownTimeout);
+    return tls->async_shutdown(
+        [self = shared_from_this()](beast::error_code) { self->stream_.tcp().close(); });
+  }
   beast::error_code ignored;
-  stream_.socket().shutdown(net::ip::tcp::socket::shutdown_send, ignored);
+  stream_.tcp().socket().shutdown(net::ip::tcp::socket::shutdown_send, ignored);
 }
 
 }  // namespace incise::server

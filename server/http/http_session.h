@@ -1,7 +1,9 @@
 #pragma once
 // One HTTP connection (Beast chat-multi's `http_session`): reads a request with a body limit and
-// a timeout, answers it, and hands WebSocket upgrades to the matching WebSocket session.
+// a timeout, answers it, and hands WebSocket upgrades to the matching WebSocket session. Over TLS
+// when the server has a certificate: the handshake comes first, under its own deadline.
 #include <boost/asio.hpp>
+#include <boost/asio/ssl/context.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <memory>
@@ -9,12 +11,14 @@
 
 #include "server/api/api_context.h"
 #include "server/app_state.h"
+#include "transport/maybe_tls_stream.h"
 
 namespace incise::server {
 
 // The headers every HTTP response carries (docs/security.md): a Content-Security-Policy without
-// inline scripts and with frame-ancestors 'none', X-Frame-Options, nosniff and Referrer-Policy.
-void set_security_headers(Response& response);
+// inline scripts and with frame-ancestors 'none', X-Frame-Options, nosniff and Referrer-Policy;
+// over TLS also Strict-Transport-Security.
+void set_security_headers(Response& response, bool tls);
 
 // The checks every request passes before anything routes it: a printable-ASCII target, and Host
 // on HTTP/1.1. The refusal, or nullopt.
@@ -26,14 +30,17 @@ bool checks_password(const Request& request);
 bool is_api_target(std::string_view target);
 // A plain (not upgrade, not password-checking) request that passed refuse_request: the REST API
 // under /api, the dashboard's files elsewhere.
-Response answer_request(const Request& request, AppState& app, const std::string& client);
+Response answer_request(const Request& request, AppState& app, const Caller& caller);
 
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
-  HttpSession(boost::asio::ip::tcp::socket&& socket, std::shared_ptr<AppState> app);
+  // `tls`: the server's TLS context, or null for plain HTTP. It outlives every session.
+  HttpSession(boost::asio::ip::tcp::socket&& socket, std::shared_ptr<AppState> app,
+              boost::asio::ssl::context* tls);
   void run();
 
  private:
+  void on_handshake(boost::beast::error_code ec);
   void do_read();
   void on_read(boost::beast::error_code ec, std::size_t bytes);
   // Logins: handled on AppState::password_workers(), answered back on this connection's strand.
@@ -42,13 +49,13 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   void on_write(bool keep_alive, boost::beast::error_code ec, std::size_t bytes);
   void do_close();
 
-  boost::beast::tcp_stream stream_;
+  transport::MaybeTlsStream stream_;
   boost::beast::flat_buffer buffer_;
   std::shared_ptr<AppState> app_;
   std::optional<http::request_parser<http::string_body>> parser_;
   std::shared_ptr<Response> response_;  // kept alive while it is written
   std::string client_;                  // the peer's address
-  std::string request_client_;          // the current request's client (behind a trusted proxy)
+  Caller caller_;                       // the current request's (behind a trusted proxy)
 };
 
 }  // namespace incise::server

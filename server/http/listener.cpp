@@ -10,8 +10,8 @@ namespace net = boost::asio;
 using tcp = net::ip::tcp;
 
 Listener::Listener(net::io_context& ioc, const tcp::endpoint& endpoint,
-                   std::shared_ptr<AppState> app)
-    : ioc_(ioc), acceptor_(net::make_strand(ioc)), app_(std::move(app)) {
+                   std::shared_ptr<AppState> app, std::shared_ptr<net::ssl::context> tls)
+    : ioc_(ioc), acceptor_(net::make_strand(ioc)), app_(std::move(app)), tls_(std::move(tls)) {
   acceptor_.open(endpoint.protocol());
   acceptor_.set_option(net::socket_base::reuse_address(true));
   acceptor_.bind(endpoint);
@@ -47,7 +47,7 @@ void Listener::on_accept(boost::system::error_code ec, tcp::socket socket) {
   if (ec) {
     std::cerr << "incise-server: accept: " << ec.message() << "\n";
   } else {
-    std::make_shared<HttpSession>(std::move(socket), app_)->run();
+    std::make_shared<HttpSession>(std::move(socket), app_, tls_.get())->run();
   }
   do_accept();
 }

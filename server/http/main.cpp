@@ -14,6 +14,7 @@
 #include "server/http/listener.h"
 #include "server/server_options.h"
 #include "server/wire_text.h"
+#include "transport/tls_contexts.h"
 
 namespace net = boost::asio;
 using namespace incise;
@@ -86,19 +87,29 @@ int main(int argc, char** argv) {
               << " (the API still works)\n";
   }
 
+  std::shared_ptr<net::ssl::context> tls;
+  if (!options.tls_cert.empty()) {
+    try {
+      tls = transport::make_server_tls(options.tls_cert.string(), options.tls_key.string());
+    } catch (const std::exception& e) {
+      std::cerr << "incise-server: " << server::valid_utf8(e.what()) << "\n";
+      return 1;
+    }
+  }
+
   net::io_context ioc(options.threads);
   std::shared_ptr<server::Listener> listener;
   try {
     const net::ip::tcp::endpoint endpoint(net::ip::make_address(options.host), options.port);
-    listener = std::make_shared<server::Listener>(ioc, endpoint, app);
+    listener = std::make_shared<server::Listener>(ioc, endpoint, app, tls);
   } catch (const std::exception& e) {
     std::cerr << "incise-server: cannot listen on " << options.host << ":" << options.port << ": "
               << e.what() << "\n";
     return 1;
   }
   listener->run();
-  std::cout << "incise-server: listening on http://" << options.host << ":" << listener->port()
-            << std::endl;
+  std::cout << "incise-server: listening on " << (tls ? "https://" : "http://") << options.host
+            << ":" << listener->port() << std::endl;
 
   // Graceful shutdown: stop accepting, close agent links, give in-flight requests a moment.
   net::signal_set signals(ioc, SIGINT, SIGTERM);

@@ -114,6 +114,33 @@ TEST(ServerOptions, BehindAProxy) {
   EXPECT_EQ(parse_server_options({"--trusted-proxy"}).error, "--trusted-proxy needs an IP address");
 }
 
+TEST(ServerOptions, TlsNeedsBothTheCertificateAndTheKey) {
+  const auto parsed = parse_server_options({"--tls-cert", "c.pem", "--tls-key", "k.pem"});
+  ASSERT_TRUE(parsed.options) << parsed.error;
+  EXPECT_EQ(parsed.options->tls_cert, "c.pem");
+  EXPECT_EQ(parsed.options->tls_key, "k.pem");
+  EXPECT_TRUE(parse_server_options({}).options->tls_cert.empty());
+  EXPECT_EQ(parse_server_options({"--tls-cert", "c.pem"}).error,
+            "--tls-cert and --tls-key go together");
+  EXPECT_EQ(parse_server_options({"--tls-key", "k.pem"}).error,
+            "--tls-cert and --tls-key go together");
+  EXPECT_EQ(parse_server_options({"--tls-cert"}).error, "--tls-cert needs a PEM certificate file");
+}
+
+TEST(ReachedOverTls, ATlsConnectionOrTheTrustedProxySayingHttps) {
+  EXPECT_TRUE(reached_over_tls(true, "192.0.2.7", "", ""));
+  EXPECT_FALSE(reached_over_tls(false, "192.0.2.7", "", ""));
+  // The header from anyone but the trusted proxy is the client's own claim.
+  EXPECT_FALSE(reached_over_tls(false, "192.0.2.7", "https", ""));
+  EXPECT_FALSE(reached_over_tls(false, "192.0.2.7", "https", "10.0.0.2"));
+  EXPECT_TRUE(reached_over_tls(false, "10.0.0.2", "https", "10.0.0.2"));
+  EXPECT_FALSE(reached_over_tls(false, "10.0.0.2", "http", "10.0.0.2"));
+  EXPECT_FALSE(reached_over_tls(false, "10.0.0.2", "", "10.0.0.2"));
+  // What the proxy nearest to us appended counts.
+  EXPECT_TRUE(reached_over_tls(false, "10.0.0.2", "http, https", "10.0.0.2"));
+  EXPECT_FALSE(reached_over_tls(false, "10.0.0.2", "https,http ", "10.0.0.2"));
+}
+
 TEST(RequestClient, OnlyTheTrustedProxysLastForwardedAddressIsBelieved) {
   // Directly connected: the header is the client's own claim and ignored.
   EXPECT_EQ(request_client("192.0.2.7", "203.0.113.1", ""), "192.0.2.7");

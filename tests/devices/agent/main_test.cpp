@@ -221,7 +221,7 @@ TEST(Agent, CommandLine) {
   const std::pair<std::vector<std::string>, std::string> bad[] = {
       {{"--bogus"}, "incise-agent: unknown option '--bogus' (see --help)\n"},
       {{"--server", "http://x/agent"},
-       "incise-agent: --server http://x/agent: must start with ws:// (see --help)\n"},
+       "incise-agent: --server http://x/agent: must start with ws:// or wss:// (see --help)\n"},
       {{"--rate", "fast"},
        "incise-agent: --rate fast: must be a number of Hz in [250, 1000] (see --help)\n"},
       {{"--rate", "200"},

@@ -215,6 +215,27 @@ TEST(AgentOptions, TokenAndUnknownFlags) {
 }
 
 // The example shipped for the systemd unit parses and says what its comments say.
+TEST(AgentOptions, WssUrlsAskForTlsOnPort443AndTheCaComesFromTheFileOrCommandLine) {
+  const auto secure = parse_server_url("wss://lab.example:8443/agent");
+  ASSERT_TRUE(secure) << secure.error;
+  EXPECT_TRUE(secure.value->tls);
+  EXPECT_EQ(secure.value->port, "8443");
+  EXPECT_EQ(secure.value->url(), "wss://lab.example:8443/agent");
+  EXPECT_EQ(parse_server_url("wss://lab.example/agent").value->port, "443");
+  EXPECT_EQ(parse_server_url("ws://lab.example/agent").value->port, "80");
+  EXPECT_FALSE(parse_server_url("ws://lab.example/agent").value->tls);
+  EXPECT_EQ(parse_server_url("https://lab.example/agent").error,
+            "--server https://lab.example/agent: must start with ws:// or wss://");
+
+  const auto from_file = parse("server = wss://lab.example/agent\nca = /etc/incise/ca.pem\n", {});
+  ASSERT_TRUE(from_file) << from_file.error;
+  EXPECT_EQ(from_file.value->ca_file, "/etc/incise/ca.pem");
+  EXPECT_TRUE(from_file.value->server.tls);
+  const auto overridden = parse("ca = /etc/incise/ca.pem\n", {"--ca", "/tmp/site.pem"});
+  ASSERT_TRUE(overridden) << overridden.error;
+  EXPECT_EQ(overridden.value->ca_file, "/tmp/site.pem");
+}
+
 TEST(ConfigFile, TheDeployedExampleParses) {
   std::ifstream file(INCISE_AGENT_CONF);
   ASSERT_TRUE(file) << INCISE_AGENT_CONF;
@@ -224,6 +245,7 @@ TEST(ConfigFile, TheDeployedExampleParses) {
   const auto options = parse_agent_options({}, "token-from-env", *config.value);
   ASSERT_TRUE(options) << options.error;
   EXPECT_EQ(options.value->server.host, "incise.example.org");
+  EXPECT_TRUE(options.value->server.tls);
   EXPECT_EQ(options.value->devices, std::vector<std::string>{"simulated"});
   EXPECT_EQ(options.value->rate_hz, 500.0);
   EXPECT_TRUE(options.value->deadband);

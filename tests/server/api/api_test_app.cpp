@@ -69,7 +69,7 @@ Response ApiTest::call(const Call& c) {
     request.body() = *c.body;
   }
   request.prepare_payload();
-  return handle_api_request(request, *app_, c.client);
+  return handle_api_request(request, *app_, {c.client, c.https});
 }
 
 Response ApiTest::get(const std::string& target, const std::string& token) {

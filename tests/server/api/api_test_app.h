@@ -45,6 +45,7 @@ struct Call {
   std::string content_type = "application/json";  // sent when not empty and there is a body
   std::string origin;                             // Origin header; empty: none
   std::string client = kClient;                   // the remote address
+  bool https = false;                             // reached over TLS
 };
 
 class ApiTest : public ::testing::Test {
