@@ -3,7 +3,7 @@
 // failures with their seeds, and the worst cases. Exits 1 on any failure, 2 on bad arguments.
 //
 //   surgery_stability [--sequences N] [--steps M] [--seed S] [--scene liver|knee|both]
-//                     [--seconds T] [--verbose] [--no-simplify]
+//                     [--seconds T] [--verbose] [--no-simplify] [--trace N]
 //                     [--no-adaptivity]
 // Steps default to 1500 (liver) and 6000 (knee). Sequence k of a scene has seed S + k; --seconds
 // stops each scene after T / #scenes seconds (whatever --sequences says). Replay a failure: --scene
@@ -34,13 +34,14 @@ struct Options {
   bool verbose = false;    // a line per sequence
   bool simplify = true;    // --no-simplify: no sliver collapses after strokes (for comparison)
   bool adaptivity = true;  // --no-adaptivity: no refinement around the tools (for comparison)
+  int trace_every = 0;     // --trace N: a line every N steps of each sequence (stderr)
 };
 
 [[noreturn]] void usage(const std::string& why) {
   std::fprintf(stderr,
                "surgery_stability: %s\nusage: surgery_stability [--sequences N] [--steps M] "
                "[--seed S] [--scene liver|knee|both] [--seconds T] [--verbose] [--no-simplify] "
-               "[--no-adaptivity]\n",
+               "[--no-adaptivity] [--trace N]\n",
                why.c_str());
   std::exit(2);
 }
@@ -80,6 +81,9 @@ Options parse(int argc, char** argv) {
         } else {
           usage("--scene must be liver, knee or both, not " + value);
         }
+      } else if (arg == "--trace") {
+        o.trace_every = std::stoi(value);
+        if (o.trace_every < 1) usage("--trace must be >= 1");
       } else if (arg == "--seconds") {
         o.seconds = std::stod(value);
         if (!(o.seconds > 0)) usage("--seconds must be > 0");
@@ -125,7 +129,8 @@ int run_scene(const std::string& name, const Options& o, double budget) {
   const double build_seconds = std::chrono::duration<double>(Clock::now() - built).count();
   stab::GeneratorSettings generator = stab::default_generator(name);
   if (o.steps > 0) generator.steps = o.steps;
-  const stab::RunSettings run;
+  stab::RunSettings run;
+  run.trace_every = o.trace_every;
   std::vector<stab::SequenceResult> results;
   long rss_first = -1;  // after the first sequence: what the scene itself takes
   const auto start = Clock::now();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <exception>
 #include <fstream>
 #include <numbers>
@@ -523,6 +524,16 @@ SequenceResult run_sequence(const SurgicalSceneSpec& spec, const std::string& sc
       }
       return true;
     };
+    // --trace: how the run develops, to find where elements invert.
+    int traced = 0;
+    auto trace = [&] {
+      if (settings.trace_every <= 0 || traced++ % settings.trace_every != 0) return;
+      const TetMesh& mesh = tissue.mesh();
+      const Real speed = mesh.v.rows() > 0 ? mesh.v.rowwise().norm().maxCoeff() : 0;
+      std::fprintf(stderr, "  %-8s %5d  tets %5d  inverted %4d  speed %8.3g m/s  splits %d\n",
+                   phase, at, mesh.num_tets(), tissue.model().health().inverted_elements,
+                   static_cast<double>(speed), s.splits());
+    };
     bool ok = true;
     for (int n = 0; n < sequence.steps && ok; ++n) {
       phase = "sequence";
@@ -532,6 +543,7 @@ SequenceResult run_sequence(const SurgicalSceneSpec& spec, const std::string& sc
       s.step(inputs);
       ++r.steps;
       ok = observe();
+      trace();
     }
     // Every tool opened and taken home, then the tissue left alone.
     const std::vector<ToolInput> last = inputs;
@@ -546,6 +558,7 @@ SequenceResult run_sequence(const SurgicalSceneSpec& spec, const std::string& sc
       s.step(inputs);
       ++r.settle_steps;
       ok = observe();
+      trace();
     }
     const int settle_min = std::max(
         settings.settle_min_steps, static_cast<int>(std::ceil(settings.settle_min_time / spec.dt)));
@@ -555,6 +568,7 @@ SequenceResult run_sequence(const SurgicalSceneSpec& spec, const std::string& sc
       s.step(inputs);
       ++r.settle_steps;
       ok = observe();
+      trace();
       if (ok && n + 1 >= settle_min && (n + 1) % 50 == 0 &&
           tissue.model().health().inverted_elements == 0) {
         break;

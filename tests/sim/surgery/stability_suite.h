@@ -128,6 +128,7 @@ struct RunSettings {
   Real settle_min_time = 0.01;  // [s]
   int settle_max_steps = 6000;
   Real max_growth = 8;  // peak tets / initial tets above this is a failure (unbounded growth)
+  int trace_every = 0;  // > 0: a line to stderr every this many steps (surgery_stability --trace)
 };
 
 inline constexpr int kEventKinds = 5;  // EventKind's values
