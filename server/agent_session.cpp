@@ -83,7 +83,12 @@ void AgentSession::do_read() {
 }
 
 void AgentSession::on_read(beast::error_code ec, std::size_t bytes) {
-  if (ec) return;  // closed, timed out or reset: the destructor marks the station offline
+  if (ec) {
+    // Closed, timed out or reset: the destructor marks the station offline. A pending hello
+    // deadline would hold this session for up to 5 s more.
+    hello_timer_.cancel();
+    return;
+  }
   if (closing_) return;
   if (bytes > devices::kMaxMessageSize) {
     return do_close(websocket::close_code::too_big, "message of " + std::to_string(bytes) +
@@ -272,6 +277,7 @@ void AgentSession::close(std::string reason) {
 void AgentSession::do_close(websocket::close_code code, std::string reason) {
   if (closing_ || !ws_.is_open()) return;
   closing_ = true;
+  hello_timer_.cancel();
   ws_.async_close(websocket::close_reason(code, close_reason_text(reason)),
                   [self = shared_from_this()](beast::error_code) {});
 }

@@ -35,7 +35,14 @@ class MaybeTlsStream {
       : stream_(std::in_place_type<Tls>, std::move(tcp), context) {}
 
   MaybeTlsStream(MaybeTlsStream&&) = default;
-  MaybeTlsStream& operator=(MaybeTlsStream&&) = default;
+
+  // A TLS server whose client turned out to speak plain text (beast::async_detect_ssl): from here
+  // on the stream is the plain TCP stream underneath. Nothing on a plain stream.
+  void become_plain() {
+    if (!is_tls()) return;
+    Tcp tcp(std::move(this->tcp()));
+    stream_.emplace<Tcp>(std::move(tcp));
+  }
 
   executor_type get_executor() noexcept { return tcp().get_executor(); }
   bool is_tls() const noexcept { return std::holds_alternative<Tls>(stream_); }
@@ -97,6 +104,14 @@ class MaybeTlsStream {
   // The TLS handshake, or nothing on a plain stream (blocking).
   void handshake(boost::asio::ssl::stream_base::handshake_type type) {
     if (auto* s = tls()) s->handshake(type);
+  }
+
+  // A TLS server's handshake whose first bytes were already read (into `buffers`, e.g. by
+  // beast::async_detect_ssl); the handler gets (error, bytes of `buffers` used). TLS only.
+  template <class ConstBuffers, class Handler>
+  void async_handshake(boost::asio::ssl::stream_base::handshake_type type,
+                       const ConstBuffers& buffers, Handler&& handler) {
+    tls()->async_handshake(type, buffers, std::forward<Handler>(handler));
   }
 
   // The TLS handshake, or an immediate success on a plain stream.

@@ -68,19 +68,51 @@ HttpSession::HttpSession(net::ip::tcp::socket&& socket, std::shared_ptr<AppState
 
 void HttpSession::run() {
   net::dispatch(stream_.get_executor(), [self = shared_from_this()] {
-    // Plain HTTP "handshakes" at once.
+    if (!self->stream_.is_tls()) return self->do_read();
+    // On the HTTPS port, a browser sent to http:// speaks plain HTTP: the first bytes tell.
     self->stream_.tcp().expires_after(kHandshakeTimeout);
-    self->stream_.async_handshake(
-        net::ssl::stream_base::server,
-        beast::bind_front_handler(&HttpSession::on_handshake, self->shared_from_this()));
+    beast::async_detect_ssl(self->stream_.tcp(), self->buffer_,
+                            beast::bind_front_handler(&HttpSession::on_detect, self));
   });
 }
 
+void HttpSession::on_detect(beast::error_code ec, bool tls) {
+  if (ec) return stream_.tcp().close();
+  if (!tls) {
+    // Answered in plain text, the only thing it can read: where to go (redirect_to_https).
+    plain_on_tls_port_ = true;
+    stream_.become_plain();
+    return do_read();
+  }
+  stream_.async_handshake(net::ssl::stream_base::server, buffer_.data(),
+                          [self = shared_from_this()](beast::error_code ec, std::size_t used) {
+                            self->buffer_.consume(used);
+                            self->on_handshake(ec);
+                          });
+}
+
 void HttpSession::on_handshake(beast::error_code ec) {
-  // Plain HTTP to the TLS port, an untrusted certificate at the client, a scanner: nothing to
-  // answer in (there is no TLS session), so the connection just ends.
+  // An untrusted certificate at the client, an old protocol, a scanner: nothing to answer in
+  // (there is no TLS session), so the connection just ends.
   if (ec) return stream_.tcp().close();
   do_read();
+}
+
+Response HttpSession::redirect_to_https(const Request& request) const {
+  const auto host = request[http::field::host];
+  const bool fetch = request.method() == http::verb::get || request.method() == http::verb::head;
+  if (!fetch || host.empty() || !is_printable_ascii(host)) {
+    return json_error(http::status::bad_request, "this port speaks HTTPS only; use https://",
+                      request.version(), false);
+  }
+  Response response{http::status::moved_permanently, request.version()};
+  response.set(http::field::location,
+               "https://" + std::string(host) + std::string(request.target()));
+  response.set(http::field::content_type, "application/json");
+  response.body() = R"({"error":"this port speaks HTTPS only; use https://"})";
+  response.keep_alive(false);
+  response.prepare_payload();
+  return response;
 }
 
 void HttpSession::do_read() {
@@ -119,6 +151,7 @@ void HttpSession::on_read(beast::error_code ec, std::size_t) {
   caller_.https = reached_over_tls(stream_.is_tls(), client_, request["X-Forwarded-Proto"],
                                    config.trusted_proxy);
   if (auto refusal = refuse_request(request)) return send(std::move(*refusal));
+  if (plain_on_tls_port_) return send(redirect_to_https(request));
   if (beast::websocket::is_upgrade(request)) {
     // From here on the stream belongs to the WebSocket session (which keeps its own timeouts);
     // this HttpSession ends when this handler returns.

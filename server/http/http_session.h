@@ -40,7 +40,10 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   void run();
 
  private:
+  void on_detect(boost::beast::error_code ec, bool tls);
   void on_handshake(boost::beast::error_code ec);
+  // Plain HTTP on the HTTPS port: where to go instead (or 400), then the end of the connection.
+  Response redirect_to_https(const Request& request) const;
   void do_read();
   void on_read(boost::beast::error_code ec, std::size_t bytes);
   // Logins: handled on AppState::password_workers(), answered back on this connection's strand.
@@ -56,6 +59,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   std::shared_ptr<Response> response_;  // kept alive while it is written
   std::string client_;                  // the peer's address
   Caller caller_;                       // the current request's (behind a trusted proxy)
+  bool plain_on_tls_port_ = false;      // a plain-HTTP client on the HTTPS port
 };
 
 }  // namespace incise::server

@@ -1,6 +1,6 @@
 // The server over TLS (--tls-cert, --tls-key): the real incise-server with a certificate made by
 // the openssl command for this run, a Beast client that verifies it, and the real agent over
-// wss://. Plain HTTP to the TLS port must cost that connection only.
+// wss://. Plain HTTP to the TLS port is sent to https://.
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -164,20 +164,41 @@ TEST_F(TlsServer, AClientThatTrustsAnotherCertificateIsNotServed) {
   EXPECT_EQ(https_request(port_, cert().string(), http::verb::get, "/api/health").status, 200);
 }
 
-TEST_F(TlsServer, PlainHttpToTheTlsPortGetsNoAnswerAndCostsOnlyItsConnection) {
+// What a plain-HTTP client gets from the HTTPS port, and what it leaves behind: nothing.
+std::string plain_exchange(unsigned short port, const std::string& request) {
   net::io_context io;
   net::ip::tcp::socket socket(io);
-  socket.connect(net::ip::tcp::endpoint(net::ip::make_address("127.0.0.1"), port_));
-  const std::string plain = "GET /api/health HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
-  net::write(socket, net::buffer(plain));
-  // The server reads a TLS record header that is not one, and closes: no HTTP answer, which
-  // would be plain text on a TLS port.
-  std::string received(64, '\0');
+  socket.connect(net::ip::tcp::endpoint(net::ip::make_address("127.0.0.1"), port));
+  net::write(socket, net::buffer(request));
+  std::string received;
   boost::system::error_code ec;
-  const auto n = socket.read_some(net::buffer(received), ec);
-  received.resize(n);
-  EXPECT_EQ(received.find("HTTP/1.1"), std::string::npos) << received;
-  EXPECT_TRUE(ec == net::error::eof || ec == net::error::connection_reset || n > 0) << ec.message();
+  for (;;) {
+    char chunk[4096];
+    const auto n = socket.read_some(net::buffer(chunk), ec);
+    received.append(chunk, n);
+    if (ec) break;  // the server closes after answering
+  }
+  return received;
+}
+
+TEST_F(TlsServer, ABrowserSentToHttpIsRedirectedToHttps) {
+  const std::string port = std::to_string(port_);
+  const auto answer =
+      plain_exchange(port_, "GET /trainee?week=2 HTTP/1.1\r\nHost: 127.0.0.1:" + port + "\r\n\r\n");
+  EXPECT_TRUE(answer.starts_with("HTTP/1.1 301")) << answer;
+  EXPECT_NE(answer.find("Location: https://127.0.0.1:" + port + "/trainee?week=2\r\n"),
+            std::string::npos)
+      << answer;
+  // Never HSTS over plain HTTP, where anyone on the path could have written it.
+  EXPECT_EQ(answer.find("Strict-Transport-Security"), std::string::npos) << answer;
+  // A login sent in the clear is not followed anywhere: 400, nothing set.
+  const std::string body = R"({"username":"trainee","password":"incise-trainee-demo"})";
+  const auto login =
+      plain_exchange(port_, "POST /api/login HTTP/1.1\r\nHost: 127.0.0.1:" + port +
+                                "\r\nContent-Type: application/json\r\nContent-Length: " +
+                                std::to_string(body.size()) + "\r\n\r\n" + body);
+  EXPECT_TRUE(login.starts_with("HTTP/1.1 400")) << login;
+  EXPECT_EQ(login.find("Set-Cookie"), std::string::npos) << login;
   EXPECT_EQ(https_request(port_, cert().string(), http::verb::get, "/api/health").status, 200);
 }
 
