@@ -90,10 +90,13 @@ class MaybeTlsStream {
 
   // A client, before its handshake: names the server it dials (SNI, for a host name) and accepts
   // only a certificate for `host` (a name or an IP address) that the context's CAs vouch for.
-  // Nothing on a plain stream. False if OpenSSL refused the name.
+  // Nothing on a plain stream. False if OpenSSL refused the name. A TLS client's handshake fails
+  // (invalid_argument) until this was called: a chain check alone would accept any certificate
+  // the CAs issued, for any name.
   bool expect_server(const std::string& host) {
     auto* s = tls();
     if (!s) return true;
+    server_named_ = true;
     s->set_verify_callback(boost::asio::ssl::host_name_verification(host));
     boost::system::error_code not_an_address;
     boost::asio::ip::make_address(host, not_an_address);
@@ -101,8 +104,11 @@ class MaybeTlsStream {
     return SSL_set_tlsext_host_name(s->native_handle(), host.c_str()) == 1;
   }
 
-  // The TLS handshake, or nothing on a plain stream (blocking).
+  // The TLS handshake, or nothing on a plain stream (blocking). Throws system_error.
   void handshake(boost::asio::ssl::stream_base::handshake_type type) {
+    if (unnamed_client(type)) {
+      throw boost::system::system_error(boost::asio::error::invalid_argument, "server not named");
+    }
     if (auto* s = tls()) s->handshake(type);
   }
 
@@ -117,10 +123,12 @@ class MaybeTlsStream {
   // The TLS handshake, or an immediate success on a plain stream.
   template <class Handler>
   void async_handshake(boost::asio::ssl::stream_base::handshake_type type, Handler&& handler) {
-    if (auto* s = tls()) return s->async_handshake(type, std::forward<Handler>(handler));
-    boost::asio::post(get_executor(), [h = std::forward<Handler>(handler)]() mutable {
-      h(boost::system::error_code{});
-    });
+    auto* s = tls();
+    if (s && !unnamed_client(type)) return s->async_handshake(type, std::forward<Handler>(handler));
+    const boost::system::error_code result =
+        s ? boost::asio::error::invalid_argument : boost::system::error_code{};
+    boost::asio::post(get_executor(),
+                      boost::beast::bind_front_handler(std::forward<Handler>(handler), result));
   }
 
   // How Beast's timeouts close a stream (websocket::stream's idle and handshake timeouts): the
@@ -149,7 +157,12 @@ class MaybeTlsStream {
   }
 
  private:
+  bool unnamed_client(boost::asio::ssl::stream_base::handshake_type type) const {
+    return type == boost::asio::ssl::stream_base::client && is_tls() && !server_named_;
+  }
+
   std::variant<Tcp, Tls> stream_;
+  bool server_named_ = false;  // expect_server was called
 };
 
 // A stream over `tcp`: TLS with `context`, or plain text when it is null.

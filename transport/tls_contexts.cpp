@@ -12,6 +12,11 @@ std::shared_ptr<ssl::context> modern_context(ssl::context::method method) {
   context->set_options(ssl::context::default_workarounds | ssl::context::no_sslv2 |
                        ssl::context::no_sslv3 | ssl::context::no_tlsv1 | ssl::context::no_tlsv1_1 |
                        ssl::context::no_compression);
+  SSL_CTX_set_options(context->native_handle(), SSL_OP_NO_RENEGOTIATION);
+  // A key with a passphrase fails to load (with OpenSSL's reason) instead of prompting on a
+  // terminal a service does not have.
+  context->set_password_callback(
+      [](std::size_t, ssl::context::password_purpose) { return std::string(); });
   return context;
 }
 

@@ -101,7 +101,8 @@ void HttpSession::on_handshake(beast::error_code ec) {
 Response HttpSession::redirect_to_https(const Request& request) const {
   const auto host = request[http::field::host];
   const bool fetch = request.method() == http::verb::get || request.method() == http::verb::head;
-  if (!fetch || host.empty() || !is_printable_ascii(host)) {
+  // An origin-form target only ("/..."): "@elsewhere/" would make the Location another host.
+  if (!fetch || host.empty() || !is_printable_ascii(host) || !request.target().starts_with('/')) {
     return json_error(http::status::bad_request, "this port speaks HTTPS only; use https://",
                       request.version(), false);
   }
@@ -109,7 +110,9 @@ Response HttpSession::redirect_to_https(const Request& request) const {
   response.set(http::field::location,
                "https://" + std::string(host) + std::string(request.target()));
   response.set(http::field::content_type, "application/json");
-  response.body() = R"({"error":"this port speaks HTTPS only; use https://"})";
+  if (request.method() == http::verb::get) {
+    response.body() = R"({"error":"this port speaks HTTPS only; use https://"})";
+  }
   response.keep_alive(false);
   response.prepare_payload();
   return response;

@@ -67,9 +67,16 @@ TEST_F(LoginLimit, RepeatedFailuresGive429WithRetryAfter) {
     if (held.status == 429) break;
     ASSERT_TRUE(is_error(held, 401, "wrong username or password")) << failures;
   }
-  EXPECT_EQ(failures, LoginPolicy{}.free_per_pair + 1);
+  // The waits run on the real clock here, and a login under load can take longer than the first
+  // 1 s wait: then the next guess is let through and doubles it. The exact counts are
+  // login_limiter_test.cpp's, on a clock of its own.
+  const int free = LoginPolicy{}.free_per_pair;
+  EXPECT_GE(failures, free + 1);
+  EXPECT_LE(failures, free + 3);
+  EXPECT_EQ(held.status, 429);
   EXPECT_EQ(held.error().rfind("too many failed logins; try again in ", 0), 0u) << held.error();
-  EXPECT_EQ(held.retry_after, "1");
+  EXPECT_TRUE(held.retry_after == "1" || held.retry_after == "2" || held.retry_after == "4")
+      << held.retry_after;
   EXPECT_TRUE(held.set_cookies.empty());
   EXPECT_EQ(snapshot(), before);
   EXPECT_EQ(db_int("SELECT COUNT(*) FROM auth_sessions"), 0);

@@ -49,15 +49,16 @@ struct Reply {
   std::string body;
 };
 
-// One HTTPS request that trusts only `ca_file` and checks the certificate names 127.0.0.1.
-// Throws boost::system::system_error when the connection or the handshake fails.
+// One HTTPS request to 127.0.0.1 that trusts only `ca_file` and checks that the certificate names
+// `server_name`. Throws boost::system::system_error when the connection or the handshake fails.
 Reply https_request(unsigned short port, const std::string& ca_file, http::verb method,
-                    const std::string& target, const std::string& body = {}) {
+                    const std::string& target, const std::string& body = {},
+                    const std::string& server_name = "127.0.0.1") {
   net::io_context io;
   const auto context = transport::make_client_tls(ca_file);
   transport::MaybeTlsStream stream(beast::tcp_stream(io), *context);
   stream.tcp().connect(net::ip::tcp::endpoint(net::ip::make_address("127.0.0.1"), port));
-  if (!stream.expect_server("127.0.0.1")) throw std::runtime_error("cannot name the server");
+  if (!stream.expect_server(server_name)) throw std::runtime_error("cannot name the server");
   stream.handshake(net::ssl::stream_base::client);
   http::request<http::string_body> request{method, target, 11};
   request.set(http::field::host, "127.0.0.1:" + std::to_string(port));
@@ -181,6 +182,25 @@ std::string plain_exchange(unsigned short port, const std::string& request) {
   return received;
 }
 
+TEST_F(TlsServer, ATrustedCertificateForAnotherNameIsRefused) {
+  // The server's own certificate is trusted here; it names 127.0.0.1 and localhost only.
+  EXPECT_EQ(
+      https_request(port_, cert().string(), http::verb::get, "/api/health", {}, "localhost").status,
+      200);
+  try {
+    https_request(port_, cert().string(), http::verb::get, "/api/health", {}, "incise.example");
+    FAIL() << "the handshake accepted a certificate for another name";
+  } catch (const boost::system::system_error& e) {
+    EXPECT_EQ(e.code().category(), net::error::get_ssl_category()) << e.code().message();
+  }
+  // And a client that names no server at all does not even try.
+  net::io_context io;
+  const auto context = transport::make_client_tls(cert().string());
+  transport::MaybeTlsStream stream(beast::tcp_stream(io), *context);
+  stream.tcp().connect(net::ip::tcp::endpoint(net::ip::make_address("127.0.0.1"), port_));
+  EXPECT_THROW(stream.handshake(net::ssl::stream_base::client), boost::system::system_error);
+}
+
 TEST_F(TlsServer, ABrowserSentToHttpIsRedirectedToHttps) {
   const std::string port = std::to_string(port_);
   const auto answer =
@@ -199,6 +219,10 @@ TEST_F(TlsServer, ABrowserSentToHttpIsRedirectedToHttps) {
                                 std::to_string(body.size()) + "\r\n\r\n" + body);
   EXPECT_TRUE(login.starts_with("HTTP/1.1 400")) << login;
   EXPECT_EQ(login.find("Set-Cookie"), std::string::npos) << login;
+  // A target that is not a path is not made into a Location on another host.
+  const auto odd = plain_exchange(
+      port_, "GET @elsewhere.example/ HTTP/1.1\r\nHost: 127.0.0.1:" + port + "\r\n\r\n");
+  EXPECT_EQ(odd.find("Location"), std::string::npos) << odd;
   EXPECT_EQ(https_request(port_, cert().string(), http::verb::get, "/api/health").status, 200);
 }
 
