@@ -48,6 +48,27 @@ void refuse_websocket(transport::MaybeTlsStream&& stream, Request&& upgrade,
       });
 }
 
+// Plain HTTP on the HTTPS port: a page fetch goes to the same place under https://; anything else
+// (a login sent in the clear among it) is refused, not followed anywhere.
+Response redirect_to_https(const Request& request) {
+  const auto host = request[http::field::host];
+  const bool fetch = request.method() == http::verb::get || request.method() == http::verb::head;
+  // An origin-form target only ("/..."): "@elsewhere/" would make the Location another host.
+  const bool redirect =
+      fetch && !host.empty() && is_printable_ascii(host) && request.target().starts_with('/');
+  Response response =
+      json_error(redirect ? http::status::moved_permanently : http::status::bad_request,
+                 "this port speaks HTTPS only; use https://", request.version(), false);
+  if (!redirect) return response;
+  response.set(http::field::location,
+               "https://" + std::string(host) + std::string(request.target()));
+  if (request.method() == http::verb::head) {
+    response.body().clear();
+    response.prepare_payload();
+  }
+  return response;
+}
+
 }  // namespace
 
 bool checks_password(const Request& request) {
@@ -96,26 +117,6 @@ void HttpSession::on_handshake(beast::error_code ec) {
   // (there is no TLS session), so the connection just ends.
   if (ec) return stream_.tcp().close();
   do_read();
-}
-
-Response HttpSession::redirect_to_https(const Request& request) const {
-  const auto host = request[http::field::host];
-  const bool fetch = request.method() == http::verb::get || request.method() == http::verb::head;
-  // An origin-form target only ("/..."): "@elsewhere/" would make the Location another host.
-  if (!fetch || host.empty() || !is_printable_ascii(host) || !request.target().starts_with('/')) {
-    return json_error(http::status::bad_request, "this port speaks HTTPS only; use https://",
-                      request.version(), false);
-  }
-  Response response{http::status::moved_permanently, request.version()};
-  response.set(http::field::location,
-               "https://" + std::string(host) + std::string(request.target()));
-  response.set(http::field::content_type, "application/json");
-  if (request.method() == http::verb::get) {
-    response.body() = R"({"error":"this port speaks HTTPS only; use https://"})";
-  }
-  response.keep_alive(false);
-  response.prepare_payload();
-  return response;
 }
 
 void HttpSession::do_read() {

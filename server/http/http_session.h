@@ -42,8 +42,6 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
  private:
   void on_detect(boost::beast::error_code ec, bool tls);
   void on_handshake(boost::beast::error_code ec);
-  // Plain HTTP on the HTTPS port: where to go instead (or 400), then the end of the connection.
-  Response redirect_to_https(const Request& request) const;
   void do_read();
   void on_read(boost::beast::error_code ec, std::size_t bytes);
   // Logins: handled on AppState::password_workers(), answered back on this connection's strand.
