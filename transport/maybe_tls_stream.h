@@ -3,7 +3,7 @@
 // HTTPS when it is given a certificate (--tls-cert, --tls-key) and plain HTTP otherwise, and the
 // agent dials wss:// or ws://. One concrete type, so that the HTTP session, the WebSocket sessions
 // and the agent's link are written once rather than as templates over two streams. Both the
-// server and the agent use it; it holds no state beyond the stream itself.
+// server and the agent use it; beside the stream it keeps only whether a client named its server.
 //
 // It is an Asio AsyncReadStream and AsyncWriteStream (what Beast's http::async_read and
 // websocket::stream need), and it tells a websocket::stream how to tear it down (the free
