@@ -39,6 +39,9 @@ function(incise_precompile target)
     list(APPEND headers <boost/beast/websocket.hpp>)
   endif()
   target_precompile_headers(${target} PRIVATE ${headers})
+  if(TARGET ${target}_asan)  # its sanitized copy (cmake/sanitized.cmake) parses the same
+    target_precompile_headers(${target}_asan PRIVATE ${headers})
+  endif()
 endfunction()
 
 # The product's libraries.

@@ -1,6 +1,7 @@
 #include "sim/io/json_object_reader.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -17,7 +18,15 @@ namespace incise::sim {
 using nlohmann::json;
 
 std::string member_path(const std::string& path, std::string_view key) {
-  return path.empty() ? std::string(key) : path + "." + std::string(key);
+  // A key of other characters is quoted as JSON writes it: a NUL or a byte that is not UTF-8
+  // must not reach the message (a NUL ended what() there, found by the fuzzing).
+  const bool plain = !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '-';
+  });
+  const std::string shown =
+      plain ? std::string(key)
+            : json(std::string(key)).dump(-1, ' ', false, json::error_handler_t::replace);
+  return path.empty() ? shown : path + "." + shown;
 }
 
 std::string element_path(const std::string& path, std::size_t index) {

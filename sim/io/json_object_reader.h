@@ -13,7 +13,9 @@
 namespace incise::sim {
 
 // The JSON path of a member or element: member("material", "E") == "material.E",
-// element("loads", 0) == "loads[0]".
+// element("loads", 0) == "loads[0]". A key of other than letters, digits, '_' and '-' is quoted and
+// escaped as JSON writes it (member("", "a b") == "\"a b\""), so that a message never carries a
+// NUL, a control character or a byte that is not UTF-8.
 std::string member_path(const std::string& path, std::string_view key);
 std::string element_path(const std::string& path, std::size_t index);
 

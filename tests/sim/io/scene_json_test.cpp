@@ -6,6 +6,8 @@
 #include <fstream>
 #include <string>
 
+#include "sim/io/json_object_reader.h"
+#include "sim/scene/scene_error.h"
 #include "tests/support/temp_dir.h"
 
 namespace incise::sim {
@@ -346,6 +348,24 @@ INSTANTIATE_TEST_SUITE_P(
                 "off": 0.05}})",
                 "adaptivity.dt_min: refined tets are stable down to dt_min = 5e-05 s only, below "
                 "solver.dt = 1e-04 s (give a larger dt_min or a smaller dt)"}));
+
+// Found by the fuzzing (a key "\u0000" made what() end at its first byte): every key a message
+// names is readable, whatever bytes it holds.
+TEST(ParseSceneText, AnUnknownKeyOfAnyBytesIsNamedReadably) {
+  EXPECT_EQ(member_path("", "material"), "material");
+  EXPECT_EQ(member_path("material", "E"), "material.E");
+  EXPECT_EQ(member_path("", std::string_view("\0", 1)), "\"\\u0000\"");
+  EXPECT_EQ(member_path("a", "x y"), "a.\"x y\"");
+  EXPECT_EQ(member_path("a", "\xff"), "a.\"\xef\xbf\xbd\"");  // U+FFFD for the stray byte
+  try {
+    parse_scene_text(R"({"mesh": {"box": {"size": [1, 1, 1], "cells": [1, 1, 1]}}, "\u0000": 1})");
+    FAIL() << "an unknown key was accepted";
+  } catch (const SceneError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.find('\0'), std::string::npos);
+    EXPECT_EQ(what.rfind("\"\\u0000\": unknown key", 0), 0u) << what;
+  }
+}
 
 TEST(ParseSceneText, MalformedJsonSaysWhere) {
   try {
