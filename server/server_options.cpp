@@ -8,6 +8,7 @@ namespace incise::server {
 const char* const kServerUsage =
     "usage: incise-server [--host ADDR] [--port N] [--data DIR] [--web DIR] [--demo] [--threads "
     "N]\n"
+    "                     [--render-threads N]\n"
     "                     [--tls-cert FILE --tls-key FILE] [--secure-cookies] [--trusted-proxy "
     "ADDR]\n"
     "\n"
@@ -19,6 +20,8 @@ const char* const kServerUsage =
     "  --web DIR     the built dashboard (default ./web/dist)\n"
     "  --demo        on a new database, add demo logins, a station and a curriculum\n"
     "  --threads N   I/O threads (default 2)\n"
+    "  --render-threads N  threads (each with its EGL context) that render every session's and\n"
+    "                replay's pictures (default half the cores, 1 to 8)\n"
     "  --tls-cert FILE  serve HTTPS and wss:// (TLS 1.2 or newer) with this PEM certificate\n"
     "                chain; needs --tls-key FILE, its PEM private key. Without them: plain HTTP\n"
     "  --secure-cookies  always mark the login cookie Secure (it is whenever a request came over\n"
@@ -110,6 +113,11 @@ ParsedOptions parse_server_options(const std::vector<std::string>& args) {
         return {std::nullopt, "--threads needs a number from 1 to 64"};
       }
       o.threads = static_cast<int>(n);
+    } else if (arg == "--render-threads") {
+      if (!value(v) || !parse_int(v, 1, 64, n)) {
+        return {std::nullopt, "--render-threads needs a number from 1 to 64"};
+      }
+      o.render_threads = static_cast<int>(n);
     } else if (arg == "--data") {
       if (!value(v)) return {std::nullopt, "--data needs a directory"};
       o.data_dir = v;

@@ -15,6 +15,7 @@ struct ServerOptions {
   std::filesystem::path web_root = "web/dist";
   bool demo = false;
   int threads = 2;
+  int render_threads = 0;          // the render pool's size; 0: RenderPool::default_threads()
   bool secure_cookies = false;     // the login cookie carries Secure (served over HTTPS)
   std::string trusted_proxy;       // "" or the address whose X-Forwarded-For is believed
   std::filesystem::path tls_cert;  // PEM certificate chain: HTTPS when set (with tls_key)

@@ -12,6 +12,7 @@
 #include "server/app_state.h"
 #include "server/demo_data.h"
 #include "server/http/listener.h"
+#include "server/live/render_pool.h"
 #include "server/server_options.h"
 #include "server/wire_text.h"
 #include "transport/tls_contexts.h"
@@ -60,6 +61,10 @@ int main(int argc, char** argv) {
     std::cerr << "incise-server: " << e.what() << "\n";
     return 1;
   }
+
+  // Before any session exists: the pool starts with its first picture.
+  if (options.render_threads > 0)
+    server::live::RenderPool::configure_shared(options.render_threads);
 
   server::ServerConfig config;
   config.web_root = options.web_root;

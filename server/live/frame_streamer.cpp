@@ -10,15 +10,12 @@
 
 #include "server/live/session_scene.h"
 #include "sim/render/cut_opening.h"
-#include "sim/render/egl_context.h"
 #include "sim/render/frame_encoder.h"
 #include "sim/render/scene_renderer.h"
 
 namespace incise::server::live {
 namespace {
 
-// How often the render thread looks for due viewers when nothing pokes it.
-constexpr auto kIdleWait = std::chrono::milliseconds(2);
 // The marked cut line's ink dots [m].
 constexpr double kMarkRadius = 0.0015;
 // How far the picture opens a cut at the surface [m] (render/cut_opening.h): the gape of an
@@ -209,24 +206,47 @@ std::vector<render::StaticSurface> static_surfaces(const sim::surgery::SurgicalS
   return out;
 }
 
+// What a streamer keeps in its render thread's context: one renderer in the scene's style with its
+// surroundings, and one encoder per frame size in use. Viewers choose their size, so the set is
+// capped: the least recently used encoder goes when a new size needs room (each holds a
+// framebuffer and buffers).
+struct FrameStreamer::Pictures : RenderPool::ContextState {
+  Pictures(const sim::surgery::SurgicalSceneSetup* scene, std::vector<render::MarkView> zones)
+      : renderer(scene ? scene_style(*scene) : render::SceneStyle{}) {
+    if (scene) renderer.set_surroundings(static_surfaces(*scene, renderer.style()));
+    picture.set_zones(std::move(zones));
+  }
+  struct Encoder {
+    std::unique_ptr<render::FrameEncoder> encoder;
+    std::int64_t last_used = 0;
+  };
+  struct Job {
+    std::shared_ptr<FrameSink> sink;
+    FrameSink::Request request;
+    std::uint32_t frame_number;
+  };
+  render::SceneRenderer renderer;
+  std::map<std::pair<int, int>, Encoder> encoders;
+  std::int64_t pass = 0;
+  std::vector<std::uint8_t> jpeg;
+  SnapshotPicture picture;
+  std::vector<Job> jobs;
+};
+
 FrameStreamer::FrameStreamer(const StreamSource& source, render::Camera camera,
                              render::Camera outside,
                              std::shared_ptr<const sim::surgery::SurgicalSceneSetup> scene,
-                             std::vector<render::MarkView> zones)
+                             std::vector<render::MarkView> zones, RenderPool& pool)
     : source_(source),
       camera_(std::move(camera)),
       outside_(std::move(outside)),
       scene_(std::move(scene)),
       zones_(std::move(zones)),
-      thread_([this] { run(); }) {}
+      membership_(pool.join(*this)) {}
 
+// Leaving first: the render thread may be in a pass over this streamer's members.
 FrameStreamer::~FrameStreamer() {
-  {
-    std::lock_guard lock(mutex_);
-    stop_ = true;
-  }
-  wake_.notify_all();
-  thread_.join();
+  membership_ = {};
 }
 
 void FrameStreamer::add(const std::shared_ptr<FrameSink>& sink) {
@@ -238,11 +258,7 @@ void FrameStreamer::add(const std::shared_ptr<FrameSink>& sink) {
 }
 
 void FrameStreamer::poke() {
-  {
-    std::lock_guard lock(mutex_);
-    poked_ = true;
-  }
-  wake_.notify_all();
+  membership_.poke();
 }
 
 std::string FrameStreamer::error() const {
@@ -250,105 +266,78 @@ std::string FrameStreamer::error() const {
   return error_;
 }
 
-void FrameStreamer::run() {
-  // The GL objects must die before the context, on this thread: hence the nesting. Nothing may
-  // escape this function (an exception leaving a thread ends the process), so every failure
-  // becomes error_, shown to the viewers as render_error, and the session runs on without pictures.
-  std::optional<render::EglContext> context;
-  try {
-    context.emplace();
-    render_loop();
-  } catch (const std::exception& e) {
-    std::lock_guard lock(mutex_);
-    error_ = std::string(context ? "rendering stopped: " : "rendering unavailable: ") + e.what();
-    std::cerr << "incise-server: " << error_ << "\n";
-  }
+// The viewers see it as render_error, and the session runs on without pictures.
+void FrameStreamer::failed(const std::string& why) {
+  std::lock_guard lock(mutex_);
+  error_ = why;
+  std::cerr << "incise-server: " << why << "\n";
 }
 
-void FrameStreamer::render_loop() {
-  render::SceneRenderer renderer(scene_ ? scene_style(*scene_) : render::SceneStyle{});
-  if (scene_) renderer.set_surroundings(static_surfaces(*scene_, renderer.style()));
-  // One encoder per frame size in use. Viewers choose their size, so the set is capped: the least
-  // recently used encoder goes when a new size needs room (each holds a framebuffer and buffers).
-  struct Encoder {
-    std::unique_ptr<render::FrameEncoder> encoder;
-    std::int64_t last_used = 0;
-  };
-  std::map<std::pair<int, int>, Encoder> encoders;
-  std::int64_t pass = 0;
-  std::vector<std::uint8_t> jpeg;
-  SnapshotPicture picture;
-  picture.set_zones(zones_);
-  struct Job {
-    std::shared_ptr<FrameSink> sink;
-    FrameSink::Request request;
-    std::uint32_t frame_number;
-  };
-  std::vector<Job> jobs;
-  while (true) {
-    {
-      std::unique_lock lock(mutex_);
-      wake_.wait_for(lock, kIdleWait, [this] { return stop_ || poked_; });
-      if (stop_) return;
-      poked_ = false;
-    }
-    const auto snapshot = source_.snapshot();
-    if (!snapshot) continue;
-    const auto now = SteadyClock::now();
-    // Collect the viewers that want this snapshot, without holding the lock while rendering.
-    jobs.clear();
-    {
-      std::lock_guard lock(mutex_);
-      std::erase_if(sinks_, [](const Entry& e) { return e.sink.expired(); });
-      for (auto& entry : sinks_) {
-        auto sink = entry.sink.lock();
-        if (!sink) continue;
-        const std::uint64_t version = sink->settings_version();
-        if (entry.last_tick == snapshot->tick && entry.last_version == version) continue;
-        const auto request = sink->frame_wanted(now);
-        if (!request) continue;
-        entry.last_tick = snapshot->tick;
-        entry.last_version = version;
-        jobs.push_back({std::move(sink), *request, entry.next_frame++});
-      }
-    }
-    if (jobs.empty()) continue;
-    ++pass;
-    picture.prepare(*snapshot);
-    // Viewers asking for the same size share one rendering.
-    std::map<std::tuple<int, int, bool>, std::shared_ptr<const std::vector<std::uint8_t>>> rendered;
-    for (auto& job : jobs) {
-      const std::pair size{job.request.width, job.request.height};
-      auto& jpeg_of_size = rendered[{size.first, size.second, job.request.outside}];
-      if (!jpeg_of_size) {
-        auto it = encoders.find(size);
-        if (it == encoders.end()) {
-          if (encoders.size() >= kMaxEncoders) {
-            encoders.erase(std::min_element(encoders.begin(), encoders.end(),
-                                            [](const auto& a, const auto& b) {
-                                              return a.second.last_used < b.second.last_used;
-                                            }));
-          }
-          it = encoders
-                   .emplace(
-                       size,
-                       Encoder{std::make_unique<render::FrameEncoder>(size.first, size.second), 0})
-                   .first;
-        }
-        it->second.last_used = pass;
-        const render::Camera camera =
-            picture_camera(*snapshot, camera_, outside_, job.request.outside,
-                           static_cast<double>(size.first) / size.second);
-        picture.encode(renderer, *it->second.encoder, camera, jpeg);
-        ++frames_rendered_;
-        jpeg_of_size = std::make_shared<const std::vector<std::uint8_t>>(jpeg);
-      }
-      job.sink->deliver(job.frame_number,
-                        frame_message(job.frame_number, size.first, size.second,
-                                      snapshot->sim_time_s, *jpeg_of_size),
-                        snapshot->published_at);
+void FrameStreamer::render(std::unique_ptr<RenderPool::ContextState>& state) {
+  if (!state) state = std::make_unique<Pictures>(scene_.get(), zones_);
+  Pictures& pictures = static_cast<Pictures&>(*state);
+  auto& renderer = pictures.renderer;
+  auto& encoders = pictures.encoders;
+  auto& jpeg = pictures.jpeg;
+  auto& picture = pictures.picture;
+  auto& jobs = pictures.jobs;
+  const auto snapshot = source_.snapshot();
+  if (!snapshot) return;
+  const auto now = SteadyClock::now();
+  // Collect the viewers that want this snapshot, without holding the lock while rendering.
+  jobs.clear();
+  {
+    std::lock_guard lock(mutex_);
+    std::erase_if(sinks_, [](const Entry& e) { return e.sink.expired(); });
+    for (auto& entry : sinks_) {
+      auto sink = entry.sink.lock();
+      if (!sink) continue;
+      const std::uint64_t version = sink->settings_version();
+      if (entry.last_tick == snapshot->tick && entry.last_version == version) continue;
+      const auto request = sink->frame_wanted(now);
+      if (!request) continue;
+      entry.last_tick = snapshot->tick;
+      entry.last_version = version;
+      jobs.push_back({std::move(sink), *request, entry.next_frame++});
     }
   }
+  if (jobs.empty()) return;
+  const std::int64_t pass = ++pictures.pass;
+  picture.prepare(*snapshot);
+  // Viewers asking for the same size share one rendering.
+  std::map<std::tuple<int, int, bool>, std::shared_ptr<const std::vector<std::uint8_t>>> rendered;
+  for (auto& job : jobs) {
+    const std::pair size{job.request.width, job.request.height};
+    auto& jpeg_of_size = rendered[{size.first, size.second, job.request.outside}];
+    if (!jpeg_of_size) {
+      auto it = encoders.find(size);
+      if (it == encoders.end()) {
+        if (encoders.size() >= kMaxEncoders) {
+          encoders.erase(
+              std::min_element(encoders.begin(), encoders.end(), [](const auto& a, const auto& b) {
+                return a.second.last_used < b.second.last_used;
+              }));
+        }
+        it = encoders
+                 .emplace(size,
+                          Pictures::Encoder{
+                              std::make_unique<render::FrameEncoder>(size.first, size.second), 0})
+                 .first;
+      }
+      it->second.last_used = pass;
+      const render::Camera camera =
+          picture_camera(*snapshot, camera_, outside_, job.request.outside,
+                         static_cast<double>(size.first) / size.second);
+      picture.encode(renderer, *it->second.encoder, camera, jpeg);
+      ++frames_rendered_;
+      jpeg_of_size = std::make_shared<const std::vector<std::uint8_t>>(jpeg);
+    }
+    job.sink->deliver(job.frame_number,
+                      frame_message(job.frame_number, size.first, size.second, snapshot->sim_time_s,
+                                    *jpeg_of_size),
+                      snapshot->published_at);
+  }
+  jobs.clear();  // the sinks are not held between passes
 }
 
 }  // namespace incise::server::live

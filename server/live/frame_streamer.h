@@ -1,20 +1,19 @@
 #pragma once
-// Renders a session's snapshots for its viewers on one thread with its own EGL context, and hands
-// each viewer the newest frame at that viewer's size and rate. Flow control is the viewer's: it
-// says when it wants a frame (its rate is due and fewer than 2 frames are unacknowledged), so a
-// slow viewer simply gets fewer frames and nothing queues here.
+// Renders a session's snapshots for its viewers on a thread of the render pool (render_pool.h),
+// and hands each viewer the newest frame at that viewer's size and rate. Flow control is the
+// viewer's: it says when it wants a frame (its rate is due and fewer than 2 frames are
+// unacknowledged), so a slow viewer simply gets fewer frames and nothing queues here.
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <cstdint>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "curriculum/curriculum.h"
+#include "server/live/render_pool.h"
 #include "server/live/snapshot.h"
 #include "sim/render/camera.h"
 #include "sim/render/scene_renderer.h"
@@ -35,12 +34,12 @@ class FrameSink {
     bool outside = false;  // the camera outside the body rather than the scope
   };
   virtual ~FrameSink() = default;
-  // Called by the render thread: the size wanted if a frame is wanted now, else nullopt.
+  // Called on the render thread: the size wanted if a frame is wanted now, else nullopt.
   virtual std::optional<Request> frame_wanted(SteadyClock::time_point now) = 0;
   // Changes whenever the viewer changes what it asks for (size, camera): the same instant is then
   // drawn again for it, so that a paused replay shows the new view (poke the streamer after).
   virtual std::uint64_t settings_version() const { return 0; }
-  // Called by the render thread with the whole message (header + JPEG) for frame_number.
+  // Called on the render thread with the whole message (header + JPEG) for frame_number.
   virtual void deliver(std::uint32_t frame_number,
                        std::shared_ptr<const std::vector<std::uint8_t>> message,
                        SteadyClock::time_point published_at) = 0;
@@ -89,21 +88,21 @@ std::vector<render::MarkView> task_zones(const curriculum::Task& task);
 std::vector<render::StaticSurface> static_surfaces(const sim::surgery::SurgicalSceneSetup& setup,
                                                    const render::SceneStyle& style);
 
-class FrameStreamer {
+class FrameStreamer final : private RenderPool::Client {
  public:
-  // Starts the render thread. source must outlive the streamer. camera: the session's picture
-  // (a scope on a device replaces it once it reports); outside: the view from outside the body;
-  // scene: the style and the surroundings drawn around the tissue (null: the default style, none);
-  // zones: drawn in every picture (task_zones).
+  // Joins pool (the process's shared one by default). source must outlive the streamer. camera:
+  // the session's picture (a scope on a device replaces it once it reports); outside: the view
+  // from outside the body; scene: the style and the surroundings drawn around the tissue (null:
+  // the default style, none); zones: drawn in every picture (task_zones).
   FrameStreamer(const StreamSource& source, render::Camera camera, render::Camera outside,
                 std::shared_ptr<const sim::surgery::SurgicalSceneSetup> scene = nullptr,
-                std::vector<render::MarkView> zones = {});
-  ~FrameStreamer();  // stops and joins the render thread
+                std::vector<render::MarkView> zones = {}, RenderPool& pool = RenderPool::shared());
+  ~FrameStreamer() override;  // leaves the pool once a pass in progress is over
   FrameStreamer(const FrameStreamer&) = delete;
   FrameStreamer& operator=(const FrameStreamer&) = delete;
 
   void add(const std::shared_ptr<FrameSink>& sink);
-  // Wakes the render thread (a new snapshot or a viewer acknowledged a frame).
+  // Asks the render thread for a pass (a new snapshot or a viewer acknowledged a frame).
   void poke();
 
   // Empty while rendering works; else why it stopped (e.g. no EGL display), for the metrics.
@@ -111,8 +110,9 @@ class FrameStreamer {
   std::int64_t frames_rendered() const { return frames_rendered_.load(); }
 
  private:
-  void run();
-  void render_loop();
+  struct Pictures;  // the renderer and encoders, in the render thread's context
+  void render(std::unique_ptr<RenderPool::ContextState>& state) override;
+  void failed(const std::string& why) override;
 
   static constexpr std::size_t kMaxEncoders = 4;
 
@@ -122,9 +122,6 @@ class FrameStreamer {
   std::shared_ptr<const sim::surgery::SurgicalSceneSetup> scene_;
   std::vector<render::MarkView> zones_;
   mutable std::mutex mutex_;
-  std::condition_variable wake_;
-  bool stop_ = false;
-  bool poked_ = false;
   struct Entry {
     std::weak_ptr<FrameSink> sink;
     std::int64_t last_tick = -1;
@@ -134,7 +131,7 @@ class FrameStreamer {
   std::vector<Entry> sinks_;
   std::string error_;
   std::atomic<std::int64_t> frames_rendered_{0};
-  std::thread thread_;
+  RenderPool::Membership membership_;  // last: joined once everything above is in place
 };
 
 }  // namespace incise::server::live

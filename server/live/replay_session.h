@@ -40,8 +40,8 @@ class ReplaySession : public StreamSource {
                 std::vector<render::MarkView> zones = {});
   ~ReplaySession() override;
 
-  // Starts the replay thread and the render thread. The replay opens paused at t = 0, showing
-  // its first picture, at 1x: the viewer chooses when it plays.
+  // Starts the replay thread and its pictures (on the render pool). The replay opens paused at t =
+  // 0, showing its first picture, at 1x: the viewer chooses when it plays.
   void start();
   void play();
   void pause();

@@ -20,13 +20,14 @@ TEST(ServerOptions, DefaultsWithoutArguments) {
   EXPECT_EQ(o.web_root, "web/dist");
   EXPECT_FALSE(o.demo);
   EXPECT_EQ(o.threads, 2);
+  EXPECT_EQ(o.render_threads, 0);  // the pool's own default
   EXPECT_FALSE(o.help);
 }
 
 TEST(ServerOptions, EveryFlag) {
-  const auto parsed =
-      parse_server_options({"--host", "0.0.0.0", "--port", "0", "--data", "/var/lib/incise",
-                            "--web", "/srv/web", "--demo", "--threads", "4"});
+  const auto parsed = parse_server_options({"--host", "0.0.0.0", "--port", "0", "--data",
+                                            "/var/lib/incise", "--web", "/srv/web", "--demo",
+                                            "--threads", "4", "--render-threads", "3"});
   ASSERT_TRUE(parsed.options) << parsed.error;
   const auto& o = *parsed.options;
   EXPECT_EQ(o.host, "0.0.0.0");
@@ -35,6 +36,7 @@ TEST(ServerOptions, EveryFlag) {
   EXPECT_EQ(o.web_root, "/srv/web");
   EXPECT_TRUE(o.demo);
   EXPECT_EQ(o.threads, 4);
+  EXPECT_EQ(o.render_threads, 3);
   EXPECT_FALSE(o.help);
 }
 
@@ -61,7 +63,7 @@ TEST(ServerOptions, Help) {
     EXPECT_TRUE(parsed.options->help) << flag;
   }
   for (const char* flag : {"--host", "--port", "--data", "--web", "--demo", "--threads",
-                           "--secure-cookies", "--trusted-proxy", "--help"}) {
+                           "--render-threads", "--secure-cookies", "--trusted-proxy", "--help"}) {
     EXPECT_NE(std::string(kServerUsage).find(flag), std::string::npos) << flag;
   }
 }
@@ -86,6 +88,8 @@ TEST(ServerOptions, ErrorsNameTheProblem) {
       {{"--threads", "0"}, threads},
       {{"--threads", "65"}, threads},
       {{"--threads", "two"}, threads},
+      {{"--render-threads", "0"}, "--render-threads needs a number from 1 to 64"},
+      {{"--render-threads"}, "--render-threads needs a number from 1 to 64"},
       {{"--host"}, "--host needs an address"},
       {{"--data"}, "--data needs a directory"},
       {{"--web"}, "--web needs a directory"},
