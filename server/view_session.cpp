@@ -249,6 +249,7 @@ void ViewSession::send_metrics() {
       m["cut_area_m2"] = s->cut_area_m2;
       m["cut_mean_distance_m"] = s->cut_mean_distance_m;
       m["never_event"] = s->never_event;
+      m["inverted_tets_pulled"] = s->inverted_tets_pulled;
     }
     if (s->hands > 1) {
       m["tool_2"] = {s->second_tool_tip.x(), s->second_tool_tip.y(), s->second_tool_tip.z()};

@@ -32,13 +32,14 @@ std::string text_hash(std::string_view text);
 // level per tick (tick_record.h); runtime 4 makes a probe whose device first appears in the
 // tissue only once it is clear of it (sim/surgery/surgical_scene_tool.h), leaves a second hand
 // that has not reported out of the scene (SimEngine::tick) and rounds the damage strain in SIMD
-// lanes (sim/tools/damage_strain.h). Anything that changes a simulation's bits for the same
-// inputs takes the next number. Bit for bit holds on one kind of processor: the vectorised
+// lanes (sim/tools/damage_strain.h); runtime 5 pulls tissue left inside out back toward its rest
+// shape (SurgicalScene::inverted_tets_pulled). Anything that changes a simulation's bits for the
+// same inputs takes the next number. Bit for bit holds on one kind of processor: the vectorised
 // kernels are compiled twice (AVX2 with fused multiply-adds, and the baseline without) and the
 // loader picks one, so a recording made on one kind may replay with other round-off on the other.
-inline constexpr int kSceneRuntime = 4;
+inline constexpr int kSceneRuntime = 5;
 
-// What a recording stores: "<runtime>:<text_hash>", e.g. "4:85944171f73967e8". (Runtime 1 stored
+// What a recording stores: "<runtime>:<text_hash>", e.g. "5:85944171f73967e8". (Runtime 1 stored
 // the bare hash.)
 std::string scene_version(std::string_view text);
 

@@ -189,6 +189,7 @@ std::shared_ptr<Snapshot> make_snapshot(const SimEngine& engine) {
       }
     }
     s->scope = scene.scope_camera();
+    s->inverted_tets_pulled = scene.inverted_tets_pulled();
   }
   s->cut_area_m2 = damage.cut_area;
   s->cut_mean_distance_m = damage.cut_mean_distance;

@@ -59,6 +59,9 @@ struct Snapshot {
   double cut_area_m2 = 0;
   double cut_mean_distance_m = 0;
   bool never_event = false;
+  // Pulls of tissue left inside out back toward its rest shape (SurgicalScene::
+  // inverted_tets_pulled): the simulation recovering a tangle clear of the tools.
+  std::int64_t inverted_tets_pulled = 0;
   std::chrono::steady_clock::time_point published_at;
 };
 

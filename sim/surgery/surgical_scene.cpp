@@ -182,6 +182,7 @@ void SurgicalScene::step(std::span<const ToolInput> inputs) {
     bones(tool, static_cast<int>(k));
   }
   tissue_->end_step(spec_.dt, spec_.gravity, prescribed_);
+  recover_inverted();
   // Bone contacts: a rising edge per bone is a collision with a protected structure.
   for (std::size_t b = 0; b < bones_->size(); ++b) {
     const bool touching = bone_depths_[b] > 0;
@@ -203,6 +204,52 @@ void SurgicalScene::step(std::span<const ToolInput> inputs) {
     }
     strain_time_ = 0;
   }
+}
+
+void SurgicalScene::recover_inverted() {
+  const bool inverted = tissue_->model().health().inverted_elements > 0;
+  // A tangle that a pull undoes for a step and the dynamics redo is still the same tangle: the
+  // clocks restart only once the tissue has stayed clean for kRecoverAfterS.
+  clean_time_ = inverted ? 0 : clean_time_ + spec_.dt;
+  if (clean_time_ >= kRecoverAfterS) {
+    inverted_time_ = 0;
+    pulling_time_ = 0;
+  }
+  if (!inverted) return;
+  inverted_time_ += spec_.dt;
+  if (inverted_time_ < kRecoverAfterS) return;
+  // Each tool's reach, where an inverted tet is the contact's business: a probe's or scope's tip
+  // ball from its proxy (what touches) to its device point, a grasper's jaws opened wide, a
+  // scalpel's blade.
+  tool_segments_.clear();
+  for (const Tool& tool : tools_) {
+    if (!tool.has_input) continue;
+    switch (tool.spec.kind) {
+      case ToolKind::probe:
+      case ToolKind::scope:
+        tool_segments_.push_back({tool.probe ? tool.probe->proxy() : tool.tip, tool.tip,
+                                  tool.spec.probe.radius + kRecoverClearance});
+        break;
+      case ToolKind::grasper:
+        tool_segments_.push_back(
+            {tool.tip, tool.tip - tool.spec.grasp.jaw_length * tool.direction,
+             tool.spec.grasp.jaw_length * std::sin(tool.spec.max_jaw_angle / 2) +
+                 kRecoverClearance});
+        break;
+      case ToolKind::scalpel:
+        tool_segments_.push_back(
+            {tool.tip, tool.tip - tool.spec.blade_length * tool.direction, kRecoverClearance});
+        break;
+    }
+  }
+  // A tangle that outlasts the pull (a sliver held flat against a bone) is pulled twice as hard
+  // for every kRecoverDoublingS it has been pulled, up to a full projection; counted in whole
+  // doublings, so that a replay rounds exactly as the run did.
+  const int doublings = static_cast<int>(std::min(Real(30), pulling_time_ / kRecoverDoublingS));
+  const Real fraction = std::min(Real(1), std::ldexp(spec_.dt / kRecoverTimeS, doublings));
+  const int pulled = tissue_->recover_inverted(fraction, tool_segments_, &prescribed_.mask);
+  if (pulled > 0) pulling_time_ += spec_.dt;
+  inverted_tets_pulled_ += pulled;
 }
 
 tools::LocalForceModel SurgicalScene::force_model(int device) const {

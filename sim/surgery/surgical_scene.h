@@ -250,6 +250,20 @@ class SurgicalScene {
   int cuts_refused() const { return cuts_refused_; }
   // Strain records skipped because a strain was not finite (a running-away state).
   int strain_records_skipped() const { return strain_records_skipped_; }
+  // Tissue left inside out recovers: once some tet has stayed inverted for kRecoverAfterS, each
+  // step the inverted tets farther than kRecoverClearance from every tool (a probe's or scope's
+  // tip ball, a grasper's jaws, a scalpel's blade) pull toward their rest shapes
+  // (TissueBody::recover_inverted), dt / kRecoverTimeS of the way: a tangle relaxes with a time
+  // constant of kRecoverTimeS. One that outlasts that (held inside out against a bone) is pulled
+  // twice as hard for every kRecoverDoublingS it has been pulled, up to a full projection onto the
+  // rest shape each step. Nodes a grasper holds stay where it holds them. A tet inverted under a
+  // tool is left to the tool's contact. The pulls so far (a tet pulled on ten steps counts ten): a
+  // metric, the price of not leaving a tangle in the tissue.
+  std::int64_t inverted_tets_pulled() const { return inverted_tets_pulled_; }
+  static constexpr Real kRecoverAfterS = 0.05;
+  static constexpr Real kRecoverTimeS = 0.02;
+  static constexpr Real kRecoverDoublingS = 0.05;
+  static constexpr Real kRecoverClearance = 0.0005;  // [m]
   // Edge collapses made by the simplification after strokes (spec.simplify).
   int collapses() const { return collapses_; }
   // Adaptivity (spec.adaptivity): edges split, splits refused (an edge left long because a split
@@ -274,6 +288,9 @@ class SurgicalScene {
   SurgicalScene(const SurgicalScene&);
 
   void cut(Tool& tool, int index);
+  // After the step: TissueBody::recover_inverted clear of the tools, once inverted tets have
+  // lasted kRecoverAfterS.
+  void recover_inverted();
   // The scalpel's cutting resistance this step (tool.cutting_force), from the blade's depth in
   // the tissue and the tip's motion over the step; zero unless its stroke is open.
   void resist_cut(Tool& tool);
@@ -325,6 +342,13 @@ class SurgicalScene {
   int cuts_refused_ = 0;
   int shed_level_ = 0;
   int strain_records_skipped_ = 0;
+  std::int64_t inverted_tets_pulled_ = 0;
+  // The recovery's clocks [s]: the tissue with an inverted tet, and pulling it, since a tangle
+  // began; since the tissue last had an inverted tet.
+  Real inverted_time_ = 0;
+  Real pulling_time_ = 0;
+  Real clean_time_ = 0;
+  std::vector<TissueBody::Segment> tool_segments_;  // recover_inverted's scratch
   int collapses_ = 0;
   struct Region {
     Vec3 centre = Vec3::Zero();  // rest [m]

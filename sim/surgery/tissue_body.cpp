@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "sim/collide/mesh_surface_faces.h"
+#include "sim/models/rotation_extraction.h"
 #include "sim/solve/stable_time_step.h"
 
 namespace incise::sim::surgery {
@@ -71,6 +72,9 @@ TissueBody::TissueBody(TetMesh mesh, const ModelFactory& make_model, std::vector
 
 std::unique_ptr<TissueBody> TissueBody::clone() const {
   auto copy = std::unique_ptr<TissueBody>(new TissueBody(*this));
+  // recover_inverted's scratch is no state: a checkpoint does not carry it.
+  copy->recover_part_ = {};
+  copy->recover_fit_ = {};
   copy->condensed_ =
       condensed_ != nullptr ? dynamic_cast<HybridCondensedModel*>(copy->model_.get()) : nullptr;
   return copy;
@@ -156,6 +160,114 @@ void TissueBody::set_ambient_damping(Real per_second) {
 void TissueBody::end_step(Real dt, const Vec3& gravity, const Prescribed& prescribed) {
   if (ambient_damping_ > 0) mesh_.v /= 1 + ambient_damping_ * dt;
   symplectic_euler_step(dt, gravity, inv_mass_, prescribed, forces_, mesh_.x, mesh_.v);
+}
+
+namespace {
+Real distance_to_segment(const Vec3& p, const TissueBody::Segment& s) {
+  const Vec3 ab = s.b - s.a;
+  const Real length2 = ab.squaredNorm();
+  const Real t = length2 > 0 ? std::clamp((p - s.a).dot(ab) / length2, Real(0), Real(1)) : 0;
+  return (p - (s.a + t * ab)).norm();
+}
+}  // namespace
+
+int TissueBody::recover_inverted(Real fraction, std::span<const Segment> clear_of,
+                                 const AxisMask* held) {
+  const int nodes = mesh_.num_nodes();
+  const int tets = mesh_.num_tets();
+  // The tangles: inverted tets clear of the tools, joined into parts by shared nodes (a union-
+  // find over the nodes; -1: in no such tet).
+  std::vector<int>& part = recover_part_;
+  part.assign(static_cast<std::size_t>(nodes), -1);
+  const auto root = [&part](int node) {
+    while (part[static_cast<std::size_t>(node)] != node) {
+      int& up = part[static_cast<std::size_t>(node)];
+      up = part[static_cast<std::size_t>(up)];  // path halving
+      node = up;
+    }
+    return node;
+  };
+  int pulled = 0;
+  for (int t = 0; t < tets; ++t) {
+    if (!far_.empty() && far_[static_cast<std::size_t>(t)] != 0) continue;
+    const auto tet = mesh_.tets.row(t);
+    Mat3 ds;
+    for (int k = 0; k < 3; ++k)
+      ds.col(k) = (mesh_.x.row(tet(k + 1)) - mesh_.x.row(tet(0))).transpose();
+    // Rest tets are positively oriented (TetMesh): the sign of det Ds is det F's.
+    if (ds.determinant() > 0) continue;
+    bool near_tool = false;
+    for (int k = 0; k < 4 && !near_tool; ++k) {
+      for (const Segment& segment : clear_of) {
+        near_tool = near_tool ||
+                    distance_to_segment(mesh_.x.row(tet(k)).transpose(), segment) < segment.radius;
+      }
+    }
+    if (near_tool) continue;
+    for (int k = 0; k < 4; ++k) {
+      const int node = tet(k);
+      if (part[static_cast<std::size_t>(node)] < 0) part[static_cast<std::size_t>(node)] = node;
+    }
+    for (int k = 1; k < 4; ++k) {
+      const int a = root(tet(0));
+      const int b = root(tet(k));
+      if (a != b) part[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+    }
+    ++pulled;
+  }
+  if (pulled == 0) return 0;
+  // Each part's rigid fit to its rest shape (mass-weighted): the rotation nearest to
+  // A = sum m (x - c)(X - C)^T, the part then pulled toward c + R (X - C). Nodes that cannot
+  // move (held, the far field's) weigh a million times their mass: where a part has them, the
+  // fit is theirs, so that the free nodes are pulled to a shape that agrees with them.
+  const auto immovable = [this, held](int node) {
+    return inv_mass_(node) == 0 || far_field_node(node) ||
+           (held != nullptr && held->rows() == mesh_.num_nodes() && held->row(node).any());
+  };
+  const auto weight = [this, &immovable](int node) {
+    return masses()(node) * (immovable(node) ? 1e6 : 1);
+  };
+  recover_fit_.assign(static_cast<std::size_t>(nodes), PartFit{});
+  for (int node = 0; node < nodes; ++node) {
+    if (part[static_cast<std::size_t>(node)] < 0) continue;
+    PartFit& fit = recover_fit_[static_cast<std::size_t>(root(node))];
+    const Real m = weight(node);
+    fit.mass += m;
+    fit.centre += m * mesh_.x.row(node).transpose();
+    fit.rest_centre += m * mesh_.rest.row(node).transpose();
+  }
+  for (int node = 0; node < nodes; ++node) {
+    if (part[static_cast<std::size_t>(node)] != node) continue;
+    PartFit& fit = recover_fit_[static_cast<std::size_t>(node)];
+    if (!(fit.mass > 0)) continue;  // massless nodes only: never pulled (below)
+    fit.centre /= fit.mass;
+    fit.rest_centre /= fit.mass;
+  }
+  for (int node = 0; node < nodes; ++node) {
+    if (part[static_cast<std::size_t>(node)] < 0) continue;
+    PartFit& fit = recover_fit_[static_cast<std::size_t>(root(node))];
+    fit.covariance += weight(node) * (mesh_.x.row(node).transpose() - fit.centre) *
+                      (mesh_.rest.row(node) - fit.rest_centre.transpose());
+  }
+  for (int node = 0; node < nodes; ++node) {
+    if (part[static_cast<std::size_t>(node)] == node) {
+      PartFit& fit = recover_fit_[static_cast<std::size_t>(node)];
+      // Scaled to a unit norm (the rotation of a positive multiple is the same): polar_rotation
+      // is written for deformation gradients, of order 1, and its tolerances are absolute.
+      const Real norm = fit.covariance.norm();
+      if (fit.mass > 0 && norm > 0) fit.rotation = polar_rotation(fit.covariance / norm);
+    }
+  }
+  for (int node = 0; node < nodes; ++node) {
+    if (part[static_cast<std::size_t>(node)] < 0 || immovable(node)) continue;
+    const PartFit& fit = recover_fit_[static_cast<std::size_t>(root(node))];
+    if (!(fit.mass > 0)) continue;
+    const Vec3 target =
+        fit.centre + fit.rotation * (mesh_.rest.row(node).transpose() - fit.rest_centre);
+    mesh_.x.row(node) += fraction * (target - mesh_.x.row(node).transpose()).transpose();
+    mesh_.v.row(node).setZero();
+  }
+  return pulled;
 }
 
 cut::SimplifyReport TissueBody::simplify(std::span<const int> region,

@@ -94,6 +94,24 @@ class TissueBody {
   // Throws std::invalid_argument for dt <= 0 (as symplectic_euler_step).
   void end_step(Real dt, const Vec3& gravity, const Prescribed& prescribed);
 
+  // The recovery of tissue left inside out (SurgicalScene::inverted_tets_pulled). Nothing in the
+  // model brings back tissue that passed through tissue (there is no self-contact), and a
+  // corotational element can rest at det F < 0. The inverted tets (det F <= 0, far field apart)
+  // with no node within a segment's radius of it (`clear_of`: the tools) are joined into parts
+  // by shared nodes; each part is fitted rigidly to its rest shape (mass-weighted centroid and
+  // the rotation nearest to sum m (x - c)(X - C)^T), and its nodes are pulled `fraction` of the
+  // way toward the fit, and stopped (v = 0). Held nodes stay, and so do the nodes `held` masks (a
+  // grasper's, #nodes by 3; null: none). A part's rest shape is never
+  // inverted, so repeated pulls undo the tangle; a fit per tet instead pulled neighbours against
+  // each other and left a large tangle for good (docs/surgery_stability.md). Returns how many
+  // tets pulled.
+  struct Segment {
+    Vec3 a, b;
+    Real radius = 0;
+  };
+  int recover_inverted(Real fraction, std::span<const Segment> clear_of = {},
+                       const AxisMask* held = nullptr);
+
   // After the mesh's topology changed: tets_before is the tet count before the change, changed
   // the slots (< #tets now) whose tet is new or replaced. The model is updated locally when
   // neither the tet nor the node count shrank, else rebuilt (Model::update_topology); new nodes
@@ -183,6 +201,16 @@ class TissueBody {
   int softened_elements_ = 0;
   Real min_stiffness_factor_ = 1;
   Real max_mass_scale_ = 1;
+  // recover_inverted's scratch, per node: its part (union-find), and each part's fit at its root.
+  struct PartFit {
+    Real mass = 0;
+    Vec3 centre = Vec3::Zero();
+    Vec3 rest_centre = Vec3::Zero();
+    Mat3 covariance = Mat3::Zero();
+    Mat3 rotation = Mat3::Identity();
+  };
+  std::vector<int> recover_part_;
+  std::vector<PartFit> recover_fit_;
 };
 
 }  // namespace incise::sim::surgery

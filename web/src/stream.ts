@@ -66,6 +66,9 @@ export interface StreamMetrics {
   cut_area_m2?: number;
   cut_mean_distance_m?: number;
   never_event?: boolean;
+  /** Surgical scenes only: how often the simulation pulled tissue left inside out back toward
+   * its rest shape once no tool worked it (0 in a sound run). */
+  inverted_tets_pulled?: number;
   contact: boolean;
   steps: number;
   sim_rate_hz: number;

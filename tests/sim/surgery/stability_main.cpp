@@ -164,10 +164,12 @@ int run_scene(const std::string& name, const Options& o, double budget) {
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   int failures = 0;
   long steps = 0, settle = 0;
+  long recovered = 0;  // sequences whose tissue pulled inverted tets back (a tangle recovered)
   std::array<long, stab::kSegmentKinds> segments{};
   std::array<long, stab::kEventKinds> events{};
   for (const stab::SequenceResult& r : results) {
     failures += r.passed ? 0 : 1;
+    recovered += r.inverted_tets_pulled > 0 ? 1 : 0;
     steps += r.steps;
     settle += r.settle_steps;
     for (int k = 0; k < stab::kSegmentKinds; ++k)
@@ -187,6 +189,7 @@ int run_scene(const std::string& name, const Options& o, double budget) {
       settle, static_cast<double>(steps + settle) / seconds);
   std::printf("  RSS %ld KiB after the first sequence, %ld KiB after the last\n", rss_first,
               stab::resident_kib());
+  std::printf("  sequences whose tissue recovered inverted tets once left alone: %ld\n", recovered);
   std::printf("  segments:");
   for (int k = 0; k < stab::kSegmentKinds; ++k) {
     std::printf(" %s %ld", std::string(stab::to_string(static_cast<stab::SegmentKind>(k))).c_str(),
@@ -208,6 +211,7 @@ int run_scene(const std::string& name, const Options& o, double budget) {
   print_worst(results, "settle steps", [](const R& r) { return r.settle_steps; });
   print_worst(results, "max node speed at end [m/s]", [](const R& r) { return r.speed_at_end; });
   print_worst(results, "cuts refused", [](const R& r) { return r.cuts_refused; });
+  print_worst(results, "inverted tets pulled", [](const R& r) { return r.inverted_tets_pulled; });
   print_worst(results, "peak mass-scaled nodes",
               [](const R& r) { return r.peak_mass_scaled_nodes; });
   print_worst(results, "max mass scale", [](const R& r) { return r.max_mass_scale; });

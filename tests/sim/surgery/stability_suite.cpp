@@ -562,7 +562,9 @@ SequenceResult run_sequence(const SurgicalSceneSpec& spec, const std::string& sc
     }
     const int settle_min = std::max(
         settings.settle_min_steps, static_cast<int>(std::ceil(settings.settle_min_time / spec.dt)));
-    for (int n = 0; n < settings.settle_max_steps && ok; ++n) {
+    const int settle_max = std::max(
+        settings.settle_max_steps, static_cast<int>(std::ceil(settings.settle_max_time / spec.dt)));
+    for (int n = 0; n < settle_max && ok; ++n) {
       phase = "settle";
       at = n;
       s.step(inputs);
@@ -582,6 +584,7 @@ SequenceResult run_sequence(const SurgicalSceneSpec& spec, const std::string& sc
     r.splits = s.splits();
     r.splits_undone = s.splits_undone();
     r.cuts_refused = s.cuts_refused();
+    r.inverted_tets_pulled = s.inverted_tets_pulled();
     if (ok && r.inverted_at_end > 0) {
       fail(r, std::to_string(r.inverted_at_end) + " elements still inverted after " +
                   std::to_string(r.settle_steps) + " settle steps");

@@ -67,6 +67,11 @@ const rows: Row[] = [
     label: 'Protected structure cut',
     value: (m) => (m.never_event ? 'Yes: never event' : 'No'),
   },
+  {
+    key: 'tissue_recovery',
+    label: 'Tangled tissue recovered',
+    value: (m) => (m.inverted_tets_pulled ? `Yes (${m.inverted_tets_pulled} element pulls)` : 'No'),
+  },
   { key: 'contact', label: 'Tool contact', value: (m) => (m.contact ? 'Yes' : 'No') },
   {
     key: 'force_2_n',
@@ -103,7 +108,7 @@ const rows: Row[] = [
  */
 const live_only = new Set(['agent_online', 'pace', 'link', 'haptic_loop', 'haptic_devices']);
 /** Rows only a surgical scene (one that cuts) has. */
-const surgical_only = new Set(['cut', 'never_event']);
+const surgical_only = new Set(['cut', 'never_event', 'tissue_recovery']);
 
 export function LiveMetrics({ metrics, fps, replay }: { metrics: StreamMetrics | null; fps: number | null; replay: boolean }) {
   const shown = rows.filter(
