@@ -218,29 +218,35 @@ void SurgicalScene::recover_inverted() {
   if (!inverted) return;
   inverted_time_ += spec_.dt;
   if (inverted_time_ < kRecoverAfterS) return;
-  // Each tool's reach, where an inverted tet is the contact's business: a probe's or scope's tip
-  // ball from its proxy (what touches) to its device point, a grasper's jaws opened wide, a
-  // scalpel's blade.
+  // Each tool's reach, where an inverted tet is the tool's business: a tool that works the
+  // tissue (a probe or scope in contact, a grasper closing or holding, a scalpel's open stroke)
+  // reaches kRecoverWorkReach around its tip (a palpation press squeezes tets inside out a
+  // centimetre from the ball, and pulling them fought the press); any other tool its tip ball,
+  // jaws or blade, and kRecoverClearance beyond.
   tool_segments_.clear();
   for (const Tool& tool : tools_) {
     if (!tool.has_input) continue;
+    const bool working = tool.touching_bone || tool.stroke ||
+                         (tool.probe && !tool.probe->contacts().empty()) ||
+                         (tool.grasper && (tool.grasper->phase() == tools::GraspPhase::closing ||
+                                           tool.grasper->phase() == tools::GraspPhase::holding));
+    const Vec3 touch = tool.probe ? tool.probe->proxy() : tool.tip;
+    Vec3 back = tool.tip;  // the far end of what the tool puts in the tissue
+    Real radius = kRecoverClearance;
     switch (tool.spec.kind) {
       case ToolKind::probe:
       case ToolKind::scope:
-        tool_segments_.push_back({tool.probe ? tool.probe->proxy() : tool.tip, tool.tip,
-                                  tool.spec.probe.radius + kRecoverClearance});
+        radius += tool.spec.probe.radius;
         break;
       case ToolKind::grasper:
-        tool_segments_.push_back(
-            {tool.tip, tool.tip - tool.spec.grasp.jaw_length * tool.direction,
-             tool.spec.grasp.jaw_length * std::sin(tool.spec.max_jaw_angle / 2) +
-                 kRecoverClearance});
+        back = tool.tip - tool.spec.grasp.jaw_length * tool.direction;
+        radius += tool.spec.grasp.jaw_length * std::sin(tool.spec.max_jaw_angle / 2);
         break;
       case ToolKind::scalpel:
-        tool_segments_.push_back(
-            {tool.tip, tool.tip - tool.spec.blade_length * tool.direction, kRecoverClearance});
+        back = tool.tip - tool.spec.blade_length * tool.direction;
         break;
     }
+    tool_segments_.push_back({touch, back, working ? std::max(radius, kRecoverWorkReach) : radius});
   }
   // A tangle that outlasts the pull (a sliver held flat against a bone) is pulled twice as hard
   // for every kRecoverDoublingS it has been pulled, up to a full projection; counted in whole

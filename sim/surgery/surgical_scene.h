@@ -251,19 +251,20 @@ class SurgicalScene {
   // Strain records skipped because a strain was not finite (a running-away state).
   int strain_records_skipped() const { return strain_records_skipped_; }
   // Tissue left inside out recovers: once some tet has stayed inverted for kRecoverAfterS, each
-  // step the inverted tets farther than kRecoverClearance from every tool (a probe's or scope's
-  // tip ball, a grasper's jaws, a scalpel's blade) pull toward their rest shapes
-  // (TissueBody::recover_inverted), dt / kRecoverTimeS of the way: a tangle relaxes with a time
-  // constant of kRecoverTimeS. One that outlasts that (held inside out against a bone) is pulled
-  // twice as hard for every kRecoverDoublingS it has been pulled, up to a full projection onto the
-  // rest shape each step. Nodes a grasper holds stay where it holds them. A tet inverted under a
-  // tool is left to the tool's contact. The pulls so far (a tet pulled on ten steps counts ten): a
-  // metric, the price of not leaving a tangle in the tissue.
+  // step the inverted tets clear of every tool (kRecoverWorkReach from one that works the tissue,
+  // kRecoverClearance beyond the tip ball, jaws or blade of any other) pull toward their rest
+  // shapes (TissueBody::recover_inverted), dt / kRecoverTimeS of the way: a tangle relaxes with a
+  // time constant of kRecoverTimeS. One that outlasts that (held inside out against a bone) is
+  // pulled twice as hard for every kRecoverDoublingS it has been pulled, up to a full projection
+  // onto the rest shape each step. Nodes a grasper holds stay where it holds them. A tet inverted
+  // under a tool is left to the tool's contact. The pulls so far (a tet pulled on ten steps counts
+  // ten): a metric, the price of not leaving a tangle in the tissue.
   std::int64_t inverted_tets_pulled() const { return inverted_tets_pulled_; }
   static constexpr Real kRecoverAfterS = 0.05;
   static constexpr Real kRecoverTimeS = 0.02;
   static constexpr Real kRecoverDoublingS = 0.05;
   static constexpr Real kRecoverClearance = 0.0005;  // [m]
+  static constexpr Real kRecoverWorkReach = 0.02;    // [m]
   // Edge collapses made by the simplification after strokes (spec.simplify).
   int collapses() const { return collapses_; }
   // Adaptivity (spec.adaptivity): edges split, splits refused (an edge left long because a split

@@ -145,8 +145,8 @@ TEST(StabilitySuite, KneeScriptsAreBoundedAndSequencesLeaveTheTissueSound) {
 // and 6 (divergence after cuts), 9 and 44 (the organ swinging and tangling after jerks), knee 23
 // (mass scales of 3.6e10 after cuts). And the residual class, tissue left inside out until the
 // recovery of 2026-11-29 (SurgicalScene::inverted_tets_pulled): liver 6 (since runtime 3's
-// round-off, 44 tets) and 4102 (272 tets swinging at up to 4 m/s through the settle), knee 40
-// (9 tets) and 244 (one sliver held flat against a bone, which a gentle pull never turned). Each
+// round-off, 44 tets) and 4102 (272 tets swinging at up to 4 m/s through the settle), knee 97
+// (6 tets) and 244 (one sliver held flat against a bone, which a gentle pull never turned). Each
 // must now pass; the residual seeds by recovering.
 TEST(StabilitySuite, SeedsThatOnceFailedNowPass) {
   const SceneGeometry g = geometry_of(liver());
@@ -160,7 +160,7 @@ TEST(StabilitySuite, SeedsThatOnceFailedNowPass) {
     }
   }
   const SceneGeometry k = geometry_of(knee());
-  for (const std::uint64_t seed : {23, 40, 244}) {
+  for (const std::uint64_t seed : {23, 97, 244}) {
     const SequenceResult r = run_sequence(
         knee().spec, k.name, make_sequence(k, seed, default_generator("knee")), RunSettings{});
     EXPECT_TRUE(r.passed) << "knee seed " << seed << ": " << r.failure;
