@@ -18,20 +18,14 @@
 #include <vector>
 
 #include "server/live/frame_streamer.h"
+#include "tests/support/wait_for.h"
 
 namespace incise::server::live {
 namespace {
 
 using namespace std::chrono_literals;
 
-bool wait_for(const std::function<bool()>& done) {
-  const auto deadline = std::chrono::steady_clock::now() + 20s;
-  while (!done()) {
-    if (std::chrono::steady_clock::now() > deadline) return false;
-    std::this_thread::sleep_for(1ms);
-  }
-  return true;
-}
+using incise::test::wait_for;
 
 // The threads of this process now.
 int threads_now() {

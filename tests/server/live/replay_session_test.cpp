@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "test_scene.h"
+#include "tests/support/wait_for.h"
 
 namespace incise::server::live {
 namespace {
@@ -23,15 +24,7 @@ using test::kTickS;
 // 3.2 s of the script: long enough for checkpoints (every 250 ticks) to be passed and used.
 constexpr std::int64_t kTicks = 1600;
 
-// Polls `done` until it holds or 20 s pass (the replay runs on its own thread).
-bool wait_for(const std::function<bool()>& done) {
-  const auto deadline = std::chrono::steady_clock::now() + 20s;
-  while (!done()) {
-    if (std::chrono::steady_clock::now() > deadline) return false;
-    std::this_thread::sleep_for(1ms);
-  }
-  return true;
-}
+using incise::test::wait_for;
 
 TEST(ReplaySession, DurationAndSpeedBeforeStart) {
   ReplaySession replay(test::palpation_scene(), kTickS, test::scripted_records(kTicks));
