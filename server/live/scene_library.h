@@ -33,13 +33,15 @@ std::string text_hash(std::string_view text);
 // tissue only once it is clear of it (sim/surgery/surgical_scene_tool.h), leaves a second hand
 // that has not reported out of the scene (SimEngine::tick) and rounds the damage strain in SIMD
 // lanes (sim/tools/damage_strain.h); runtime 5 pulls tissue left inside out back toward its rest
-// shape (SurgicalScene::inverted_tets_pulled). Anything that changes a simulation's bits for the
+// shape (SurgicalScene::inverted_tets_pulled); runtime 6 frees a probe's or scope's tip that the
+// hand pulls back along its shaft (tools::Probe::set_shaft) and holds a scalpel's cut while tissue
+// near its blade is inverted (cut::tangled_near). Anything that changes a simulation's bits for the
 // same inputs takes the next number. Bit for bit holds on one kind of processor: the vectorised
 // kernels are compiled twice (AVX2 with fused multiply-adds, and the baseline without) and the
 // loader picks one, so a recording made on one kind may replay with other round-off on the other.
-inline constexpr int kSceneRuntime = 5;
+inline constexpr int kSceneRuntime = 6;
 
-// What a recording stores: "<runtime>:<text_hash>", e.g. "5:85944171f73967e8". (Runtime 1 stored
+// What a recording stores: "<runtime>:<text_hash>", e.g. "6:85944171f73967e8". (Runtime 1 stored
 // the bare hash.)
 std::string scene_version(std::string_view text);
 

@@ -1,5 +1,8 @@
 #include "sim/cut/material_map.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <Eigen/LU>
 
 namespace incise::sim::cut {
@@ -53,6 +56,28 @@ std::optional<MaterialMap> material_map_at(const TetMesh& mesh, const Vec3& p, R
   map.rest_origin = row3(mesh.rest, mesh.tets(t, 0));
   map.to_rest = dm * ds.inverse();
   return map;
+}
+
+bool tangled_near(const TetMesh& mesh, const Vec3& a, const Vec3& b, Real reach) {
+  // The edge sampled at reach / 2: a box grown by reach that the edge passes through holds one of
+  // the samples.
+  const int samples = 1 + static_cast<int>(std::ceil((b - a).norm() / (0.5 * reach)));
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    const Real rest_volume = edges_of(mesh.rest, mesh.tets, t).determinant();
+    if (edges_of(mesh.x, mesh.tets, t).determinant() * rest_volume > 0) continue;
+    Vec3 lo = row3(mesh.x, mesh.tets(t, 0)), hi = lo;
+    for (int k = 1; k < 4; ++k) {
+      lo = lo.cwiseMin(row3(mesh.x, mesh.tets(t, k)));
+      hi = hi.cwiseMax(row3(mesh.x, mesh.tets(t, k)));
+    }
+    lo.array() -= reach;
+    hi.array() += reach;
+    for (int s = 0; s < samples; ++s) {
+      const Vec3 p = a + (static_cast<Real>(s) / std::max(1, samples - 1)) * (b - a);
+      if ((p.array() >= lo.array()).all() && (p.array() <= hi.array()).all()) return true;
+    }
+  }
+  return false;
 }
 
 }  // namespace incise::sim::cut

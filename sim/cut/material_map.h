@@ -28,4 +28,10 @@ struct MaterialMap {
 std::optional<MaterialMap> material_map_at(const TetMesh& mesh, const Vec3& p, Real reach,
                                            Real min_volume_ratio = 0.05);
 
+// Whether some tet near the blade's edge a-b (its current bounding box within reach [m] of the
+// edge) is inverted in x: the tissue there is tangled, and a blade mapped into the material
+// through its neighbours would sweep material it never passed (a stroke through a tangle in the
+// knee split 700 tets into 16,000, most of them inverted). O(#tets).
+bool tangled_near(const TetMesh& mesh, const Vec3& a, const Vec3& b, Real reach);
+
 }  // namespace incise::sim::cut

@@ -67,9 +67,10 @@ struct FrameReport {
   // tracker records as cut (tools::DamageTracker::record_cut).
   Triangles committed_crack_face_nodes;
   std::vector<int> committed_crack_face_labels;  // the tissue label of the piece each bounds
-  // Material space only: no tet near the blade's tip, or that tet is squashed or inverted, so
-  // the blade has no place in the material and nothing was cut this frame (the temporary pieces
-  // were still undone; the stroke goes on).
+  // Material space only: no tet near the blade's tip, or that tet is squashed or inverted, or a
+  // tet near the blade is inverted (material_map.h's tangled_near), so the blade has no place in
+  // the material and nothing was cut this frame (the temporary pieces were still undone; the
+  // stroke goes on).
   bool blade_unmapped = false;
   int front_tets = 0;               // tets the blade is inside
   int temporary_tets = 0;           // temporary pieces now in the mesh

@@ -169,6 +169,7 @@ void SurgicalScene::step(std::span<const ToolInput> inputs) {
           }
           tool.probe.emplace(tool.spec.probe, tool.tip);
         }
+        tool.probe->set_shaft(-tool.direction);
         tool.probe->step(tool.tip, tissue_->bvh(), mesh.x, mesh.v, tissue_->masses(),
                          tissue_->forces(), &tissue_->inverse_masses());
         break;

@@ -23,9 +23,9 @@ void SurgicalScene::cut(Tool& tool, int index) {
   if (!tool.stroke && outside) return;
   // The blade cuts the material it passes through: the cutter maps it into the rest
   // configuration through the tet its tip is in, so tissue moving under the blade is not cut
-  // again (progressive_cutter.h). Where that tet is squashed or inverted (a violent push has
-  // tangled the tissue there) the blade has no place in the material: the cut waits until the
-  // tissue has recovered, and says so (cuts_refused).
+  // again (progressive_cutter.h). Where that tet is squashed or inverted, or any tet near the
+  // blade is inverted (a violent push has tangled the tissue there), the blade has no place in
+  // the material: the cut waits until the tissue has recovered, and says so (cuts_refused).
   if (!tool.cutter) {
     tool.cutter = std::make_unique<cut::ProgressiveCutter>(mesh, cut::CutOptions{}, 0,
                                                            cut::BladeSpace::material);

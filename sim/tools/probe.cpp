@@ -73,8 +73,9 @@ void Probe::step(const Vec3& device_position, const collide::SurfaceBvh& bvh, co
   // A proxy enclosed by the tissue (inside it, or between faces that face each other: a flap, a
   // crack that shut over it) that the hand has pulled on at max_force for kTrappedSteps steps
   // from outside the tissue is trapped: it slips out to the device, as a real tip would tear
-  // free. Counted in slips(). A proxy on the surface never slips: a hand pressing at max_force,
-  // even through to the far side of a thin part, keeps it there (no tunnelling).
+  // free. So is one the hand pulls back along its shaft (set_shaft). Counted in slips(). A proxy
+  // on the surface never slips otherwise: a hand pressing at max_force, even through to the far
+  // side of a thin part, keeps it there (no tunnelling).
   const Real kv = settings_.coupling_stiffness;
   if ((kv * (device_ - proxy_)).norm() > settings_.max_force) {
     ++saturated_steps_;
@@ -82,7 +83,7 @@ void Probe::step(const Vec3& device_position, const collide::SurfaceBvh& bvh, co
     saturated_steps_ = 0;
   }
   if (saturated_steps_ >= kTrappedSteps) {
-    if (enclosed(bvh, x, v, masses) && !inside(bvh, x, device_)) {
+    if ((withdrawn() || enclosed(bvh, x, v, masses)) && !inside(bvh, x, device_)) {
       proxy_ = device_;
       ++slips_;
     }
@@ -230,6 +231,17 @@ Mat3 Probe::balance(const collide::SurfaceBvh& bvh, const Points& x, const Point
       l *= scale;
   }
   return m;
+}
+
+void Probe::set_shaft(const Vec3& towards_hand) {
+  checks::check_vector(towards_hand, "Probe::set_shaft", "towards_hand");
+  const Real length = towards_hand.norm();
+  shaft_ = length > 0 ? Vec3(towards_hand / length) : Vec3::Zero();
+}
+
+bool Probe::withdrawn() const {
+  const Vec3 pull = device_ - proxy_;
+  return shaft_.dot(pull) > kShaftCone * pull.norm();  // never without a shaft
 }
 
 bool Probe::enclosed(const collide::SurfaceBvh& bvh, const Points& x, const Points& v,

@@ -119,8 +119,17 @@ class Probe {
   // Whether the last step's motion was stopped by the surface.
   bool blocked() const { return blocked_; }
   // Times the proxy slipped out to the device: enclosed by the tissue (inside it, or between faces
-  // facing each other), pulled on at max_force for kTrappedSteps steps from a device outside it.
+  // facing each other), or pulled back along its shaft (set_shaft), pulled on at max_force for
+  // kTrappedSteps steps from a device outside it.
   int slips() const { return slips_; }
+  // The direction from the tip back along the tool's shaft to the hand (normalised here), or zero
+  // for a bare tip (the default). A tip the hand pulls back along its shaft cannot be held by the
+  // tissue: tissue in its way has closed over the shaft, which the proxy does not model (a scope
+  // pulled out of the knee stayed behind a meniscus at 4 N for good). Within kShaftCone of it, a
+  // saturated pull from outside the tissue slips the proxy free as an enclosed one does.
+  // Throws std::invalid_argument for a non-finite direction.
+  void set_shaft(const Vec3& towards_hand);
+  static constexpr Real kShaftCone = 0.5;  // cos 60 degrees
   static constexpr int kTrappedSteps = 100;
 
   // The contact region of the last step. rest: #nodes by 3 rest positions [m] (the mesh's rest).
@@ -142,6 +151,9 @@ class Probe {
   std::vector<Vec3> corrections_;
   int saturated_steps_ = 0;
   int slips_ = 0;
+  Vec3 shaft_ = Vec3::Zero();  // unit, or zero: no shaft
+  // Whether the hand pulls the proxy back along its shaft (within kShaftCone).
+  bool withdrawn() const;
   // Active-set passes of the balance (a contact pulling would be adhesion: it leaves).
   static constexpr int kBalancePasses = 6;
   // Step 2 above on the contacts of response_ at proxy_ (p0): moves proxy_ to p, fills

@@ -93,7 +93,7 @@ TEST(SceneVersion, IsTheRuntimeAndTheFnv1a64OfTheTextInHex) {
   EXPECT_EQ(text_hash(""), "cbf29ce484222325");
   EXPECT_EQ(text_hash("a"), "af63dc4c8601ec8c");
   EXPECT_EQ(text_hash("foobar"), "85944171f73967e8");
-  EXPECT_EQ(scene_version("foobar"), "5:85944171f73967e8");
+  EXPECT_EQ(scene_version("foobar"), "6:85944171f73967e8");
 }
 
 TEST(SceneVersion, ARecordingReplaysOnItsRuntimeAgainstItsSceneText) {
@@ -105,24 +105,28 @@ TEST(SceneVersion, ARecordingReplaysOnItsRuntimeAgainstItsSceneText) {
   EXPECT_EQ(replay_refusal(liver_id, scene_version(liver), liver), "");
   // Runtime 1 (a bare hash) ran the block on the retired sim core simulation; runtimes 1 and 2
   // rounded the corotational forces differently, runtime 3 made a probe inside the tissue, and
-  // runtime 4 left tissue inside out: none replays bit for bit here.
+  // runtime 4 left tissue inside out, runtime 5 held a tip pulled back along its shaft and cut
+  // through tangles: none replays bit for bit here.
   EXPECT_EQ(replay_refusal(block_id, text_hash(block), block),
             "it was recorded on simulation runtime 1 (the palpation block's retired sim core "
-            "simulation), and this server replays runtime 5; its scores stand");
+            "simulation), and this server replays runtime 6; its scores stand");
   EXPECT_EQ(replay_refusal(liver_id, text_hash(liver), liver),
-            "it was recorded on simulation runtime 1, and this server replays runtime 5; its "
+            "it was recorded on simulation runtime 1, and this server replays runtime 6; its "
             "scores stand");
   EXPECT_EQ(replay_refusal(liver_id, "2:" + text_hash(liver), liver),
-            "it was recorded on simulation runtime 2, and this server replays runtime 5; its "
+            "it was recorded on simulation runtime 2, and this server replays runtime 6; its "
             "scores stand");
   EXPECT_EQ(replay_refusal(liver_id, "3:" + text_hash(liver), liver),
-            "it was recorded on simulation runtime 3, and this server replays runtime 5; its "
+            "it was recorded on simulation runtime 3, and this server replays runtime 6; its "
             "scores stand");
   EXPECT_EQ(replay_refusal(liver_id, "4:" + text_hash(liver), liver),
-            "it was recorded on simulation runtime 4, and this server replays runtime 5; its "
+            "it was recorded on simulation runtime 4, and this server replays runtime 6; its "
             "scores stand");
-  EXPECT_EQ(replay_refusal(block_id, "6:" + text_hash(block), block),
-            "it was recorded on simulation runtime 6, and this server replays runtime 5; its "
+  EXPECT_EQ(replay_refusal(liver_id, "5:" + text_hash(liver), liver),
+            "it was recorded on simulation runtime 5, and this server replays runtime 6; its "
+            "scores stand");
+  EXPECT_EQ(replay_refusal(block_id, "7:" + text_hash(block), block),
+            "it was recorded on simulation runtime 7, and this server replays runtime 6; its "
             "scores stand");
   // A changed scene refuses.
   EXPECT_EQ(replay_refusal(liver_id, scene_version(liver), liver + " "),
@@ -136,7 +140,7 @@ TEST(SceneVersion, IsStableAndChangesWithAnyOneCharacter) {
   const std::string text(find_scene("scenes/palpation.json")->text);
   const auto version = scene_version(text);
   ASSERT_EQ(version.size(), 18u);
-  EXPECT_EQ(version.substr(0, 2), "5:");
+  EXPECT_EQ(version.substr(0, 2), "6:");
   EXPECT_EQ(version.find_first_not_of("0123456789abcdef", 2), std::string::npos);
   EXPECT_EQ(scene_version(std::string(text)), version);  // depends on the text only
 

@@ -61,5 +61,43 @@ TEST(MaterialMap, RefusesASquashedOrInvertedTet) {
   EXPECT_TRUE(!mirrored || mirrored->tet != t);
 }
 
+// tangled_near: one tet of a 3 x 3 x 3 box turned inside out (a node mirrored through its
+// opposite face) is found by a blade passing within reach of its box, and by no other.
+TEST(MaterialMap, FindsAnInvertedTetNearTheBladeOnly) {
+  const TetMesh mesh = testing::jittered_box({3, 3, 3}, {3, 3, 3}, 0.1, 5);
+  const Real reach = 0.25;
+  // Unchanged, nothing is tangled anywhere.
+  EXPECT_FALSE(tangled_near(mesh, Vec3(-1, 1.5, 1.5), Vec3(4, 1.5, 1.5), reach));
+  // A tet of the corner cell at the origin, inverted.
+  int t = 0;
+  for (; t < mesh.num_tets(); ++t) {
+    Vec3 centroid = Vec3::Zero();
+    for (int k = 0; k < 4; ++k)
+      centroid += 0.25 * row3(mesh.rest, mesh.tets(t, k));
+    if ((centroid.array() < 1).all()) break;
+  }
+  ASSERT_LT(t, mesh.num_tets());
+  TetMesh tangled = mesh;
+  const Vec3 o = row3(mesh.x, mesh.tets(t, 0));
+  const Vec3 n = (row3(mesh.x, mesh.tets(t, 1)) - o).cross(row3(mesh.x, mesh.tets(t, 2)) - o);
+  const int d = mesh.tets(t, 3);
+  const Vec3 flat = row3(mesh.x, d) - n.normalized().dot(row3(mesh.x, d) - o) * n.normalized();
+  tangled.x.row(d) = (2 * flat - row3(mesh.x, d)).transpose();
+  Vec3 lo = row3(tangled.x, tangled.tets(t, 0)), hi = lo;
+  for (int k = 1; k < 4; ++k) {
+    lo = lo.cwiseMin(row3(tangled.x, tangled.tets(t, k)));
+    hi = hi.cwiseMax(row3(tangled.x, tangled.tets(t, k)));
+  }
+  // A blade through the tet's box, one passing just within reach of its top, one just beyond.
+  const Vec3 mid = 0.5 * (lo + hi);
+  EXPECT_TRUE(tangled_near(tangled, mid - Vec3(2, 0, 0), mid + Vec3(2, 0, 0), reach));
+  EXPECT_TRUE(tangled_near(tangled, Vec3(-2, mid.y(), hi.z() + 0.9 * reach),
+                           Vec3(2, mid.y(), hi.z() + 0.9 * reach), reach));
+  EXPECT_FALSE(tangled_near(tangled, Vec3(-2, mid.y(), hi.z() + 1.1 * reach),
+                            Vec3(2, mid.y(), hi.z() + 1.1 * reach), reach));
+  // A blade far across the box.
+  EXPECT_FALSE(tangled_near(tangled, Vec3(2.5, -1, 2.5), Vec3(2.5, 4, 2.5), reach));
+}
+
 }  // namespace
 }  // namespace incise::sim::cut

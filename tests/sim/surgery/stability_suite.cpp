@@ -35,6 +35,9 @@ class ScriptBuilder {
     const Portal* portal = this->portal();
     const Vec3 direction = portal != nullptr ? portal->direction : Vec3(-g_.up);
     script_.start.tip = portal != nullptr ? portal->position : g_.home;
+    script_.out = portal != nullptr
+                      ? Vec3(portal->position - DeviceScript::kOutOfPortal * direction)
+                      : g_.home;
     script_.start.orientation = pointing(direction, 0);
     script_.start.jaw = 1;
     tip_ = script_.start.tip;
@@ -533,6 +536,17 @@ SequenceResult run_sequence(const SurgicalSceneSpec& spec, const std::string& sc
       std::fprintf(stderr, "  %-8s %5d  tets %5d  inverted %4d  speed %8.3g m/s  splits %d\n",
                    phase, at, mesh.num_tets(), tissue.model().health().inverted_elements,
                    static_cast<double>(speed), s.splits());
+      // Each tool: whether it touches, where it is drawn (a probe's proxy), its input, the hand's
+      // force (a proxy held far from its input shows here).
+      for (std::size_t d = 0; d < devices; ++d) {
+        const ToolView v = s.tool_view(static_cast<int>(d));
+        const Vec3 f = s.force_model(static_cast<int>(d)).force;
+        std::fprintf(stderr,
+                     "    tool %zu  touching %d  at %7.4f %7.4f %7.4f  input %7.4f %7.4f %7.4f  "
+                     "hand %7.3f %7.3f %7.3f N\n",
+                     d, v.touching ? 1 : 0, v.tip.x(), v.tip.y(), v.tip.z(), inputs[d].tip.x(),
+                     inputs[d].tip.y(), inputs[d].tip.z(), f.x(), f.y(), f.z());
+      }
     };
     bool ok = true;
     for (int n = 0; n < sequence.steps && ok; ++n) {
@@ -545,14 +559,14 @@ SequenceResult run_sequence(const SurgicalSceneSpec& spec, const std::string& sc
       ok = observe();
       trace();
     }
-    // Every tool opened and taken home, then the tissue left alone.
+    // Every tool opened and taken out, then the tissue left alone.
     const std::vector<ToolInput> last = inputs;
     for (int n = 0; n < settings.retract_steps && ok; ++n) {
       phase = "retract";
       at = n;
       const Real t = static_cast<Real>(n + 1) / settings.retract_steps;
       for (std::size_t d = 0; d < devices; ++d) {
-        inputs[d].tip = last[d].tip + t * (sequence.devices[d].start.tip - last[d].tip);
+        inputs[d].tip = last[d].tip + t * (sequence.devices[d].out - last[d].tip);
         inputs[d].jaw = 1;
       }
       s.step(inputs);

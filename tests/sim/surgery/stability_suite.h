@@ -73,6 +73,11 @@ struct Move {
 struct DeviceScript {
   ToolKind kind = ToolKind::probe;
   ToolInput start;  // the input before the first move
+  // Where the tool is taken after the sequence [m]: home (liver), or out of the knee through its
+  // portal, kOutOfPortal behind it (a tool resting in its portal still touches what a cut set
+  // loose there).
+  Vec3 out = Vec3::Zero();
+  static constexpr Real kOutOfPortal = 0.03;  // [m]
   std::vector<Move> moves;
   std::vector<SegmentKind> segments;  // what the moves do, in order (for the report)
 };
@@ -119,11 +124,11 @@ class ScriptPlayer {
   int step_ = 0;  // steps done of the current move
 };
 
-// After the sequence every tool is opened and taken home over retract_steps; then the tissue is
-// left alone for at least settle_min_steps and settle_min_time, and until no element is inverted
-// (checked every 50 steps), at most settle_max_steps or settle_max_time, whichever is longer: an
-// element still inverted then is a failure. (The time: the knee's step is a sixth of the liver's,
-// and 6,000 of its steps are 0.19 s.)
+// After the sequence every tool is opened and taken out (DeviceScript::out) over retract_steps;
+// then the tissue is left alone for at least settle_min_steps and settle_min_time, and until no
+// element is inverted (checked every 50 steps), at most settle_max_steps or settle_max_time,
+// whichever is longer: an element still inverted then is a failure. (The time: the knee's step is a
+// sixth of the liver's, and 6,000 of its steps are 0.19 s.)
 struct RunSettings {
   int retract_steps = 100;
   int settle_min_steps = 300;

@@ -162,6 +162,55 @@ TEST(Probe, ATrappedProxySlipsOutToTheDevice) {
   EXPECT_EQ(probe.hand_force(), Vec3::Zero());
 }
 
+// A proxy on the far side of the tissue from the hand (here under a block whose base is held, the
+// device above it): tissue that came between the tip and the hand would have closed over the
+// tool's shaft, which the proxy does not model. Pulled back along its shaft at max_force for
+// kTrappedSteps steps, the tip slips free; without a shaft, or with the hand pushing the tip
+// forward through the block, it stays on the surface (no tunnelling).
+TEST(Probe, ATipPulledBackAlongItsShaftSlipsFree) {
+  struct Case {
+    Vec3 shaft;
+    int slips;
+  };
+  for (const Case& c : {Case{Vec3(0, 0, 2), 1}, Case{Vec3(0.5, 0, 1), 1}, Case{Vec3::Zero(), 0},
+                        Case{Vec3(0, 0, -1), 0}, Case{Vec3(1, 0, 0), 0}}) {
+    ContactBlock block{Vec3(0.02, 0.02, kTop), Vec3i(6, 6, 3), contact_testing::kSoft,
+                       ContactBlock::Clamp::base};
+    ProbeSettings settings = probe_settings(block);
+    settings.radius = 0.003;
+    settings.max_force = 0.2;
+    Probe probe(settings, Vec3(0.01, 0.01, -0.004));  // under the block, clear of it
+    probe.set_shaft(c.shaft);
+    const Vec3 above(0.01, 0.01, kTop + 0.03);
+    int steps = 0;
+    for (; steps < 3 * Probe::kTrappedSteps && probe.slips() == 0; ++steps) {
+      block.prepare();
+      probe.step(above, block.bvh, block.mesh.x, block.mesh.v, block.model->masses(), block.forces);
+      block.integrate();
+      ASSERT_TRUE(block.mesh.x.allFinite());
+    }
+    const std::string shaft = "shaft " + std::to_string(c.shaft.x()) + " " +
+                              std::to_string(c.shaft.y()) + " " + std::to_string(c.shaft.z());
+    EXPECT_EQ(probe.slips(), c.slips) << shaft;
+    if (c.slips > 0) {
+      // The pull saturates in the first steps; the slip follows kTrappedSteps later.
+      EXPECT_LE(steps, Probe::kTrappedSteps + 2) << shaft;
+      EXPECT_EQ(probe.proxy(), above) << shaft;
+    } else {
+      EXPECT_LT(probe.proxy().z(), 0) << shaft;  // still under the block
+      EXPECT_NEAR(probe.hand_force().norm(), settings.max_force, 1e-9) << shaft;
+    }
+  }
+}
+
+TEST(Probe, ShaftMustBeFinite) {
+  ContactBlock block{Vec3(0.02, 0.02, kTop), Vec3i(2, 2, 1), contact_testing::kSoft,
+                     ContactBlock::Clamp::base};
+  Probe probe(probe_settings(block), Vec3(0.01, 0.01, 0.03));
+  const Real nan = std::numeric_limits<Real>::quiet_NaN();
+  EXPECT_THROW(probe.set_shaft(Vec3(0, nan, 1)), std::invalid_argument);
+}
+
 TEST(Probe, HandModelPredictsTheNextStep) {
   PressedProbe pressed;
   const LocalForceModel model = pressed.probe.hand_force_model();
