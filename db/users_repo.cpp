@@ -38,7 +38,10 @@ User read_user(const Statement& q) {
 }  // namespace
 
 User UsersRepo::create(const NewUser& user, std::int64_t now) {
-  const std::string hash = hash_password(user.password);
+  return create(user, PasswordHash{hash_password(user.password)}, now);
+}
+
+User UsersRepo::create(const NewUser& user, const PasswordHash& hash, std::int64_t now) {
   try {
     db_.prepare(
            "INSERT INTO users (username, display_name, role, password_hash, created_at) VALUES "
@@ -46,7 +49,7 @@ User UsersRepo::create(const NewUser& user, std::int64_t now) {
         .bind(1, user.username)
         .bind(2, user.display_name)
         .bind(3, to_string(user.role))
-        .bind(4, hash)
+        .bind(4, hash.value)
         .bind(5, now)
         .run();
   } catch (const ConstraintError&) {
@@ -145,10 +148,13 @@ void UsersRepo::set_disabled(std::int64_t id, std::optional<std::int64_t> at) {
 }
 
 void UsersRepo::set_password(std::int64_t id, std::string_view password, bool must_change) {
-  const std::string hash = hash_password(password);
+  set_password(id, PasswordHash{hash_password(password)}, must_change);
+}
+
+void UsersRepo::set_password(std::int64_t id, const PasswordHash& hash, bool must_change) {
   Transaction tx(db_);
   db_.prepare("UPDATE users SET password_hash = ?, must_change_password = ? WHERE id = ?")
-      .bind(1, hash)
+      .bind(1, hash.value)
       .bind(2, must_change ? 1 : 0)
       .bind(3, id)
       .run();

@@ -31,12 +31,21 @@ struct NewUser {
   std::string password;  // plain text; only its argon2id hash is stored
 };
 
+// A password's stored form (hash_password's argon2id string), made before the database is touched:
+// hashing takes about 50 ms, and a caller that holds a lock or a transaction meanwhile stalls
+// everyone else's requests.
+struct PasswordHash {
+  std::string value;
+};
+
 class UsersRepo {
  public:
   explicit UsersRepo(Database& db) : db_(db) {}
 
-  // Throws Conflict when the username is taken.
+  // Throws Conflict when the username is taken. Hashes user.password here; a request handler
+  // hashes first, outside its lock, and passes the hash (user.password is then unused).
   User create(const NewUser& user, std::int64_t now);
+  User create(const NewUser& user, const PasswordHash& hash, std::int64_t now);
   std::optional<User> find(std::int64_t id);
   std::optional<User> find_by_username(std::string_view username);
   // The user when the password matches; takes about as long for an unknown username, so the
@@ -58,7 +67,9 @@ class UsersRepo {
   void set_disabled(std::int64_t id, std::optional<std::int64_t> at);
   // Replaces the password (hashed). must_change: the user must choose another before anything
   // else (an admin's reset); the reset also ends every login session of theirs. Throws NotFound.
+  // The first hashes here; a request handler hashes first, outside its lock.
   void set_password(std::int64_t id, std::string_view password, bool must_change);
+  void set_password(std::int64_t id, const PasswordHash& hash, bool must_change);
   // Whether `password` is the user's present one (for a change that proves the old password).
   bool password_matches(std::int64_t id, std::string_view password);
 

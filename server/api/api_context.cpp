@@ -3,10 +3,17 @@
 #include <algorithm>
 
 #include "db/auth_sessions_repo.h"
+#include "db/password.h"
 #include "server/api/api_error.h"
 #include "server/json_input.h"
 
 namespace incise::server {
+
+db::PasswordHash ApiContext::hash_password(std::string_view password) {
+  db::PasswordHash hash;
+  without_db_lock([&] { hash.value = db::hash_password(password); });
+  return hash;
+}
 
 const db::User& ApiContext::user() {
   const auto& u = signed_in();

@@ -114,8 +114,9 @@ ApiResponse change_own_password(ApiContext& ctx) {
     ctx.app.login_limiter().record_failure(user.username, ctx.client, ctx.now);
     throw ApiError(http::status::unprocessable_entity, "current_password is wrong");
   }
+  const db::PasswordHash hash = ctx.hash_password(next);
   db::Transaction tx(db);
-  users.set_password(user.id, next, false);
+  users.set_password(user.id, hash, false);
   // Every other login of theirs ends: whoever else held a cookie is out.
   db::AuthSessionsRepo(db).remove_others(user.id, ctx.cookie(kSessionCookie).value_or(""));
   audit_change(db, user.id, "user.password_change", user.username, ctx.now,

@@ -115,6 +115,8 @@ ApiResponse create_user(ApiContext& ctx) {
   user.role = *role;
   user.password = fields.string("password");
   check_new_password("password", user.password, user.username);
+  // Hashed first, without the lock: what follows reads the database after it.
+  const db::PasswordHash hash = ctx.hash_password(user.password);
   std::vector<std::int64_t> instructors;
   if (body.contains("instructor_ids")) {
     if (user.role != db::Role::trainee) {
@@ -124,7 +126,7 @@ ApiResponse create_user(ApiContext& ctx) {
   }
   db::UsersRepo users(ctx.app.db());
   db::Transaction tx(ctx.app.db());
-  const auto created = users.create(user, ctx.now);
+  const auto created = users.create(user, hash, ctx.now);
   if (!instructors.empty()) users.set_instructors(created.id, instructors, ctx.now);
   audit_change(ctx.app.db(), admin.id, "user.create",
                created.username + " (" + std::string(db::to_string(created.role)) + ")" +
@@ -174,14 +176,17 @@ ApiResponse reset_user_password(ApiContext& ctx) {
   const auto password = fields.string("password");
   auto& db = ctx.app.db();
   db::UsersRepo users(db);
-  const auto before = existing_user(users, ctx.path_id);
-  check_new_password("password", password, before.username);
-  if (before.id == admin.id) {
+  const auto named = existing_user(users, ctx.path_id);
+  check_new_password("password", password, named.username);
+  if (named.id == admin.id) {
     throw ApiError(http::status::conflict,
                    "reset only others' passwords; change your own with POST /api/me/password");
   }
+  // Hashed without the lock; the account is read again after (it may have changed meanwhile).
+  const db::PasswordHash hash = ctx.hash_password(password);
+  const auto before = existing_user(users, named.id);
   db::Transaction tx(db);
-  users.set_password(before.id, password, true);
+  users.set_password(before.id, hash, true);
   audit_change(db, admin.id, "user.password_reset", before.username, ctx.now,
                {{"must_change_password", before.must_change_password}},
                {{"must_change_password", true}});

@@ -73,9 +73,15 @@ Response redirect_to_https(const Request& request) {
 
 bool checks_password(const Request& request) {
   if (request.method() != http::verb::post) return false;
-  const auto target = request.target();
-  const auto path = target.substr(0, target.find('?'));
-  return path == "/api/login" || path == "/api/me/password";
+  const std::string_view target(request.target().data(), request.target().size());
+  const std::string_view path = target.substr(0, target.find('?'));
+  if (path == "/api/login" || path == "/api/me/password" || path == "/api/users") return true;
+  // POST /api/users/{id}/password (an admin's reset)
+  constexpr std::string_view users = "/api/users/", password = "/password";
+  if (!path.starts_with(users) || !path.ends_with(password)) return false;
+  const std::string_view rest = path.substr(users.size());  // "{id}/password"
+  return rest.size() > password.size() &&
+         rest.substr(0, rest.size() - password.size()).find('/') == std::string_view::npos;
 }
 
 HttpSession::HttpSession(net::ip::tcp::socket&& socket, std::shared_ptr<AppState> app,

@@ -23,8 +23,9 @@ void set_security_headers(Response& response, bool tls);
 // The checks every request passes before anything routes it: a printable-ASCII target, and Host
 // on HTTP/1.1. The refusal, or nullopt.
 std::optional<Response> refuse_request(const Request& request);
-// Whether the request checks a password (POST /api/login, /api/me/password): such requests run on
-// AppState::password_workers(), never on an I/O thread.
+// Whether the request checks or hashes a password (POST /api/login, /api/me/password, /api/users,
+// /api/users/{id}/password): such requests run on AppState::password_workers(), never on an I/O
+// thread (argon2id takes about 50 ms).
 bool checks_password(const Request& request);
 // Whether a request target is the REST API's (/api, /api/..., with any query): else a file.
 bool is_api_target(std::string_view target);

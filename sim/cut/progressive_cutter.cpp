@@ -359,7 +359,7 @@ const FrameReport& ProgressiveCutter::update(const Vec3& a, const Vec3& b) {
   if (space_ == BladeSpace::material) {
     const std::optional<MaterialMap> map =
         material_map_at(*mesh_, a, (a - b).norm() + 4 * pose_spacing_);
-    if (!map || tangled_near(*mesh_, a, b, 4 * pose_spacing_)) {
+    if (!map || tangled_near(*mesh_, a, b, pose_spacing_)) {
       frame_.blade_unmapped = true;
       finish_changed();
       return frame_;
