@@ -1,6 +1,7 @@
 #pragma once
-// The threads that check passwords (argon2id: about 50 ms of CPU and 64 MiB each). Logins run
-// here rather than on the I/O threads, so that a burst of them never delays other requests or the
+// The threads that check and hash passwords (argon2id: about 50 ms of CPU and 64 MiB each).
+// Logins, password changes, new users and resets (http_session.h: checks_password) run here
+// rather than on the I/O threads, so that a burst of them never delays other requests or the
 // live streams; a bounded number of threads bounds their memory, and a bounded queue turns a
 // flood into quick 503s instead of minutes of waiting.
 #include <atomic>

@@ -74,7 +74,9 @@ class ApiContext {
     db_lock->lock();
   }
   // password's stored form (db::hash_password: about 50 ms of argon2id), made without the
-  // database lock: hash before reading what the change depends on, or read it again after.
+  // database lock: hash before reading what the change depends on, or read it again after. The
+  // signed-in user, if any, is read again after (401 if their login ended meanwhile): a handler
+  // checks their role after this.
   db::PasswordHash hash_password(std::string_view password);
 
   // The logged-in user; throws 401 when there is none or the session expired, and 403 while

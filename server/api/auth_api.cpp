@@ -110,12 +110,18 @@ ApiResponse change_own_password(ApiContext& ctx) {
   // A stolen cookie must not be able to take the account over, nor guess the password here
   // faster than at the login: the same limiter counts these failures.
   check_login_limit(ctx, user.username, "failed attempts");
-  if (!password_checks(ctx, current, users.password_hash(user.id))) {
+  const std::string checked = users.password_hash(user.id);
+  if (!password_checks(ctx, current, checked)) {
     ctx.app.login_limiter().record_failure(user.username, ctx.client, ctx.now);
     throw ApiError(http::status::unprocessable_entity, "current_password is wrong");
   }
-  const db::PasswordHash hash = ctx.hash_password(next);
+  const db::PasswordHash hash = ctx.hash_password(next);  // reads `user` again
   db::Transaction tx(db);
+  // Both ran without the lock: an admin's reset (or another change) meanwhile wins.
+  if (users.password_hash(user.id) != checked) {
+    throw ApiError(http::status::conflict,
+                   "your password was changed meanwhile; log in again and retry");
+  }
   users.set_password(user.id, hash, false);
   // Every other login of theirs ends: whoever else held a cookie is out.
   db::AuthSessionsRepo(db).remove_others(user.id, ctx.cookie(kSessionCookie).value_or(""));

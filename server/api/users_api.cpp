@@ -115,13 +115,14 @@ ApiResponse create_user(ApiContext& ctx) {
   user.role = *role;
   user.password = fields.string("password");
   check_new_password("password", user.password, user.username);
-  // Hashed first, without the lock: what follows reads the database after it.
+  if (body.contains("instructor_ids") && user.role != db::Role::trainee) {
+    throw ApiError(http::status::unprocessable_entity, "only trainees have instructor_ids");
+  }
+  // Hashed without the lock, before what follows reads the database; the admin is checked again.
   const db::PasswordHash hash = ctx.hash_password(user.password);
+  ctx.require_role({db::Role::admin});
   std::vector<std::int64_t> instructors;
   if (body.contains("instructor_ids")) {
-    if (user.role != db::Role::trainee) {
-      throw ApiError(http::status::unprocessable_entity, "only trainees have instructor_ids");
-    }
     instructors = instructor_ids(ctx.app.db(), body["instructor_ids"]);
   }
   db::UsersRepo users(ctx.app.db());
@@ -182,8 +183,10 @@ ApiResponse reset_user_password(ApiContext& ctx) {
     throw ApiError(http::status::conflict,
                    "reset only others' passwords; change your own with POST /api/me/password");
   }
-  // Hashed without the lock; the account is read again after (it may have changed meanwhile).
+  // Hashed without the lock; the admin and the account are read again after (either may have
+  // changed meanwhile).
   const db::PasswordHash hash = ctx.hash_password(password);
+  ctx.require_role({db::Role::admin});
   const auto before = existing_user(users, named.id);
   db::Transaction tx(db);
   users.set_password(before.id, hash, true);

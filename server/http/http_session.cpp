@@ -231,7 +231,7 @@ void HttpSession::answer_on_password_worker() {
   };
   if (app_->password_workers().try_post(std::move(job))) return;
   auto busy = json_error(http::status::service_unavailable,
-                         "too many logins are being checked; try again in a moment",
+                         "too many passwords are being checked; try again in a moment",
                          parser_->get().version(), parser_->get().keep_alive());
   busy.set(http::field::retry_after, "1");
   send(std::move(busy));

@@ -1,7 +1,7 @@
 #include "sim/cut/material_map.h"
 
 #include <algorithm>
-#include <cmath>
+#include <utility>
 
 #include <Eigen/LU>
 
@@ -59,9 +59,24 @@ std::optional<MaterialMap> material_map_at(const TetMesh& mesh, const Vec3& p, R
 }
 
 bool tangled_near(const TetMesh& mesh, const Vec3& a, const Vec3& b, Real reach) {
-  // The edge sampled at reach / 2: a box grown by reach that the edge passes through holds one of
-  // the samples.
-  const int samples = 1 + static_cast<int>(std::ceil((b - a).norm() / (0.5 * reach)));
+  reach = std::max(Real(0), reach);
+  const Vec3 d = b - a;
+  // Whether the edge a + s d, s in [0, 1], meets the box [lo, hi] (the slabs, axis by axis).
+  const auto meets = [&](const Vec3& lo, const Vec3& hi) {
+    Real enter = 0, leave = 1;
+    for (int k = 0; k < 3; ++k) {
+      if (d[k] == 0) {
+        if (a[k] < lo[k] || a[k] > hi[k]) return false;
+        continue;
+      }
+      Real s0 = (lo[k] - a[k]) / d[k], s1 = (hi[k] - a[k]) / d[k];
+      if (s0 > s1) std::swap(s0, s1);
+      enter = std::max(enter, s0);
+      leave = std::min(leave, s1);
+      if (enter > leave) return false;
+    }
+    return true;
+  };
   for (int t = 0; t < mesh.num_tets(); ++t) {
     const Real rest_volume = edges_of(mesh.rest, mesh.tets, t).determinant();
     if (edges_of(mesh.x, mesh.tets, t).determinant() * rest_volume > 0) continue;
@@ -70,12 +85,7 @@ bool tangled_near(const TetMesh& mesh, const Vec3& a, const Vec3& b, Real reach)
       lo = lo.cwiseMin(row3(mesh.x, mesh.tets(t, k)));
       hi = hi.cwiseMax(row3(mesh.x, mesh.tets(t, k)));
     }
-    lo.array() -= reach;
-    hi.array() += reach;
-    for (int s = 0; s < samples; ++s) {
-      const Vec3 p = a + (static_cast<Real>(s) / std::max(1, samples - 1)) * (b - a);
-      if ((p.array() >= lo.array()).all() && (p.array() <= hi.array()).all()) return true;
-    }
+    if (meets((lo.array() - reach).matrix(), (hi.array() + reach).matrix())) return true;
   }
   return false;
 }

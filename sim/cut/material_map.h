@@ -28,10 +28,10 @@ struct MaterialMap {
 std::optional<MaterialMap> material_map_at(const TetMesh& mesh, const Vec3& p, Real reach,
                                            Real min_volume_ratio = 0.05);
 
-// Whether some tet near the blade's edge a-b (its current bounding box within reach [m] of the
-// edge) is inverted in x: the tissue there is tangled, and a blade mapped into the material
+// Whether some tet near the blade's edge a-b (its current bounding box, grown by reach [m], met by
+// the edge) is inverted in x: the tissue there is tangled, and a blade mapped into the material
 // through its neighbours would sweep material it never passed (a stroke through a tangle in the
-// knee split 700 tets into 16,000, most of them inverted). O(#tets).
+// knee split 656 tets into 16,760, most of them inverted). A negative reach counts as 0. O(#tets).
 bool tangled_near(const TetMesh& mesh, const Vec3& a, const Vec3& b, Real reach);
 
 }  // namespace incise::sim::cut

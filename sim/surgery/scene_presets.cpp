@@ -154,6 +154,7 @@ SurgicalSceneSetup make_block_surgery(const Scene& block, const BlockSceneOption
     probe.probe.radius = sphere.radius;
     probe.probe.coupling_stiffness = sphere.stiffness;
     probe.probe.max_force = options.max_force;
+    probe.upright = true;  // drawn standing, whatever the device's orientation
     spec.tools.push_back(probe);
   }
   std::vector<int> labels(mesh.labels.data(), mesh.labels.data() + mesh.labels.size());

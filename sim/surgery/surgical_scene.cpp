@@ -169,7 +169,7 @@ void SurgicalScene::step(std::span<const ToolInput> inputs) {
           }
           tool.probe.emplace(tool.spec.probe, tool.tip);
         }
-        tool.probe->set_shaft(-tool.direction);
+        tool.probe->set_shaft(tool.spec.upright ? Vec3(Vec3::UnitZ()) : Vec3(-tool.direction));
         tool.probe->step(tool.tip, tissue_->bvh(), mesh.x, mesh.v, tissue_->masses(),
                          tissue_->forces(), &tissue_->inverse_masses());
         break;
@@ -223,11 +223,12 @@ void SurgicalScene::recover_inverted() {
   // tissue (a probe or scope in contact, a grasper closing or holding, a scalpel's open stroke)
   // reaches kRecoverWorkReach around its tip (a palpation press squeezes tets inside out a
   // centimetre from the ball, and pulling them fought the press); any other tool its tip ball,
-  // jaws or blade, and kRecoverClearance beyond.
+  // jaws or blade, and kRecoverClearance beyond. A scalpel whose cut waits on a tangle at its
+  // blade (cut::tangled_near) is not working: the cut waits for this recovery.
   tool_segments_.clear();
   for (const Tool& tool : tools_) {
     if (!tool.has_input) continue;
-    const bool working = tool.touching_bone || tool.stroke ||
+    const bool working = tool.touching_bone || (tool.stroke && !tool.cut_waiting) ||
                          (tool.probe && !tool.probe->contacts().empty()) ||
                          (tool.grasper && (tool.grasper->phase() == tools::GraspPhase::closing ||
                                            tool.grasper->phase() == tools::GraspPhase::holding));

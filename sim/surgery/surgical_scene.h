@@ -69,6 +69,9 @@ struct ToolSpec {
   Real blade_length = 0.01;         // scalpel [m], > 0
   Real view_angle_degrees = 30;     // scope, in [0, 90)
   Real field_of_view_degrees = 70;  // scope, in (0, 180)
+  // The tool stands upright whatever its device's orientation (the palpation block's probes): its
+  // shaft runs up, +z, for the probe's slip (tools::Probe::set_shaft), not back along R e_z.
+  bool upright = false;
 };
 
 // A tool of the given kind driven by device `device`, with the defaults above.

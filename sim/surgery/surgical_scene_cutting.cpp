@@ -36,12 +36,14 @@ void SurgicalScene::cut(Tool& tool, int index) {
   std::vector<int> labels;
   if (outside) {
     tool.stroke = false;
+    tool.cut_waiting = false;
   } else {
     const cut::FrameReport& report = tool.cutter->update(a, b);
     tets_before = report.tets_before;
     changed = report.changed_tets;
     committed = report.committed_crack_face_nodes;
     labels = report.committed_crack_face_labels;
+    tool.cut_waiting = report.blade_unmapped;
     if (report.blade_unmapped && !near.empty()) ++cuts_refused_;
     tool.stroke = !near.empty() || report.front_tets > 0;
     if (report.committed_new_tets > 0 || report.committed_crack_faces > 0) {

@@ -36,6 +36,9 @@ struct SurgicalScene::Tool {
   std::optional<tools::Grasper> grasper;
   ClonePtr<cut::ProgressiveCutter> cutter;  // a copy still cuts the original's mesh: rebind it
   bool stroke = false;                      // the scalpel's blade is in the tissue
+  // The scalpel's last frame had no place in the material (a tangle at the blade): the cut waits
+  // for the recovery, so the blade does not keep the recovery off as a working tool would.
+  bool cut_waiting = false;
   std::vector<int> stroke_slots;  // committed slots the open stroke's complete cuts changed
   tools::BladeInTissue blade;     // the scalpel's blade in the tissue this step
   tools::LocalForceModel bone;    // this step's bone contacts, on the tool at its tip

@@ -77,17 +77,21 @@ void Probe::step(const Vec3& device_position, const collide::SurfaceBvh& bvh, co
   // on the surface never slips otherwise: a hand pressing at max_force, even through to the far
   // side of a thin part, keeps it there (no tunnelling).
   const Real kv = settings_.coupling_stiffness;
-  if ((kv * (device_ - proxy_)).norm() > settings_.max_force) {
-    ++saturated_steps_;
-  } else {
+  const bool pulled_hard = (kv * (device_ - proxy_)).norm() > settings_.max_force;
+  saturated_steps_ = pulled_hard ? saturated_steps_ + 1 : 0;
+  withdrawn_time_ = pulled_hard && withdrawn() ? withdrawn_time_ + settings_.contact.time_step : 0;
+  bool slip = false;
+  if (saturated_steps_ >= kTrappedSteps) {
+    slip = enclosed(bvh, x, v, masses);
     saturated_steps_ = 0;
   }
-  if (saturated_steps_ >= kTrappedSteps) {
-    if ((withdrawn() || enclosed(bvh, x, v, masses)) && !inside(bvh, x, device_)) {
-      proxy_ = device_;
-      ++slips_;
-    }
-    saturated_steps_ = 0;
+  if (withdrawn_time_ >= kWithdrawnTime) {
+    slip = true;
+    withdrawn_time_ = 0;
+  }
+  if (slip && !inside(bvh, x, device_)) {
+    proxy_ = device_;
+    ++slips_;
   }
   response_.evaluate(bvh, x, v, masses, tip(), Vec3::Zero());
   if (!response_.contacts().empty()) {

@@ -119,17 +119,19 @@ class Probe {
   // Whether the last step's motion was stopped by the surface.
   bool blocked() const { return blocked_; }
   // Times the proxy slipped out to the device: enclosed by the tissue (inside it, or between faces
-  // facing each other), or pulled back along its shaft (set_shaft), pulled on at max_force for
-  // kTrappedSteps steps from a device outside it.
+  // facing each other) and pulled on at max_force for kTrappedSteps steps, or pulled back along
+  // its shaft (set_shaft) at max_force for kWithdrawnTime, from a device outside the tissue.
   int slips() const { return slips_; }
   // The direction from the tip back along the tool's shaft to the hand (normalised here), or zero
   // for a bare tip (the default). A tip the hand pulls back along its shaft cannot be held by the
   // tissue: tissue in its way has closed over the shaft, which the proxy does not model (a scope
-  // pulled out of the knee stayed behind a meniscus at 4 N for good). Within kShaftCone of it, a
-  // saturated pull from outside the tissue slips the proxy free as an enclosed one does.
+  // pulled out of the knee stayed behind a meniscus at 4 N for good). A pull within kShaftCone of
+  // it, saturated at every step for kWithdrawnTime (time, not steps: the knee's step is a sixth of
+  // the liver's), from a device outside the tissue, slips the proxy free.
   // Throws std::invalid_argument for a non-finite direction.
   void set_shaft(const Vec3& towards_hand);
-  static constexpr Real kShaftCone = 0.5;  // cos 60 degrees
+  static constexpr Real kShaftCone = 0.5;       // cos 60 degrees
+  static constexpr Real kWithdrawnTime = 0.02;  // [s]
   static constexpr int kTrappedSteps = 100;
 
   // The contact region of the last step. rest: #nodes by 3 rest positions [m] (the mesh's rest).
@@ -150,6 +152,7 @@ class Probe {
   Vec3 nearest_free_position();
   std::vector<Vec3> corrections_;
   int saturated_steps_ = 0;
+  Real withdrawn_time_ = 0;  // saturated and withdrawn at every step since [s]
   int slips_ = 0;
   Vec3 shaft_ = Vec3::Zero();  // unit, or zero: no shaft
   // Whether the hand pulls the proxy back along its shaft (within kShaftCone).

@@ -61,9 +61,10 @@ TEST(MaterialMap, RefusesASquashedOrInvertedTet) {
   EXPECT_TRUE(!mirrored || mirrored->tet != t);
 }
 
-// tangled_near: one tet of a 3 x 3 x 3 box turned inside out (a node mirrored through its
-// opposite face) is found by a blade passing within reach of its box, and by no other.
-TEST(MaterialMap, FindsAnInvertedTetNearTheBladeOnly) {
+// tangled_near: a tet of a 3 x 3 x 3 box turned inside out (a node mirrored through its opposite
+// face; the tets around that node may turn with it) is found by a blade meeting the inverted tets'
+// boxes grown by reach, and by no blade passing beyond.
+TEST(MaterialMap, FindsInvertedTetsNearTheBladeOnly) {
   const TetMesh mesh = testing::jittered_box({3, 3, 3}, {3, 3, 3}, 0.1, 5);
   const Real reach = 0.25;
   // Unchanged, nothing is tangled anywhere.
@@ -83,20 +84,42 @@ TEST(MaterialMap, FindsAnInvertedTetNearTheBladeOnly) {
   const int d = mesh.tets(t, 3);
   const Vec3 flat = row3(mesh.x, d) - n.normalized().dot(row3(mesh.x, d) - o) * n.normalized();
   tangled.x.row(d) = (2 * flat - row3(mesh.x, d)).transpose();
-  Vec3 lo = row3(tangled.x, tangled.tets(t, 0)), hi = lo;
-  for (int k = 1; k < 4; ++k) {
-    lo = lo.cwiseMin(row3(tangled.x, tangled.tets(t, k)));
-    hi = hi.cwiseMax(row3(tangled.x, tangled.tets(t, k)));
+  // The box of every inverted tet (t among them).
+  const auto volume = [](const Points& p, const Tets& tets, int s) {
+    const Vec3 a = row3(p, tets(s, 0));
+    Mat3 e;
+    for (int k = 1; k < 4; ++k)
+      e.col(k - 1) = row3(p, tets(s, k)) - a;
+    return e.determinant();
+  };
+  Vec3 lo = Vec3::Constant(1e9), hi = Vec3::Constant(-1e9);
+  int inverted = 0;
+  for (int s = 0; s < tangled.num_tets(); ++s) {
+    if (volume(tangled.x, tangled.tets, s) * volume(tangled.rest, tangled.tets, s) > 0) continue;
+    ++inverted;
+    for (int k = 0; k < 4; ++k) {
+      lo = lo.cwiseMin(row3(tangled.x, tangled.tets(s, k)));
+      hi = hi.cwiseMax(row3(tangled.x, tangled.tets(s, k)));
+    }
   }
-  // A blade through the tet's box, one passing just within reach of its top, one just beyond.
+  ASSERT_GE(inverted, 1);
+  ASSERT_LT(hi.maxCoeff() + reach, 2.5);  // clear of the far blade below
+  // A blade through the boxes, one passing just within reach above them, one just beyond, one
+  // diagonal that clips the corner of t's grown box between the edge's ends.
   const Vec3 mid = 0.5 * (lo + hi);
   EXPECT_TRUE(tangled_near(tangled, mid - Vec3(2, 0, 0), mid + Vec3(2, 0, 0), reach));
   EXPECT_TRUE(tangled_near(tangled, Vec3(-2, mid.y(), hi.z() + 0.9 * reach),
                            Vec3(2, mid.y(), hi.z() + 0.9 * reach), reach));
   EXPECT_FALSE(tangled_near(tangled, Vec3(-2, mid.y(), hi.z() + 1.1 * reach),
                             Vec3(2, mid.y(), hi.z() + 1.1 * reach), reach));
-  // A blade far across the box.
+  Vec3 t_hi = row3(tangled.x, tangled.tets(t, 0));
+  for (int k = 1; k < 4; ++k)
+    t_hi = t_hi.cwiseMax(row3(tangled.x, tangled.tets(t, k)));
+  const Vec3 corner = t_hi + Vec3::Constant(0.9 * reach);  // in t's grown box, off its own
+  EXPECT_TRUE(tangled_near(tangled, corner + Vec3(1, -1, 0), corner + Vec3(-1, 1, 0), reach));
+  // A blade far across the box; no reach at all.
   EXPECT_FALSE(tangled_near(tangled, Vec3(2.5, -1, 2.5), Vec3(2.5, 4, 2.5), reach));
+  EXPECT_TRUE(tangled_near(tangled, mid - Vec3(2, 0, 0), mid + Vec3(2, 0, 0), -1));
 }
 
 }  // namespace
