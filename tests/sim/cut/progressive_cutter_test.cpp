@@ -270,6 +270,63 @@ TEST(ProgressiveCutter, InMaterialSpaceTheCutFollowsTheTissueAsItMoves) {
   EXPECT_EQ(count, 2);
 }
 
+// BladeSpace::material through a tangle: a tet the blade is in turned inside out (away from the
+// tip's tet, which stays sound) holds the cut, and nothing changes; a tangle away from the blade
+// does not; once the tangle is undone, the same pose cuts.
+TEST(ProgressiveCutter, InMaterialSpaceTheCutWaitsWhileTheBladeIsInATangle) {
+  TetMesh mesh = testing::jittered_box({1, 1, 1}, {4, 4, 4}, 0.2, 5);
+  ProgressiveCutter cutter(mesh, CutOptions{}, 0, BladeSpace::material);
+  const Real c = 0.537;
+  const auto a = [&](Real y) { return Vec3(c, y, 0.2); };  // the tip, 0.8 deep
+  const auto b = [&](Real y) { return Vec3(c, y, 1.5); };
+  // Inverts a committed tet of `node` by mirroring the node through that tet's opposite face;
+  // returns the node's old position. (The blade's temporary pieces are undone at the next frame.)
+  const auto invert_at = [&](int node) {
+    const Vec3 old = row3(mesh.x, node);
+    for (int t = 0; t < cutter.committed_tets(); ++t) {
+      int k = 0;
+      while (k < 4 && mesh.tets(t, k) != node)
+        ++k;
+      if (k == 4) continue;
+      const Vec3 p = row3(mesh.x, mesh.tets(t, (k + 1) % 4));
+      const Vec3 q = row3(mesh.x, mesh.tets(t, (k + 2) % 4));
+      const Vec3 r = row3(mesh.x, mesh.tets(t, (k + 3) % 4));
+      const Vec3 n = (q - p).cross(r - p).normalized();
+      mesh.x.row(node) = (old - 2 * n.dot(old - p) * n).transpose();
+      break;
+    }
+    return old;
+  };
+  const auto nearest_node = [&](const Vec3& p) {
+    int best = 0;
+    for (int i = 1; i < cutter.committed_nodes(); ++i) {
+      if ((row3(mesh.x, i) - p).norm() < (row3(mesh.x, best) - p).norm()) best = i;
+    }
+    return best;
+  };
+  for (int f = 0; f < 10; ++f)
+    ASSERT_FALSE(cutter.update(a(-0.5 + 0.1 * f), b(-0.5 + 0.1 * f)).blade_unmapped);
+  const Real y = 0.5;
+  // Away from the blade: the stroke goes on.
+  const int far = nearest_node(Vec3(0.05, 0.95, 0.95));
+  const Vec3 far_old = invert_at(far);
+  EXPECT_FALSE(cutter.update(a(y), b(y)).blade_unmapped);
+  mesh.x.row(far) = far_old.transpose();
+  // In the blade's path, 0.55 above its tip: the frame is refused, the mesh as it was.
+  const int near = nearest_node(Vec3(c, y + 0.1, 0.75));
+  const Vec3 near_old = invert_at(near);
+  const FrameReport& held = cutter.update(a(y + 0.1), b(y + 0.1));
+  EXPECT_TRUE(held.blade_unmapped);
+  EXPECT_EQ(held.front_tets, 0);
+  EXPECT_EQ(held.committed_new_tets, 0);
+  EXPECT_EQ(mesh.num_tets(), cutter.committed_tets());
+  // Undone: the same pose has a place in the material again.
+  mesh.x.row(near) = near_old.transpose();
+  const FrameReport& cut = cutter.update(a(y + 0.1), b(y + 0.1));
+  EXPECT_FALSE(cut.blade_unmapped);
+  EXPECT_GT(cut.front_tets, 0);
+}
+
 // A cut shallower than the tets: the blade's tip runs 0.45 deep (z = 0.55) through a box of
 // 0.25 cells. Without keep_partial only the layer the strip crosses completely (z >= 0.75) opens;
 // with it, the tets along the tip's path keep their crack too: about 0.45 x 1 on each side, the
