@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The REST API under load (docs/benchmarks.md, "The API under load"): wrk against GET /api/me of
 # a logged-in admin on a fresh demo server over loopback, first alone, then while 20 connections
-# log in as fast as the server lets them (each login is an argon2id check). Prints wrk's summary
-# and latency percentiles of each run, and the logins completed meanwhile.
+# log in as fast as the server lets them (each login is an argon2id check), then while 20
+# connections of the admin create users (each hashes a new password). Prints wrk's summary and
+# latency percentiles of each run, and the logins and creations completed meanwhile.
 #   deploy/bench_api.sh [SECONDS]   (default 15 per run)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -46,3 +47,26 @@ wait $logins_pid
 echo
 echo "# the logins meanwhile (POST /api/login, 20 connections)"
 cat "$work/logins.txt"
+
+# Each request a new trainee, with a name no other request of this run uses.
+cat > "$work/create.lua" <<LUA
+local n = 0
+request = function()
+  n = n + 1
+  local body = string.format(
+    '{"username": "load-%d-%d", "password": "bench password %d", "role": "trainee"}',
+    math.random(1, 1000000000), n, n)
+  return wrk.format("POST", "/api/users", {["Content-Type"] = "application/json",
+                                           ["Cookie"] = "$cookie"}, body)
+end
+LUA
+echo
+echo "# GET /api/me while 20 connections of the admin create users"
+wrk -t1 -c20 -d"$((seconds + 4))s" -s "$work/create.lua" "$url/api/users" > "$work/creates.txt" &
+creates_pid=$!
+sleep 2
+wrk -t2 -c32 -d"${seconds}s" --latency -H "Cookie: $cookie" "$url/api/me"
+wait $creates_pid
+echo
+echo "# the creations meanwhile (POST /api/users, 20 connections)"
+cat "$work/creates.txt"
