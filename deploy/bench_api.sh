@@ -38,15 +38,21 @@ LUA
 echo "# GET /api/me alone: 2 threads, 32 connections, ${seconds} s ($(date -u +%F), git $(git rev-parse --short HEAD))"
 wrk -t2 -c32 -d"${seconds}s" --latency -H "Cookie: $cookie" "$url/api/me"
 echo
+# GET /api/me while 20 connections run wrk's script $1 against $2 (started 2 s before, ended 2 s
+# after); then what those connections completed, titled $3.
+me_during() {
+  wrk -t1 -c20 -d"$((seconds + 4))s" -s "$1" "$url$2" > "$work/load.txt" &
+  local load_pid=$!
+  sleep 2
+  wrk -t2 -c32 -d"${seconds}s" --latency -H "Cookie: $cookie" "$url/api/me"
+  wait $load_pid
+  echo
+  echo "# $3"
+  cat "$work/load.txt"
+}
+
 echo "# GET /api/me while 20 connections log in"
-wrk -t1 -c20 -d"$((seconds + 4))s" -s "$work/login.lua" "$url/api/login" > "$work/logins.txt" &
-logins_pid=$!
-sleep 2
-wrk -t2 -c32 -d"${seconds}s" --latency -H "Cookie: $cookie" "$url/api/me"
-wait $logins_pid
-echo
-echo "# the logins meanwhile (POST /api/login, 20 connections)"
-cat "$work/logins.txt"
+me_during "$work/login.lua" /api/login "the logins meanwhile (POST /api/login, 20 connections)"
 
 # Each request a new trainee, with a name no other request of this run uses.
 cat > "$work/create.lua" <<LUA
@@ -62,11 +68,4 @@ end
 LUA
 echo
 echo "# GET /api/me while 20 connections of the admin create users"
-wrk -t1 -c20 -d"$((seconds + 4))s" -s "$work/create.lua" "$url/api/users" > "$work/creates.txt" &
-creates_pid=$!
-sleep 2
-wrk -t2 -c32 -d"${seconds}s" --latency -H "Cookie: $cookie" "$url/api/me"
-wait $creates_pid
-echo
-echo "# the creations meanwhile (POST /api/users, 20 connections)"
-cat "$work/creates.txt"
+me_during "$work/create.lua" /api/users "the creations meanwhile (POST /api/users, 20 connections)"
