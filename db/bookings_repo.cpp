@@ -55,20 +55,20 @@ Booking BookingsRepo::create(std::int64_t station_id, std::int64_t user_id, std:
   if (auto other = first_overlap(db_, "user_id", user_id, starts_at, ends_at)) {
     throw BookingConflict(*other, false);
   }
+  std::int64_t id = 0;
   try {
-    db_.prepare(
-           "INSERT INTO bookings (station_id, user_id, starts_at, ends_at, created_at) VALUES "
-           "(?, ?, ?, ?, ?)")
-        .bind(1, station_id)
-        .bind(2, user_id)
-        .bind(3, starts_at)
-        .bind(4, ends_at)
-        .bind(5, now)
-        .run();
+    id = db_.prepare(
+                "INSERT INTO bookings (station_id, user_id, starts_at, ends_at, created_at) VALUES "
+                "(?, ?, ?, ?, ?) RETURNING id")
+             .bind(1, station_id)
+             .bind(2, user_id)
+             .bind(3, starts_at)
+             .bind(4, ends_at)
+             .bind(5, now)
+             .insert();
   } catch (const ConstraintError&) {
     throw NotFound("user " + std::to_string(user_id) + " does not exist");
   }
-  const std::int64_t id = db_.last_insert_id();
   tx.commit();
   return *find(id);
 }
@@ -129,12 +129,12 @@ std::optional<Booking> BookingsRepo::covering(std::int64_t user_id, std::int64_t
 bool BookingsRepo::complete_for_session(std::int64_t session_id, std::int64_t now) {
   // ends_at stays after starts_at (the table's CHECK) and never moves later.
   db_.prepare(
-         "UPDATE bookings SET ends_at = MIN(ends_at, MAX(?, starts_at + 1)), completed_at = ? "
-         "WHERE id = (SELECT booking_id FROM sessions WHERE id = ?) AND status = 'active' AND "
+         "UPDATE bookings SET ends_at = CASE WHEN ?1 < starts_at + 1 THEN starts_at + 1 WHEN ?1 < "
+         "ends_at THEN ?1 ELSE ends_at END, completed_at = ?1 "
+         "WHERE id = (SELECT booking_id FROM sessions WHERE id = ?2) AND status = 'active' AND "
          "completed_at IS NULL")
       .bind(1, now)
-      .bind(2, now)
-      .bind(3, session_id)
+      .bind(2, session_id)
       .run();
   return db_.changes() > 0;
 }

@@ -7,16 +7,19 @@ namespace incise::db {
 
 CurriculumRecord CurriculaRepo::create(const std::string& name, const std::string& definition_json,
                                        std::int64_t now) {
+  std::int64_t id = 0;
   try {
-    db_.prepare("INSERT INTO curricula (name, definition, created_at) VALUES (?, ?, ?)")
-        .bind(1, name)
-        .bind(2, definition_json)
-        .bind(3, now)
-        .run();
+    id =
+        db_.prepare(
+               "INSERT INTO curricula (name, definition, created_at) VALUES (?, ?, ?) RETURNING id")
+            .bind(1, name)
+            .bind(2, definition_json)
+            .bind(3, now)
+            .insert();
   } catch (const ConstraintError&) {
     throw Conflict("a curriculum named '" + name + "' already exists");
   }
-  return CurriculumRecord{db_.last_insert_id(), name, definition_json, now};
+  return CurriculumRecord{id, name, definition_json, now};
 }
 
 std::vector<CurriculumRecord> CurriculaRepo::list() {

@@ -3,17 +3,22 @@
 // HTTP statuses. Destructors in db/ never throw.
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace incise::db {
 
-// Any SQLite failure. `code()` is the extended SQLite result code.
+// Any database failure. `code()` is SQLite's extended result code (0 on PostgreSQL);
+// `sqlstate()` is PostgreSQL's five-character SQLSTATE (empty on SQLite).
 class DbError : public std::runtime_error {
  public:
-  DbError(int code, const std::string& message) : std::runtime_error(message), code_(code) {}
+  DbError(int code, const std::string& message, std::string sqlstate = {})
+      : std::runtime_error(message), code_(code), sqlstate_(std::move(sqlstate)) {}
   int code() const { return code_; }
+  const std::string& sqlstate() const { return sqlstate_; }
 
  private:
   int code_;
+  std::string sqlstate_;
 };
 
 // A UNIQUE, CHECK or FOREIGN KEY constraint refused a write; nothing was changed.

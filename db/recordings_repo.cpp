@@ -51,17 +51,17 @@ std::int64_t RecordingsRepo::create(std::int64_t session_id, const std::string& 
     throw std::invalid_argument("recording tick_hz must be finite and > 0, got " +
                                 std::to_string(tick_hz));
   }
-  db_.prepare(
-         "INSERT INTO recordings (session_id, scene, scene_version, seed, tick_hz, duration_s, "
-         "state, created_at) VALUES (?, ?, ?, ?, ?, 0, 'recording', ?)")
+  return db_
+      .prepare(
+          "INSERT INTO recordings (session_id, scene, scene_version, seed, tick_hz, duration_s, "
+          "state, created_at) VALUES (?, ?, ?, ?, ?, 0, 'recording', ?) RETURNING id")
       .bind(1, session_id)
       .bind(2, scene)
       .bind(3, scene_version)
       .bind(4, seed)
       .bind(5, tick_hz)
       .bind(6, now)
-      .run();
-  return db_.last_insert_id();
+      .insert();
 }
 
 void RecordingsRepo::append_chunk(std::int64_t recording_id, std::int64_t seq, std::int64_t t0_us,

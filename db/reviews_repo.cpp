@@ -20,16 +20,16 @@ ScoreAdjustment read_adjustment(Statement& q) {
 
 Annotation ReviewsRepo::add_annotation(std::int64_t session_id, std::int64_t author_id, double t_s,
                                        const std::string& text, std::int64_t now) {
-  db_.prepare(
-         "INSERT INTO annotations (session_id, author_id, t_s, text, created_at) "
-         "VALUES (?, ?, ?, ?, ?)")
-      .bind(1, session_id)
-      .bind(2, author_id)
-      .bind(3, t_s)
-      .bind(4, text)
-      .bind(5, now)
-      .run();
-  const auto id = db_.last_insert_id();
+  const std::int64_t id =
+      db_.prepare(
+             "INSERT INTO annotations (session_id, author_id, t_s, text, created_at) "
+             "VALUES (?, ?, ?, ?, ?) RETURNING id")
+          .bind(1, session_id)
+          .bind(2, author_id)
+          .bind(3, t_s)
+          .bind(4, text)
+          .bind(5, now)
+          .insert();
   for (auto& a : annotations(session_id))
     if (a.id == id) return a;
   return {};
@@ -51,16 +51,19 @@ std::vector<Annotation> ReviewsRepo::annotations(std::int64_t session_id) {
 
 ScoreAdjustment ReviewsRepo::adjust(std::int64_t session_id, std::int64_t author_id, bool passed,
                                     const std::string& reason, std::int64_t now) {
-  db_.prepare(
-         "INSERT INTO score_adjustments (session_id, author_id, passed, reason, created_at) "
-         "VALUES (?, ?, ?, ?, ?)")
-      .bind(1, session_id)
-      .bind(2, author_id)
-      .bind(3, passed ? 1 : 0)
-      .bind(4, reason)
-      .bind(5, now)
-      .run();
-  return adjustments(session_id).back();
+  const std::int64_t id =
+      db_.prepare(
+             "INSERT INTO score_adjustments (session_id, author_id, passed, reason, created_at) "
+             "VALUES (?, ?, ?, ?, ?) RETURNING id")
+          .bind(1, session_id)
+          .bind(2, author_id)
+          .bind(3, passed ? 1 : 0)
+          .bind(4, reason)
+          .bind(5, now)
+          .insert();
+  for (auto& a : adjustments(session_id))
+    if (a.id == id) return a;
+  return {};
 }
 
 std::vector<ScoreAdjustment> ReviewsRepo::adjustments(std::int64_t session_id) {
@@ -88,7 +91,9 @@ void ReviewsRepo::set_expert_run(std::int64_t session_id, bool expert, std::int6
                                  std::int64_t now) {
   if (expert) {
     db_.prepare(
-           "INSERT OR IGNORE INTO expert_runs (session_id, marked_by, marked_at) VALUES (?, ?, ?)")
+           "INSERT INTO expert_runs (session_id, marked_by, marked_at) VALUES (?, ?, ?) ON "
+           "CONFLICT "
+           "DO NOTHING")
         .bind(1, session_id)
         .bind(2, by)
         .bind(3, now)

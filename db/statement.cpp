@@ -1,67 +1,43 @@
 #include "db/statement.h"
 
-#include <sqlite3.h>
-
-#include "db/database.h"
+#include "db/connection.h"
+#include "db/db_error.h"
 
 namespace incise::db {
 
-Statement::Statement(sqlite3* db, std::string_view sql) : db_(db) {
-  const int rc = sqlite3_prepare_v2(db_, sql.data(), static_cast<int>(sql.size()), &stmt_, nullptr);
-  if (rc != SQLITE_OK) throw_sqlite_error(db_, rc, "prepare");
-}
+Statement::Statement(std::unique_ptr<detail::Cursor> cursor) : cursor_(std::move(cursor)) {}
 
-Statement::~Statement() {
-  sqlite3_finalize(stmt_);
-}
+Statement::~Statement() = default;
 
-Statement::Statement(Statement&& other) noexcept : db_(other.db_), stmt_(other.stmt_) {
-  other.stmt_ = nullptr;
-}
-
-namespace {
-void check_bind(sqlite3* db, int rc) {
-  if (rc != SQLITE_OK) throw_sqlite_error(db, rc, "bind");
-}
-}  // namespace
+Statement::Statement(Statement&& other) noexcept = default;
 
 Statement& Statement::bind(int index, std::int64_t value) {
-  check_bind(db_, sqlite3_bind_int64(stmt_, index, value));
+  cursor_->bind_int64(index, value);
   return *this;
 }
 
 Statement& Statement::bind(int index, double value) {
-  check_bind(db_, sqlite3_bind_double(stmt_, index, value));
+  cursor_->bind_double(index, value);
   return *this;
 }
 
 Statement& Statement::bind(int index, std::string_view text) {
-  // An empty string_view may have a null data(), which SQLite would bind as NULL.
-  check_bind(db_, sqlite3_bind_text(stmt_, index, text.data() ? text.data() : "",
-                                    static_cast<int>(text.size()), SQLITE_TRANSIENT));
+  cursor_->bind_text(index, text);
   return *this;
 }
 
 Statement& Statement::bind_blob(int index, std::span<const std::uint8_t> bytes) {
-  // An empty span may have a null data(), which SQLite would bind as NULL: bind a zero-length blob.
-  check_bind(db_, bytes.empty()
-                      ? sqlite3_bind_zeroblob(stmt_, index, 0)
-                      : sqlite3_bind_blob(stmt_, index, bytes.data(),
-                                          static_cast<int>(bytes.size()), SQLITE_TRANSIENT));
+  cursor_->bind_blob(index, bytes);
   return *this;
 }
 
 Statement& Statement::bind_null(int index) {
-  check_bind(db_, sqlite3_bind_null(stmt_, index));
+  cursor_->bind_null(index);
   return *this;
 }
 
 bool Statement::step() {
-  const int rc = sqlite3_step(stmt_);
-  if (rc == SQLITE_ROW) return true;
-  if (rc == SQLITE_DONE) return false;
-  sqlite3_reset(stmt_);
-  throw_sqlite_error(db_, rc, "step");
+  return cursor_->step();
 }
 
 void Statement::run() {
@@ -69,32 +45,39 @@ void Statement::run() {
   }
 }
 
+std::int64_t Statement::insert() {
+  if (!step()) throw DbError(0, "insert: the statement returned no id (no RETURNING id?)");
+  const std::int64_t id = int64(0);
+  run();
+  return id;
+}
+
 void Statement::reset() {
-  sqlite3_reset(stmt_);
-  sqlite3_clear_bindings(stmt_);
+  cursor_->reset();
+}
+
+int Statement::columns() const {
+  return cursor_->columns();
 }
 
 bool Statement::is_null(int column) const {
-  return sqlite3_column_type(stmt_, column) == SQLITE_NULL;
+  return cursor_->is_null(column);
 }
 
 std::int64_t Statement::int64(int column) const {
-  return sqlite3_column_int64(stmt_, column);
+  return cursor_->int64(column);
 }
 
 double Statement::real(int column) const {
-  return sqlite3_column_double(stmt_, column);
+  return cursor_->real(column);
 }
 
 std::string Statement::text(int column) const {
-  const auto* p = reinterpret_cast<const char*>(sqlite3_column_text(stmt_, column));
-  return p ? std::string(p, static_cast<size_t>(sqlite3_column_bytes(stmt_, column))) : "";
+  return cursor_->text(column);
 }
 
 std::vector<std::uint8_t> Statement::blob(int column) const {
-  const auto* p = static_cast<const std::uint8_t*>(sqlite3_column_blob(stmt_, column));
-  return p ? std::vector<std::uint8_t>(p, p + sqlite3_column_bytes(stmt_, column))
-           : std::vector<std::uint8_t>{};
+  return cursor_->blob(column);
 }
 
 std::optional<std::int64_t> Statement::optional_int64(int column) const {

@@ -2,20 +2,22 @@
 // A prepared statement. Bind parameters by 1-based index, step through rows, read columns by
 // 0-based index. Finalised on destruction.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
-struct sqlite3;
-struct sqlite3_stmt;
-
 namespace incise::db {
+
+namespace detail {
+class Cursor;
+}
 
 class Statement {
  public:
-  Statement(sqlite3* db, std::string_view sql);
+  explicit Statement(std::unique_ptr<detail::Cursor> cursor);
   ~Statement();
   Statement(Statement&& other) noexcept;
   Statement(const Statement&) = delete;
@@ -38,8 +40,12 @@ class Statement {
   bool step();
   // Runs a statement that returns no rows.
   void run();
+  // Runs an INSERT ... RETURNING id and returns the new row's id (both engines; SQLite's rowid and
+  // last_insert_id would not tell one PostgreSQL connection's insert from another's).
+  std::int64_t insert();
   void reset();
 
+  int columns() const;  // of the current row
   bool is_null(int column) const;
   std::int64_t int64(int column) const;
   double real(int column) const;
@@ -48,8 +54,7 @@ class Statement {
   std::optional<std::int64_t> optional_int64(int column) const;
 
  private:
-  sqlite3* db_;
-  sqlite3_stmt* stmt_ = nullptr;
+  std::unique_ptr<detail::Cursor> cursor_;
 };
 
 }  // namespace incise::db

@@ -16,25 +16,17 @@ Station read_station(const Statement& q) {
 
 Station StationsRepo::create(std::string_view name, std::string_view location,
                              std::string_view token, std::int64_t now, std::string_view kind) {
-  try {
-    db_.prepare(
-           "INSERT INTO stations (name, location, token_hash, created_at, kind) VALUES (?, ?, ?, "
-           "?, ?)")
-        .bind(1, name)
-        .bind(2, location)
-        .bind_blob(3, token_hash(token))
-        .bind(4, now)
-        .bind(5, kind)
-        .run();
-  } catch (const ConstraintError&) {
-    for (const auto& s : list()) {
-      if (s.name == name)
-        throw Conflict("a station named '" + std::string(name) + "' already exists");
-    }
-    throw;
-  }
-  return Station{db_.last_insert_id(), std::string(name), std::string(location), now,
-                 std::string(kind),    std::nullopt};
+  // ON CONFLICT (name) DO NOTHING rather than catching the constraint error: on PostgreSQL a
+  // failed statement would spoil the caller's transaction. A repeated token still throws.
+  auto q = db_.prepare(
+      "INSERT INTO stations (name, location, token_hash, created_at, kind) VALUES (?, ?, ?, ?, ?) "
+      "ON CONFLICT (name) DO NOTHING RETURNING id");
+  q.bind(1, name).bind(2, location).bind_blob(3, token_hash(token)).bind(4, now).bind(5, kind);
+  if (!q.step()) throw Conflict("a station named '" + std::string(name) + "' already exists");
+  const std::int64_t id = q.int64(0);
+  q.run();
+  return Station{id,  std::string(name), std::string(location),
+                 now, std::string(kind), std::nullopt};
 }
 
 std::optional<Station> StationsRepo::find(std::int64_t id) {

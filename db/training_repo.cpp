@@ -48,16 +48,16 @@ std::int64_t TrainingRepo::create_session(std::int64_t trainee_id,
                                           std::optional<std::int64_t> station_id,
                                           const std::string& task, std::int64_t now,
                                           std::optional<std::int64_t> booking_id) {
-  db_.prepare(
-         "INSERT INTO sessions (trainee_id, station_id, task, state, created_at, booking_id) "
-         "VALUES (?, ?, ?, 'created', ?, ?)")
+  return db_
+      .prepare(
+          "INSERT INTO sessions (trainee_id, station_id, task, state, created_at, booking_id) "
+          "VALUES (?, ?, ?, 'created', ?, ?) RETURNING id")
       .bind(1, trainee_id)
       .bind(2, station_id)
       .bind(3, task)
       .bind(4, now)
       .bind(5, booking_id)
-      .run();
-  return db_.last_insert_id();
+      .insert();
 }
 
 void TrainingRepo::set_session_state(std::int64_t id, const std::string& state, std::int64_t now) {
@@ -75,28 +75,30 @@ void TrainingRepo::set_session_state(std::int64_t id, const std::string& state, 
 
 std::int64_t TrainingRepo::add_recording(std::int64_t session_id, double duration_s,
                                          std::int64_t now) {
-  db_.prepare("INSERT INTO recordings (session_id, duration_s, created_at) VALUES (?, ?, ?)")
+  return db_
+      .prepare(
+          "INSERT INTO recordings (session_id, duration_s, created_at) VALUES (?, ?, ?) RETURNING "
+          "id")
       .bind(1, session_id)
       .bind(2, duration_s)
       .bind(3, now)
-      .run();
-  return db_.last_insert_id();
+      .insert();
 }
 
 std::int64_t TrainingRepo::add_score(std::int64_t session_id, const std::string& metric,
                                      double value, const std::string& unit, bool passed,
                                      std::int64_t now) {
-  db_.prepare(
-         "INSERT INTO scores (session_id, metric, value, unit, passed, created_at) VALUES (?, "
-         "?, ?, ?, ?, ?)")
+  return db_
+      .prepare(
+          "INSERT INTO scores (session_id, metric, value, unit, passed, created_at) VALUES (?, "
+          "?, ?, ?, ?, ?) RETURNING id")
       .bind(1, session_id)
       .bind(2, metric)
       .bind(3, value)
       .bind(4, unit)
       .bind(5, passed ? 1 : 0)
       .bind(6, now)
-      .run();
-  return db_.last_insert_id();
+      .insert();
 }
 
 void TrainingRepo::add_scores(std::int64_t session_id, std::span<const ScoreInput> scores,

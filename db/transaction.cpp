@@ -1,13 +1,19 @@
 #include "db/transaction.h"
 
-#include <sqlite3.h>
-
 namespace incise::db {
 
-Transaction::Transaction(Database& db, Mode mode)
-    : db_(db), nested_(sqlite3_get_autocommit(db.handle()) == 0) {
+namespace {
+// The key of the one PostgreSQL advisory lock that IMMEDIATE transactions take: it serialises
+// read-check-write sequences across every connection and every server node, as SQLite's
+// BEGIN IMMEDIATE does across connections to one file. Readers and plain writers never wait on it.
+constexpr const char* kBeginImmediatePostgresql = "BEGIN; SELECT pg_advisory_xact_lock(7316240118)";
+}  // namespace
+
+Transaction::Transaction(Database& db, Mode mode) : db_(db), nested_(db.in_transaction()) {
   if (nested_) {
     db_.exec("SAVEPOINT incise_nested");
+  } else if (db_.dialect() == Dialect::postgresql) {
+    db_.exec(mode == Mode::immediate ? kBeginImmediatePostgresql : "BEGIN");
   } else {
     db_.exec(mode == Mode::immediate ? "BEGIN IMMEDIATE" : "BEGIN");
   }
@@ -18,7 +24,7 @@ Transaction::~Transaction() {
   try {
     db_.exec(nested_ ? "ROLLBACK TO incise_nested; RELEASE incise_nested" : "ROLLBACK");
   } catch (...) {
-    // A destructor never throws; SQLite has already rolled back if ROLLBACK itself fails.
+    // A destructor never throws; the engine has already rolled back if ROLLBACK itself fails.
   }
 }
 

@@ -42,23 +42,20 @@ User UsersRepo::create(const NewUser& user, std::int64_t now) {
 }
 
 User UsersRepo::create(const NewUser& user, const PasswordHash& hash, std::int64_t now) {
-  try {
-    db_.prepare(
-           "INSERT INTO users (username, display_name, role, password_hash, created_at) VALUES "
-           "(?, ?, ?, ?, ?)")
-        .bind(1, user.username)
-        .bind(2, user.display_name)
-        .bind(3, to_string(user.role))
-        .bind(4, hash.value)
-        .bind(5, now)
-        .run();
-  } catch (const ConstraintError&) {
-    if (find_by_username(user.username)) {
-      throw Conflict("username '" + user.username + "' is already taken");
-    }
-    throw;
-  }
-  return User{db_.last_insert_id(), user.username, user.display_name, user.role, now, {}, false};
+  // ON CONFLICT DO NOTHING rather than catching the constraint error: on PostgreSQL a failed
+  // statement would spoil the caller's transaction.
+  auto q = db_.prepare(
+      "INSERT INTO users (username, display_name, role, password_hash, created_at) VALUES (?, ?, "
+      "?, ?, ?) ON CONFLICT (username) DO NOTHING RETURNING id");
+  q.bind(1, user.username)
+      .bind(2, user.display_name)
+      .bind(3, to_string(user.role))
+      .bind(4, hash.value)
+      .bind(5, now);
+  if (!q.step()) throw Conflict("username '" + user.username + "' is already taken");
+  const std::int64_t id = q.int64(0);
+  q.run();
+  return User{id, user.username, user.display_name, user.role, now, {}, false};
 }
 
 std::optional<User> UsersRepo::find(std::int64_t id) {
@@ -112,8 +109,8 @@ void UsersRepo::set_instructors(std::int64_t trainee_id,
   db_.prepare("DELETE FROM trainee_instructors WHERE trainee_id = ?").bind(1, trainee_id).run();
   for (const auto instructor : instructor_ids) {
     db_.prepare(
-           "INSERT OR IGNORE INTO trainee_instructors (trainee_id, instructor_id, assigned_at) "
-           "VALUES (?, ?, ?)")
+           "INSERT INTO trainee_instructors (trainee_id, instructor_id, assigned_at) "
+           "VALUES (?, ?, ?) ON CONFLICT DO NOTHING")
         .bind(1, trainee_id)
         .bind(2, instructor)
         .bind(3, now)

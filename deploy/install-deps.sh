@@ -11,6 +11,7 @@ apt_packages=(
   build-essential cmake ninja-build pkg-config git clang-format
   libeigen3-dev libcgal-dev libboost1.74-dev libfcl-dev libnifti2-dev
   nlohmann-json3-dev libsqlite3-dev sqlite3
+  libpq-dev postgresql
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri libgles-dev
   libturbojpeg0-dev libsodium-dev libssl-dev openssl
   libgtest-dev libgmock-dev libbenchmark-dev

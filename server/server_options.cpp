@@ -2,13 +2,15 @@
 
 #include <boost/asio/ip/address.hpp>
 #include <charconv>
+#include <stdexcept>
+
+#include "db/database_url.h"
 
 namespace incise::server {
 
 const char* const kServerUsage =
-    "usage: incise-server [--host ADDR] [--port N] [--data DIR] [--web DIR] [--demo] [--threads "
-    "N]\n"
-    "                     [--render-threads N]\n"
+    "usage: incise-server [--host ADDR] [--port N] [--data DIR] [--database URL] [--web DIR]\n"
+    "                     [--demo] [--threads N] [--render-threads N]\n"
     "                     [--tls-cert FILE --tls-key FILE] [--secure-cookies] [--trusted-proxy "
     "ADDR]\n"
     "\n"
@@ -17,6 +19,10 @@ const char* const kServerUsage =
     "  --port N      port; 0 picks a free one (default 8080)\n"
     "  --data DIR    data directory; the database is DIR/incise.db, created on first run\n"
     "                (default ./data)\n"
+    "  --database URL  where the data lives instead: sqlite:PATH, or a PostgreSQL server as\n"
+    "                postgresql://USER:PASSWORD@HOST:PORT/DB (libpq's form). Default: the\n"
+    "                environment's INCISE_DATABASE_URL (keeps a password out of the process\n"
+    "                list), else sqlite:DIR/incise.db\n"
     "  --web DIR     the built dashboard (default ./web/dist)\n"
     "  --demo        on a new database, add demo logins, a station and a curriculum\n"
     "  --threads N   I/O threads (default 2)\n"
@@ -121,6 +127,15 @@ ParsedOptions parse_server_options(const std::vector<std::string>& args) {
     } else if (arg == "--data") {
       if (!value(v)) return {std::nullopt, "--data needs a directory"};
       o.data_dir = v;
+    } else if (arg == "--database") {
+      if (!value(v))
+        return {std::nullopt, "--database needs a URL (sqlite:PATH or postgresql://...)"};
+      try {
+        db::DatabaseUrl::parse(v);
+      } catch (const std::invalid_argument& e) {
+        return {std::nullopt, std::string("--database: ") + e.what()};
+      }
+      o.database = v;
     } else if (arg == "--web") {
       if (!value(v)) return {std::nullopt, "--web needs a directory"};
       o.web_root = v;

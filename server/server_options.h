@@ -12,6 +12,7 @@ struct ServerOptions {
   std::string host = "127.0.0.1";
   unsigned short port = 8080;  // 0 picks a free port (printed at start-up)
   std::filesystem::path data_dir = "data";
+  std::string database;  // --database URL; "" = $INCISE_DATABASE_URL, else sqlite:DATA/incise.db
   std::filesystem::path web_root = "web/dist";
   bool demo = false;
   int threads = 2;

@@ -312,7 +312,7 @@ void LiveSession::run() {
   std::optional<db::Database> db;
   std::optional<Recorder> recorder;
   try {
-    db.emplace(params_.db_path);
+    db.emplace(params_.database);
     recorder.emplace(*db, params_.recording_id, ticks_per_chunk, tick_s);
   } catch (const std::exception& e) {
     // Without its recording a session is worth nothing: end it at once and say why.

@@ -27,6 +27,7 @@
 #include <thread>
 
 #include "curriculum/curriculum.h"
+#include "db/database_url.h"
 #include "devices/device_state.h"
 #include "devices/protocol.h"
 #include "server/live/frame_streamer.h"
@@ -44,7 +45,7 @@ struct LiveSessionParams {
   std::int64_t recording_id = 0;
   std::optional<SessionScene> scene;  // required
   curriculum::Task task;
-  std::filesystem::path db_path;
+  db::DatabaseUrl database;     // the session thread opens its own connection
   double tick_hz = 500;         // simulation ticks per second of real time
   double force_model_hz = 500;  // local force models sent to the agent (every tick at 500 Hz)
   double snapshot_hz = 125;     // snapshots for rendering and metrics (fresh for each frame)

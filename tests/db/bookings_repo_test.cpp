@@ -36,14 +36,14 @@ class BookingsRepoTest : public test::DbTest {
 
   // A finished session of ann's at s1, held in #booking (none: without one).
   std::int64_t session_in(std::optional<std::int64_t> booking) {
-    db().prepare(
+    return db()
+        .prepare(
             "INSERT INTO sessions (trainee_id, station_id, task, state, created_at, booking_id) "
-            "VALUES (?, ?, 't', 'finished', 0, ?)")
+            "VALUES (?, ?, 't', 'finished', 0, ?) RETURNING id")
         .bind(1, ann_)
         .bind(2, s1_)
         .bind(3, booking)
-        .run();
-    return db().last_insert_id();
+        .insert();
   }
 
   std::int64_t s1_ = test::add_station(db(), "s1");

@@ -22,7 +22,10 @@ using test::TempDatabase;
 
 // The column names of a table, in order.
 std::vector<std::string> columns(Database& db, const std::string& table) {
-  auto q = db.prepare("SELECT name FROM pragma_table_info(?) ORDER BY cid");
+  auto q = db.prepare(db.dialect() == Dialect::sqlite
+                          ? "SELECT name FROM pragma_table_info(?) ORDER BY cid"
+                          : "SELECT column_name FROM information_schema.columns WHERE table_schema "
+                            "= current_schema() AND table_name = ? ORDER BY ordinal_position");
   q.bind(1, table);
   std::vector<std::string> out;
   while (q.step())
@@ -32,7 +35,7 @@ std::vector<std::string> columns(Database& db, const std::string& table) {
 
 int newest_embedded() {
   int newest = 0;
-  for (const auto& m : embedded_migrations())
+  for (const auto& m : embedded_migrations(test::test_dialect()))
     newest = std::max(newest, m.version);
   return newest;
 }
@@ -44,7 +47,7 @@ class MigrationsTest : public ::testing::Test {
 };
 
 TEST(EmbeddedMigrations, AreNumberedFromOneInStrictlyIncreasingOrder) {
-  const auto& all = embedded_migrations();
+  const auto& all = embedded_migrations(test::test_dialect());
   ASSERT_FALSE(all.empty());
   EXPECT_EQ(all.front().version, 1);
   for (std::size_t i = 1; i < all.size(); ++i)
@@ -60,7 +63,8 @@ TEST_F(MigrationsTest, FreshDatabaseHasVersionZero) {
 }
 
 TEST_F(MigrationsTest, ApplyingOnceCreatesEveryTable) {
-  EXPECT_EQ(apply_migrations(db()), static_cast<int>(embedded_migrations().size()));
+  EXPECT_EQ(apply_migrations(db()),
+            static_cast<int>(embedded_migrations(test::test_dialect()).size()));
   for (const char* table :
        {"users", "auth_sessions", "stations", "bookings", "curricula", "sessions", "recordings",
         "recording_chunks", "scores", "audit_log", "schema_migrations"}) {
@@ -77,13 +81,13 @@ TEST_F(MigrationsTest, ApplyingAgainAppliesNothing) {
   EXPECT_EQ(apply_migrations(*reopened), 0);
   EXPECT_EQ(schema_version(*reopened), newest_embedded());
   EXPECT_EQ(test::row_count(db(), "schema_migrations"),
-            static_cast<std::int64_t>(embedded_migrations().size()));
+            static_cast<std::int64_t>(embedded_migrations(test::test_dialect()).size()));
 }
 
 TEST_F(MigrationsTest, OnlyNewerMigrationsAreApplied) {
-  const std::vector<Migration> v1 = {{1, "001_a.sql", "CREATE TABLE a (x)"}};
-  const std::vector<Migration> v2 = {{1, "001_a.sql", "CREATE TABLE a (x)"},
-                                     {2, "002_b.sql", "CREATE TABLE b (x)"}};
+  const std::vector<Migration> v1 = {{1, "001_a.sql", "CREATE TABLE a (x INTEGER)"}};
+  const std::vector<Migration> v2 = {{1, "001_a.sql", "CREATE TABLE a (x INTEGER)"},
+                                     {2, "002_b.sql", "CREATE TABLE b (x INTEGER)"}};
   EXPECT_EQ(apply_migrations(db(), v1), 1);
   EXPECT_EQ(schema_version(db()), 1);
   // Running 001 again would fail ("table a already exists"), so success shows it was skipped.
@@ -112,10 +116,10 @@ TEST_F(MigrationsTest, DatabaseNewerThanTheBuildIsRefused) {
 
 TEST_F(MigrationsTest, FailingMigrationRollsBackCompletely) {
   const std::vector<Migration> migrations = {
-      {1, "001_good.sql", "CREATE TABLE good (x)"},
+      {1, "001_good.sql", "CREATE TABLE good (x INTEGER)"},
       {2, "002_bad.sql",
-       "CREATE TABLE partial (x); INSERT INTO good VALUES (1); CREATE TABLEX broken (x);"},
-      {3, "003_after.sql", "CREATE TABLE after (x)"},
+       "CREATE TABLE partial (x INTEGER); INSERT INTO good VALUES (1); CREATE TABLEX broken (x);"},
+      {3, "003_after.sql", "CREATE TABLE after (x INTEGER)"},
   };
   try {
     apply_migrations(db(), migrations);
@@ -131,7 +135,7 @@ TEST_F(MigrationsTest, FailingMigrationRollsBackCompletely) {
 
   // Once fixed, the failed migration and the ones after it apply.
   auto fixed = migrations;
-  fixed[1].sql = "CREATE TABLE partial (x)";
+  fixed[1].sql = "CREATE TABLE partial (x INTEGER)";
   EXPECT_EQ(apply_migrations(db(), fixed), 2);
   EXPECT_EQ(schema_version(db()), 3);
 }
@@ -148,6 +152,36 @@ TEST_F(MigrationsTest, EmbeddedSchemaEnforcesItsChecks) {
   EXPECT_THROW(q.run(), ConstraintError) << "an empty interval";
 }
 
+TEST(EmbeddedMigrations, BothEnginesHaveTheSameNumberedList) {
+  const auto& sqlite = embedded_migrations(Dialect::sqlite);
+  const auto& postgresql = embedded_migrations(Dialect::postgresql);
+  ASSERT_EQ(sqlite.size(), postgresql.size());
+  for (std::size_t i = 0; i < sqlite.size(); ++i) {
+    EXPECT_EQ(sqlite[i].version, postgresql[i].version);
+    EXPECT_EQ(sqlite[i].name, postgresql[i].name);
+  }
+}
+
+// On PostgreSQL (the pg/ run): the migrated schema has the tables and columns, in order, of the
+// SQLite schema, so every repository's SQL reads the same columns on both.
+TEST_F(MigrationsTest, BothEnginesBuildTheSameTablesAndColumns) {
+  if (db().dialect() == Dialect::sqlite) GTEST_SKIP() << "compares PostgreSQL with SQLite";
+  apply_migrations(db());
+  test::TempDir dir{"incise-db"};
+  Database sqlite(DatabaseUrl::sqlite(dir.path() / "reference.db"));
+  apply_migrations(sqlite);
+  auto tables = sqlite.prepare(
+      "SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%' ORDER BY "
+      "name");
+  int compared = 0;
+  while (tables.step()) {
+    const auto table = tables.text(0);
+    EXPECT_EQ(columns(db(), table), columns(sqlite, table)) << table;
+    ++compared;
+  }
+  EXPECT_GE(compared, 16);
+}
+
 TEST_F(MigrationsTest, FreshDatabaseGetsTheRecordingColumns) {
   apply_migrations(db());
   EXPECT_EQ(
@@ -159,21 +193,22 @@ TEST_F(MigrationsTest, FreshDatabaseGetsTheRecordingColumns) {
 // A database a build with only 001 created, with a recording and a chunk in it, is upgraded in
 // place: the old rows survive, read as complete recordings of an unknown scene.
 TEST_F(MigrationsTest, RecordingsUpgradeFromTheInitialSchemaKeepsOldRows) {
-  const auto& all = embedded_migrations();
+  const auto& all = embedded_migrations(test::test_dialect());
   ASSERT_GE(all.size(), 2u);
   ASSERT_EQ(all[1].name, "002_recordings.sql");
   EXPECT_EQ(apply_migrations(db(), {all[0]}), 1);
   const auto user = test::add_user(db(), "ann");
-  db().prepare(
-          "INSERT INTO sessions (trainee_id, task, state, created_at) VALUES (?, 't', "
-          "'finished', 5)")
-      .bind(1, user)
-      .run();
-  const auto session = db().last_insert_id();
-  db().prepare("INSERT INTO recordings (session_id, duration_s, created_at) VALUES (?, 95.5, 7)")
-      .bind(1, session)
-      .run();
-  const auto recording = db().last_insert_id();
+  const std::int64_t session =
+      db().prepare(
+              "INSERT INTO sessions (trainee_id, task, state, created_at) VALUES (?, 't', "
+              "'finished', 5) RETURNING id")
+          .bind(1, user)
+          .insert();
+  const std::int64_t recording = db().prepare(
+                                         "INSERT INTO recordings (session_id, duration_s, "
+                                         "created_at) VALUES (?, 95.5, 7) RETURNING id")
+                                     .bind(1, session)
+                                     .insert();
   const std::vector<std::uint8_t> bytes = {1, 2, 3, 0, 255};
   db().prepare("INSERT INTO recording_chunks (recording_id, seq, t0_us, data) VALUES (?, 0, 0, ?)")
       .bind(1, recording)
@@ -207,7 +242,7 @@ TEST_F(MigrationsTest, RecordingsUpgradeFromTheInitialSchemaKeepsOldRows) {
 // Before 006 every instructor saw every trainee: the upgrade assigns each existing trainee to each
 // existing instructor, and nothing else; new users after it start unassigned.
 TEST_F(MigrationsTest, InstructorAssignmentsUpgradeKeepsWhatInstructorsSaw) {
-  const auto& all = embedded_migrations();
+  const auto& all = embedded_migrations(test::test_dialect());
   const auto before = std::find_if(all.begin(), all.end(), [](const auto& m) {
     return m.name == "006_trainee_instructors.sql";
   });

@@ -26,12 +26,12 @@ using Bytes = std::vector<std::uint8_t>;
 using test::row_count;
 
 std::int64_t add_session(Database& db, std::int64_t trainee_id) {
-  db.prepare(
-        "INSERT INTO sessions (trainee_id, task, state, created_at) VALUES (?, 'palpation', "
-        "'running', 0)")
+  return db
+      .prepare(
+          "INSERT INTO sessions (trainee_id, task, state, created_at) VALUES (?, 'palpation', "
+          "'running', 0) RETURNING id")
       .bind(1, trainee_id)
-      .run();
-  return db.last_insert_id();
+      .insert();
 }
 
 // Chunk contents that differ by seq and length, so that a swap or a truncation shows.

@@ -68,10 +68,12 @@ TEST_F(StationsRepoTest, FindByTokenAcceptsOnlyTheRightToken) {
 TEST_F(StationsRepoTest, OnlyTheTokensHashIsStored) {
   const std::string token = random_token();
   stations_.create("A", "", token, 1);
-  auto q = db().prepare("SELECT token_hash, typeof(token_hash) FROM stations");
+  const bool sqlite = db().dialect() == Dialect::sqlite;
+  auto q = db().prepare(sqlite ? "SELECT token_hash, typeof(token_hash) FROM stations"
+                               : "SELECT token_hash, pg_typeof(token_hash)::text FROM stations");
   ASSERT_TRUE(q.step());
   EXPECT_EQ(q.blob(0), token_hash(token));
-  EXPECT_EQ(q.text(1), "blob");
+  EXPECT_EQ(q.text(1), sqlite ? "blob" : "bytea");
 }
 
 TEST_F(StationsRepoTest, DuplicateNameThrowsConflictAndChangesNothing) {

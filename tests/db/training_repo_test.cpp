@@ -276,9 +276,17 @@ TEST_F(TrainingRepoTest, AddScoresIsAllOrNothing) {
   const auto s = training_.create_session(ann_, std::nullopt, "suture", 1);
   training_.add_score(s, "completion_time_s", 80.0, "s", true, 10);
   // The storage refuses the third score, after the first two were written in the transaction.
-  db().exec(
-      "CREATE TRIGGER refuse_boom BEFORE INSERT ON scores WHEN NEW.metric = 'boom' BEGIN SELECT "
-      "RAISE(ABORT, 'boom refused'); END");
+  if (db().dialect() == Dialect::sqlite) {
+    db().exec(
+        "CREATE TRIGGER refuse_boom BEFORE INSERT ON scores WHEN NEW.metric = 'boom' BEGIN "
+        "SELECT RAISE(ABORT, 'boom refused'); END");
+  } else {
+    db().exec(
+        "CREATE FUNCTION refuse_boom() RETURNS trigger LANGUAGE plpgsql AS $$ BEGIN RAISE "
+        "EXCEPTION 'boom refused' USING ERRCODE = 'check_violation'; END $$; CREATE TRIGGER "
+        "refuse_boom BEFORE INSERT ON scores FOR EACH ROW WHEN (NEW.metric = 'boom') EXECUTE "
+        "FUNCTION refuse_boom()");
+  }
   const std::vector<ScoreInput> scores = {{"completion_time_s", 130.0, "s", false},
                                           {"path_length_m", 1.0, "m", true},
                                           {"boom", 1.0, "", true},
@@ -290,7 +298,8 @@ TEST_F(TrainingRepoTest, AddScoresIsAllOrNothing) {
       << "a replaced score was not restored";
 
   // The connection is usable afterwards: no transaction was left open.
-  db().exec("DROP TRIGGER refuse_boom");
+  db().exec(db().dialect() == Dialect::sqlite ? "DROP TRIGGER refuse_boom"
+                                              : "DROP TRIGGER refuse_boom ON scores");
   training_.add_scores(s, scores, 30);
   EXPECT_EQ(scores_by_metric(training_, s).size(), 4u);
 }

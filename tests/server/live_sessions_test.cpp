@@ -24,7 +24,8 @@ std::shared_ptr<live::LiveSession> unstarted_session(std::int64_t session_id,
   params.station_id = station_id;
   params.recording_id = 100 + session_id;
   params.scene = live::test::palpation_scene();
-  params.db_path = "/nonexistent/never-opened.db";  // only the session thread opens it
+  params.database =
+      db::DatabaseUrl::sqlite("/nonexistent/never-opened.db");  // only the session thread opens it
   return std::make_shared<live::LiveSession>(std::move(params), live::LiveSession::AgentLink{});
 }
 

@@ -107,6 +107,20 @@ TEST(ServerOptions, ErrorsNameTheProblem) {
   }
 }
 
+TEST(ServerOptions, DatabaseUrlNamesTheEngine) {
+  EXPECT_EQ(parse_server_options({}).options->database, "") << "the default: sqlite:DATA/incise.db";
+  for (const char* url : {"sqlite:/var/lib/incise/incise.db", "postgresql://incise@db/incise"}) {
+    const auto parsed = parse_server_options({"--database", url});
+    ASSERT_TRUE(parsed.options) << parsed.error;
+    EXPECT_EQ(parsed.options->database, url);
+  }
+  const auto bad = parse_server_options({"--database", "mysql://db/incise"});
+  EXPECT_FALSE(bad.options);
+  EXPECT_EQ(bad.error.rfind("--database: database URL 'mysql://db/incise' is neither", 0), 0u)
+      << bad.error;
+  EXPECT_FALSE(parse_server_options({"--database"}).options) << "a URL is required";
+}
+
 TEST(ServerOptions, BehindAProxy) {
   const auto parsed = parse_server_options({"--secure-cookies", "--trusted-proxy", "10.0.0.2"});
   ASSERT_TRUE(parsed.options) << parsed.error;

@@ -1,93 +1,57 @@
 #include "db_snapshot.h"
 
-#include <sqlite3.h>
-
-#include <memory>
 #include <stdexcept>
 #include <vector>
 
+#include "db/database.h"
+#include "db/statement.h"
+#include "db/transaction.h"
+
 namespace incise::server::test {
 
-namespace {
-
-struct Closer {
-  void operator()(sqlite3* db) const { sqlite3_close_v2(db); }
-};
-struct Finalizer {
-  void operator()(sqlite3_stmt* s) const { sqlite3_finalize(s); }
-};
-using Connection = std::unique_ptr<sqlite3, Closer>;
-using Query = std::unique_ptr<sqlite3_stmt, Finalizer>;
-
-Connection open_read_only(const std::filesystem::path& path) {
-  sqlite3* db = nullptr;
-  const int rc = sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr);
-  Connection connection(db);
-  if (rc != SQLITE_OK) {
-    throw std::runtime_error("open " + path.string() + ": " +
-                             (db ? sqlite3_errmsg(db) : sqlite3_errstr(rc)));
-  }
-  sqlite3_busy_timeout(db, 5000);
-  return connection;
-}
-
-Query prepare(sqlite3* db, const std::string& sql) {
-  sqlite3_stmt* stmt = nullptr;
-  if (sqlite3_prepare_v2(db, sql.c_str(), -1, &stmt, nullptr) != SQLITE_OK) {
-    throw std::runtime_error("prepare '" + sql + "': " + sqlite3_errmsg(db));
-  }
-  return Query(stmt);
-}
-
-bool step(sqlite3* db, sqlite3_stmt* stmt) {
-  const int rc = sqlite3_step(stmt);
-  if (rc == SQLITE_ROW) return true;
-  if (rc == SQLITE_DONE) return false;
-  throw std::runtime_error(std::string("step: ") + sqlite3_errmsg(db));
-}
-
-}  // namespace
-
-std::string snapshot_tables(const std::filesystem::path& db_path) {
-  const auto db = open_read_only(db_path);
+std::string snapshot_tables(const db::DatabaseUrl& database) {
+  db::Database db(database);
   // One read transaction, so that the dump is one consistent state.
-  sqlite3_exec(db.get(), "BEGIN", nullptr, nullptr, nullptr);
+  db::Transaction read(db, db::Transaction::Mode::deferred);
+  if (db.dialect() == db::Dialect::postgresql) {
+    db.exec("SET TRANSACTION ISOLATION LEVEL REPEATABLE READ");
+  }
   std::vector<std::string> tables;
   {
-    const auto q = prepare(db.get(),
-                           "SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE "
-                           "'sqlite_%' AND name != 'auth_sessions' ORDER BY name");
-    while (step(db.get(), q.get()))
-      tables.emplace_back(reinterpret_cast<const char*>(sqlite3_column_text(q.get(), 0)));
+    auto q = db.prepare(db.dialect() == db::Dialect::sqlite
+                            ? "SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT "
+                              "LIKE 'sqlite_%' AND name != 'auth_sessions' ORDER BY name"
+                            : "SELECT table_name FROM information_schema.tables WHERE table_schema "
+                              "= current_schema() AND table_name != 'auth_sessions' ORDER BY 1");
+    while (q.step())
+      tables.push_back(q.text(0));
   }
   std::string out;
   for (const auto& table : tables) {
     out += "[" + table + "]\n";
-    const auto q = prepare(db.get(), "SELECT * FROM \"" + table + "\" ORDER BY 1");
-    const int columns = sqlite3_column_count(q.get());
-    while (step(db.get(), q.get())) {
-      for (int c = 0; c < columns; ++c) {
+    auto q = db.prepare("SELECT * FROM \"" + table + "\" ORDER BY 1");
+    while (q.step()) {
+      for (int c = 0; c < q.columns(); ++c) {
         if (c > 0) out += "|";
-        if (sqlite3_column_type(q.get(), c) == SQLITE_NULL) {
-          out += "NULL";
-        } else {
-          const auto* bytes = static_cast<const char*>(sqlite3_column_blob(q.get(), c));
-          out.append(bytes ? bytes : "",
-                     static_cast<std::size_t>(sqlite3_column_bytes(q.get(), c)));
-        }
+        out += q.is_null(c) ? "NULL" : q.text(c);
       }
       out += "\n";
     }
   }
-  sqlite3_exec(db.get(), "COMMIT", nullptr, nullptr, nullptr);
   return out;
 }
 
-std::int64_t query_int(const std::filesystem::path& db_path, const std::string& sql) {
-  const auto db = open_read_only(db_path);
-  const auto q = prepare(db.get(), sql);
-  if (!step(db.get(), q.get())) throw std::runtime_error("no row from '" + sql + "'");
-  return sqlite3_column_int64(q.get(), 0);
+std::int64_t query_int(const db::DatabaseUrl& database, const std::string& sql) {
+  db::Database db(database);
+  auto q = db.prepare(sql);
+  if (!q.step()) throw std::runtime_error("no row from '" + sql + "'");
+  return q.int64(0);
+}
+
+std::string query_text(const db::DatabaseUrl& database, const std::string& sql) {
+  db::Database db(database);
+  auto q = db.prepare(sql);
+  return q.step() ? q.text(0) : "";
 }
 
 }  // namespace incise::server::test

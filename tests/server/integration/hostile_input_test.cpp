@@ -233,7 +233,9 @@ TEST_F(HostileInput, NothingAClientSendsStopsTheServerOrDisturbsALiveSession) {
   EXPECT_EQ(db_text("SELECT state FROM recordings WHERE id = " + rid), "complete");
   EXPECT_GT(db_int("SELECT COUNT(*) FROM scores WHERE session_id = " + std::to_string(run.session)),
             0);
-  EXPECT_EQ(db_text("PRAGMA integrity_check"), "ok");
+  if (server().database().dialect == db::Dialect::sqlite) {
+    EXPECT_EQ(db_text("PRAGMA integrity_check"), "ok");
+  }
 
   // Its replay: hostile controls close that replay; another replay of it plays.
   const auto replay_path = "/api/recordings/" + rid + "/replay?fps=10&width=160&height=120";

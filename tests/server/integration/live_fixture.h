@@ -2,7 +2,6 @@
 // Live sessions with the real server and the real incise-agent: a viewer of the view WebSocket
 // that acknowledges frames like the dashboard, the demo stations, and a fixture that books a
 // station, starts its agent and a session, and reads the database file directly.
-#include <sqlite3.h>
 
 #include <gtest/gtest.h>
 
@@ -16,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "db_snapshot.h"
 #include "server_fixture.h"
 #include "tests/support/ws_client.h"
 
@@ -184,17 +184,7 @@ class LiveSession : public ServerTest {
   }
 
   static std::string db_text(const std::string& sql) {
-    sqlite3* db = nullptr;
-    sqlite3_open_v2(server().db_path().c_str(), &db, SQLITE_OPEN_READONLY, nullptr);
-    sqlite3_stmt* stmt = nullptr;
-    std::string out;
-    if (sqlite3_prepare_v2(db, sql.c_str(), -1, &stmt, nullptr) == SQLITE_OK &&
-        sqlite3_step(stmt) == SQLITE_ROW && sqlite3_column_text(stmt, 0)) {
-      out = reinterpret_cast<const char*>(sqlite3_column_text(stmt, 0));
-    }
-    sqlite3_finalize(stmt);
-    sqlite3_close(db);
-    return out;
+    return query_text(server().database(), sql);
   }
 };
 

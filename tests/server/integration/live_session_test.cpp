@@ -2,7 +2,6 @@
 // device: start, watch over the view WebSocket, stop, then the recording, the score and a replay
 // that ends in the very same state. Plus the ways agents and viewers misbehave.
 #include <signal.h>
-#include <sqlite3.h>
 
 #include <gtest/gtest.h>
 

@@ -2,22 +2,57 @@
 
 #include <signal.h>
 
+#include <unistd.h>
+
 #include <chrono>
+#include <cstdlib>
 #include <ctime>
 #include <fstream>
 #include <stdexcept>
 
+#include "db/database.h"
 #include "db_snapshot.h"
 
 namespace incise::server::test {
+
+namespace {
+// A fresh database `name` on the cluster INCISE_TEST_DATABASE names; returns its URL.
+db::DatabaseUrl create_database(const db::DatabaseUrl& cluster, const std::string& name) {
+  db::Database(cluster).exec("CREATE DATABASE " + name);
+  // postgresql://user@host/DB?params: replace DB (the path after the authority).
+  auto url = cluster;
+  const auto path = url.target.find('/', url.target.find("://") + 3);
+  const auto end = url.target.find('?', path);
+  url.target.replace(path + 1, (end == std::string::npos ? url.target.size() : end) - path - 1,
+                     name);
+  return url;
+}
+}  // namespace
 
 ServerProcess::ServerProcess() {
   const auto web = dir_.path() / "web";
   std::filesystem::create_directories(web);
   std::ofstream(web / "index.html") << kIndexHtml;
-  process_ = std::make_unique<ChildProcess>(
-      std::vector<std::string>{INCISE_SERVER_BIN, "--port", "0", "--host", "127.0.0.1", "--data",
-                               (dir_.path() / "data").string(), "--demo", "--web", web.string()});
+  std::vector<std::string> command{INCISE_SERVER_BIN,
+                                   "--port",
+                                   "0",
+                                   "--host",
+                                   "127.0.0.1",
+                                   "--data",
+                                   (dir_.path() / "data").string(),
+                                   "--demo",
+                                   "--web",
+                                   web.string()};
+  database_ = db::DatabaseUrl::sqlite(dir_.path() / "data" / "incise.db");
+  const char* server = std::getenv("INCISE_TEST_DATABASE");
+  if (server && *server) {
+    cluster_ = db::DatabaseUrl::parse(server);
+    static int count = 0;
+    database_name_ = "incise_it" + std::to_string(::getpid()) + "_" + std::to_string(++count);
+    database_ = create_database(cluster_, database_name_);
+    command.insert(command.end(), {"--database", database_.target});
+  }
+  process_ = std::make_unique<ChildProcess>(command);
   const auto line = process_->wait_for_line(kListening, std::chrono::seconds(20));
   if (!line) {
     const auto status = process_->wait_for_exit(std::chrono::milliseconds(0));
@@ -27,6 +62,16 @@ ServerProcess::ServerProcess() {
                              "; stderr: " + process_->stderr_text());
   }
   port_ = static_cast<unsigned short>(std::stoi(line->substr(std::string_view(kListening).size())));
+}
+
+ServerProcess::~ServerProcess() {
+  process_.reset();  // the server first: it holds connections to the database
+  if (database_name_.empty()) return;
+  try {
+    db::Database(cluster_).exec("DROP DATABASE IF EXISTS " + database_name_ + " WITH (FORCE)");
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "cannot drop the test database: " << e.what();
+  }
 }
 
 std::unique_ptr<HttpClient> ServerProcess::client() const {
@@ -74,11 +119,11 @@ HttpClient& ServerTest::as(const Login& login) {
 }
 
 std::string ServerTest::snapshot() {
-  return snapshot_tables(server_->db_path());
+  return snapshot_tables(server_->database());
 }
 
 std::int64_t ServerTest::db_int(const std::string& sql) {
-  return query_int(server_->db_path(), sql);
+  return query_int(server_->database(), sql);
 }
 
 ::testing::AssertionResult is_error(const HttpResponse& response, int status,

@@ -1,7 +1,9 @@
 #pragma once
 // The real incise-server for integration tests: started with --demo on a fresh data directory
-// and a tiny web root, one server per test suite, plus logged-in clients for the demo logins
-// (logged in once per suite: argon2id costs ~0.1 s per login).
+// (and, when INCISE_TEST_DATABASE names a PostgreSQL cluster as in the pg/ suites, a fresh
+// database there, given with --database) and a tiny web root, one server per test suite, plus
+// logged-in clients for the demo logins (logged in once per suite: argon2id costs ~0.1 s per
+// login).
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -11,6 +13,7 @@
 #include <string>
 #include <string_view>
 
+#include "db/database_url.h"
 #include "tests/support/child_process.h"
 #include "tests/support/http_client.h"
 #include "tests/support/temp_dir.h"
@@ -37,14 +40,21 @@ class ServerProcess {
  public:
   // Throws std::runtime_error, with the server's stderr, when it is not listening within 20 s.
   ServerProcess();
+  ~ServerProcess();
+  ServerProcess(const ServerProcess&) = delete;
+  ServerProcess& operator=(const ServerProcess&) = delete;
 
   unsigned short port() const { return port_; }
-  std::filesystem::path db_path() const { return dir_.path() / "data" / "incise.db"; }
+  // Where the server keeps its data: data/incise.db, or its own PostgreSQL database.
+  const db::DatabaseUrl& database() const { return database_; }
   ChildProcess& process() { return *process_; }
   std::unique_ptr<HttpClient> client() const;
 
  private:
   TempDir dir_{"incise-server-it"};
+  db::DatabaseUrl cluster_;    // PostgreSQL only: the server database_name_ was created on
+  std::string database_name_;
+  db::DatabaseUrl database_;
   std::unique_ptr<ChildProcess> process_;
   unsigned short port_ = 0;
 };

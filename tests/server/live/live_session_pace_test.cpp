@@ -51,7 +51,7 @@ TEST(LiveSessionPace, AThrottledSessionReportsBehindRealTimeShedsAndRecovers) {
     params.recording_id = db::RecordingsRepo(db).create(params.session_id, "scenes/palpation.json",
                                                         "0123456789abcdef", 0, 500, kNow);
   }
-  params.db_path = db_path;
+  params.database = db::DatabaseUrl::sqlite(db_path);
   // The palpation block on 2 x 2 x 1 cells: a tick costs microseconds, so that unthrottled the
   // session keeps up even on a machine busy with other tests.
   auto scene = nlohmann::json::parse(test::palpation_text());
@@ -99,7 +99,7 @@ TEST(LiveSessionPace, AThrottledSessionReportsBehindRealTimeShedsAndRecovers) {
 TEST(LiveSessionPace, APausedSessionIsNotBehind) {
   LiveSessionParams params;
   params.scene = test::palpation_scene();
-  params.db_path = "/nonexistent/never-opened.db";
+  params.database = db::DatabaseUrl::sqlite("/nonexistent/never-opened.db");
   LiveSession session(std::move(params), {});  // never started
   ASSERT_EQ(session.pause("coffee"), "");
   const auto status = session.status();
@@ -129,7 +129,7 @@ TEST(StaleModel, OnlyTheAgentsStaleModelFaultIsAReasonToPause) {
 TEST(StaleModel, ARunningSessionPausesOnAStaleModelAfterItsGrace) {
   LiveSessionParams params;
   params.scene = test::palpation_scene();
-  params.db_path = "/nonexistent/never-opened.db";
+  params.database = db::DatabaseUrl::sqlite("/nonexistent/never-opened.db");
   params.stale_model_grace = 0ms;
   LiveSession session(std::move(params), {});  // never started: its state is all this needs
   session.set_link_report(link_report("none", 3));
@@ -144,7 +144,7 @@ TEST(StaleModel, ARunningSessionPausesOnAStaleModelAfterItsGrace) {
 TEST(StaleModel, AReportWithinTheGraceDoesNotPause) {
   LiveSessionParams params;
   params.scene = test::palpation_scene();
-  params.db_path = "/nonexistent/never-opened.db";
+  params.database = db::DatabaseUrl::sqlite("/nonexistent/never-opened.db");
   params.stale_model_grace = std::chrono::hours(1);
   LiveSession session(std::move(params), {});
   session.set_link_report(link_report("stale model", 350));
