@@ -53,8 +53,11 @@ out=results/bench-$(date -u +%Y%m%dT%H%M%SZ).txt
   echo "## live path on loopback (server + agent + one viewer), ${live_seconds} s"
   "$bin/bench_live" --seconds "$live_seconds"
   echo
-  echo "## the REST API under load (wrk): GET /api/me alone and during 20 parallel logins"
+  echo "## the REST API under load (wrk): GET /api/me alone and during 20 parallel logins, on SQLite"
   bash deploy/bench_api.sh "$live_seconds"
+  echo
+  echo "## the same on PostgreSQL (a throwaway local cluster)"
+  bash deploy/bench_api.sh "$live_seconds" --postgresql
   echo
   echo "## speed against error: every model x integrator (results/accuracy.csv, results/*.svg)"
   if [ "${1:-}" = "--quick" ]; then "$bin/bench_accuracy" --quick; else "$bin/bench_accuracy"; fi

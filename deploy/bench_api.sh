@@ -4,19 +4,37 @@
 # log in as fast as the server lets them (each login is an argon2id check), then while 20
 # connections of the admin create users (each hashes a new password). Prints wrk's summary and
 # latency percentiles of each run, and the logins and creations completed meanwhile.
-#   deploy/bench_api.sh [SECONDS]   (default 15 per run)
+#   deploy/bench_api.sh [SECONDS] [--postgresql]   (default 15 s per run)
+# --postgresql keeps the server's data in a throwaway local PostgreSQL cluster
+# (tests/support/postgres_cluster.sh) instead of an SQLite file.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
-seconds=${1:-15}
+seconds=15
+engine=sqlite
+for arg in "$@"; do
+  case "$arg" in
+    --postgresql) engine=postgresql ;;
+    *[!0-9]* | "") echo "bench_api: unknown argument $arg" >&2; exit 2 ;;
+    *) seconds=$arg ;;
+  esac
+done
 
 bash deploy/install-deps.sh --bench
 bash deploy/build.sh > /dev/null
 bin=${INCISE_BUILD_DIR:-build}/bin
 work=$(mktemp -d)
-trap 'kill $server_pid 2>/dev/null || true; wait 2>/dev/null || true; rm -rf "$work"' EXIT
+# The cluster's directory must be open to the postgres user (mktemp's is not).
+pg_dir=/tmp/incise-bench-pg-$$
+server_pid=
+trap 'kill $server_pid 2>/dev/null || true; wait 2>/dev/null || true; rm -rf "$work";
+      if [ $engine = postgresql ]; then bash tests/support/postgres_cluster.sh stop "$pg_dir"; fi' EXIT
 
-"$bin/incise-server" --port 0 --data "$work/data" --web web/dist --demo > "$work/server.out" \
+database=(--data "$work/data")
+if [ $engine = postgresql ]; then
+  database=(--database "$(bash tests/support/postgres_cluster.sh start "$pg_dir")")
+fi
+"$bin/incise-server" --port 0 "${database[@]}" --web web/dist --demo > "$work/server.out" \
   2> "$work/server.log" &
 server_pid=$!
 for _ in $(seq 1 100); do
@@ -35,7 +53,7 @@ wrk.body = '$login'
 wrk.headers["Content-Type"] = "application/json"
 LUA
 
-echo "# GET /api/me alone: 2 threads, 32 connections, ${seconds} s ($(date -u +%F), git $(git rev-parse --short HEAD))"
+echo "# GET /api/me alone, $engine: 2 threads, 32 connections, ${seconds} s ($(date -u +%F), git $(git rev-parse --short HEAD))"
 wrk -t2 -c32 -d"${seconds}s" --latency -H "Cookie: $cookie" "$url/api/me"
 echo
 # GET /api/me while 20 connections run wrk's script $1 against $2 (started 2 s before, ended 2 s

@@ -32,6 +32,7 @@ namespace {
 struct World {
   std::filesystem::path dir;
   std::unique_ptr<db::Database> database;
+  std::unique_ptr<db::ConnectionPool> pool;
   std::shared_ptr<server::AppState> app;
   std::string cookies[4];  // none, trainee, instructor, admin
 };
@@ -47,10 +48,11 @@ World& world() {
     db::apply_migrations(*w->database);
     server::ServerConfig config;
     config.web_root = w->dir / "web";
-    config.db_path = w->dir / "incise.db";
+    config.database = db::DatabaseUrl::sqlite(w->dir / "incise.db");
     std::filesystem::create_directories(config.web_root);
     std::ofstream(config.web_root / "index.html") << "<!doctype html><title>Incise</title>";
-    w->app = std::make_shared<server::AppState>(*w->database, config);
+    w->pool = std::make_unique<db::ConnectionPool>(config.database, 2);
+    w->app = std::make_shared<server::AppState>(*w->pool, config);
     server::seed_demo_data(*w->database, w->app->now());
     const char* names[] = {"trainee", "instructor", "admin"};
     for (int i = 0; i < 3; ++i) {

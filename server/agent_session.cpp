@@ -154,8 +154,8 @@ void AgentSession::handle_hello() {
   std::optional<db::Station> station;
   std::string calibration;
   {
-    std::lock_guard lock(app_->db_mutex());
-    db::StationsRepo stations(app_->db());
+    auto db = app_->pool().acquire();
+    db::StationsRepo stations(*db);
     station = stations.find_by_token(hello.value->station_token);
     if (station) calibration = stations.calibration(station->id);
   }

@@ -8,8 +8,8 @@
 
 namespace incise::server {
 
-AppState::AppState(db::Database& db, ServerConfig config)
-    : db_(db),
+AppState::AppState(db::ConnectionPool& pool, ServerConfig config)
+    : pool_(pool),
       config_(std::move(config)),
       // Ten wrong tokens from an address are free (a mistyped configuration), then the wait
       // doubles; ten quiet minutes forget them.

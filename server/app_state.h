@@ -1,7 +1,8 @@
 #pragma once
-// What every connection of one server shares (Beast chat-multi's shared_state): the database, the
-// web root, the live station registry and the login limiter. Handlers lock `db_mutex` around
-// database work; one connection, serialised, is plenty at this scale and keeps SQLite simple.
+// What every connection of one server shares (Beast chat-multi's shared_state): the database's
+// connection pool, the web root, the live station registry and the login limiter. A request leases
+// a connection for as long as it runs (ApiContext::db()); requests run side by side, and what
+// must hold across statements holds by transactions, not by a lock of ours.
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -10,7 +11,7 @@
 #include <mutex>
 #include <string>
 
-#include "db/database.h"
+#include "db/connection_pool.h"
 #include "server/live_sessions.h"
 #include "server/login_limiter.h"
 #include "server/password_workers.h"
@@ -23,7 +24,7 @@ class ViewSession;
 
 struct ServerConfig {
   std::filesystem::path web_root;  // the built dashboard (web/dist)
-  std::filesystem::path db_path;   // the database file; live sessions open their own connection
+  db::DatabaseUrl database;        // where the data lives; live sessions open their own connection
   std::int64_t session_ttl_s = 12 * 3600;
   std::size_t api_body_limit = 64 * 1024;
   bool secure_cookies = false;  // set behind TLS
@@ -33,11 +34,10 @@ struct ServerConfig {
 
 class AppState {
  public:
-  AppState(db::Database& db, ServerConfig config);
+  AppState(db::ConnectionPool& pool, ServerConfig config);
   ~AppState();
 
-  db::Database& db() { return db_; }
-  std::mutex& db_mutex() { return db_mutex_; }
+  db::ConnectionPool& pool() { return pool_; }
   const ServerConfig& config() const { return config_; }
   LoginLimiter& login_limiter() { return login_limiter_; }
   PasswordWorkers& password_workers() { return password_workers_; }
@@ -70,8 +70,7 @@ class AppState {
   int close_views_of(std::int64_t user_id, const std::string& reason);
 
  private:
-  db::Database& db_;
-  std::mutex db_mutex_;
+  db::ConnectionPool& pool_;
   ServerConfig config_;
   LoginLimiter login_limiter_;
   LoginLimiter agent_limiter_;

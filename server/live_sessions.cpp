@@ -16,6 +16,24 @@ void LiveSessions::add(const std::shared_ptr<live::LiveSession>& session) {
     }
   }
   sessions_[session->session_id()] = session;
+  claimed_.erase(session->station_id());
+}
+
+bool LiveSessions::claim(std::int64_t station_id) {
+  std::lock_guard lock(mutex_);
+  if (claimed_.count(station_id)) return false;
+  for (const auto& [_, session] : sessions_) {
+    if (session->station_id() == station_id && session->state() != live::LiveState::finished) {
+      return false;
+    }
+  }
+  claimed_.insert(station_id);
+  return true;
+}
+
+void LiveSessions::release_claim(std::int64_t station_id) {
+  std::lock_guard lock(mutex_);
+  claimed_.erase(station_id);
 }
 
 void LiveSessions::remove(std::int64_t session_id) {

@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,12 @@ class LiveSessions {
   std::shared_ptr<live::LiveSession> find(std::int64_t session_id) const;
   // The station's session that has not finished, if any.
   std::shared_ptr<live::LiveSession> active_at(std::int64_t station_id) const;
+  // Claims the station for a session being started, so that two starts racing for it (on
+  // different threads; there is no global lock) cannot both pass the check: false while a session
+  // is active there or another start holds the claim. add() of a session at the station, or
+  // release_claim(), ends the claim.
+  bool claim(std::int64_t station_id);
+  void release_claim(std::int64_t station_id);
 
   // The agent's link report (with the server's loss_up) for the station's active session.
   void on_link_report(std::int64_t station_id, nlohmann::json report) const;
@@ -33,6 +40,7 @@ class LiveSessions {
  private:
   mutable std::mutex mutex_;
   std::map<std::int64_t, std::shared_ptr<live::LiveSession>> sessions_;
+  std::set<std::int64_t> claimed_;  // stations with a session being started
 };
 
 }  // namespace incise::server

@@ -11,14 +11,13 @@ namespace incise::server {
 
 db::PasswordHash ApiContext::hash_password(std::string_view password) {
   db::PasswordHash hash;
-  without_db_lock([&] { hash.value = db::hash_password(password); });
+  hash.value = db::hash_password(password);
   if (user_) {
     // The caller's login may have ended, or their account changed, meanwhile: read it again, in
     // place (handlers hold references to it), and check roles after this.
     const auto token = cookie(kSessionCookie);
-    auto fresh = token
-                     ? db::AuthSessionsRepo(app.db()).touch(*token, now, app.config().session_ttl_s)
-                     : std::nullopt;
+    auto fresh = token ? db::AuthSessionsRepo(db()).touch(*token, now, app.config().session_ttl_s)
+                       : std::nullopt;
     if (!fresh) {
       throw ApiError(http::status::unauthorized,
                      "not logged in (the session has ended or expired)");
@@ -41,7 +40,7 @@ const db::User& ApiContext::signed_in() {
   if (user_) return *user_;
   const auto token = cookie(kSessionCookie);
   if (!token) throw ApiError(http::status::unauthorized, "not logged in");
-  user_ = db::AuthSessionsRepo(app.db()).touch(*token, now, app.config().session_ttl_s);
+  user_ = db::AuthSessionsRepo(db()).touch(*token, now, app.config().session_ttl_s);
   if (!user_)
     throw ApiError(http::status::unauthorized, "not logged in (the session has ended or expired)");
   return *user_;

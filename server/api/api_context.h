@@ -1,7 +1,7 @@
 #pragma once
 // What one REST handler sees: the request, the app, the caller, and helpers that turn missing
-// logins, wrong roles and malformed bodies into ApiErrors. The router holds the database lock for
-// the whole call, so handlers use the repositories directly.
+// logins, wrong roles and malformed bodies into ApiErrors. ctx.db() is the request's own pooled
+// connection, so handlers use the repositories directly; requests run side by side.
 #include <boost/beast/http.hpp>
 #include <cstdint>
 #include <initializer_list>
@@ -53,28 +53,20 @@ class ApiContext {
 
   const Request& request;
   AppState& app;
-  const std::string client;                         // remote address, for the login limiter
-  const bool https;                                 // over TLS: the login cookie is Secure
-  const std::int64_t now;                           // Unix seconds, fixed for the whole request
-  std::int64_t path_id = 0;                         // the {id} of the matched route, if any
-  std::unique_lock<std::mutex>* db_lock = nullptr;  // the router's database lock, held
+  const std::string client;  // remote address, for the login limiter
+  const bool https;          // over TLS: the login cookie is Secure
+  const std::int64_t now;    // Unix seconds, fixed for the whole request
+  std::int64_t path_id = 0;  // the {id} of the matched route, if any
 
-  // Runs f with the database lock released, for a handler that must wait for another thread
-  // (stopping a live session) without stalling every other request. Takes the lock back after.
-  template <class F>
-  void without_db_lock(F&& f) {
-    if (!db_lock) return f();
-    db_lock->unlock();
-    try {
-      f();
-    } catch (...) {
-      db_lock->lock();
-      throw;
-    }
-    db_lock->lock();
+  // This request's database connection, leased from the pool on first use and given back when
+  // the request ends. Requests run side by side: an invariant that needs several statements to
+  // hold together takes a db::Transaction (IMMEDIATE for read-check-write).
+  db::Database& db() {
+    if (!lease_) lease_.emplace(app.pool().acquire());
+    return **lease_;
   }
-  // password's stored form (db::hash_password: about 50 ms of argon2id), made without the
-  // database lock: hash before reading what the change depends on, or read it again after. The
+  // password's stored form (db::hash_password: about 50 ms of argon2id), made outside any
+  // transaction: hash before reading what the change depends on, or read it again after. The
   // signed-in user, if any, is read again after (401 if their login ended meanwhile): a handler
   // checks their role after this.
   db::PasswordHash hash_password(std::string_view password);
@@ -94,6 +86,7 @@ class ApiContext {
 
  private:
   std::optional<db::User> user_;
+  std::optional<db::ConnectionPool::Lease> lease_;
 };
 
 inline constexpr const char* kSessionCookie = "incise_session";

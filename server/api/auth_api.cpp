@@ -38,18 +38,14 @@ void check_login_limit(ApiContext& ctx, std::string_view account, std::string_vi
 }
 
 // Whether `password` matches `hash` ("" when there is no such user: the same work is spent). The
-// check takes about 50 ms of argon2id, so it runs without the database lock: other requests go
-// on meanwhile (logins themselves run on the password workers, not the I/O threads).
-bool password_checks(ApiContext& ctx, std::string_view password, const std::string& hash) {
-  bool ok = false;
-  ctx.without_db_lock([&] {
-    if (hash.empty()) {
-      db::spend_password_check(password);
-    } else {
-      ok = db::verify_password(password, hash);
-    }
-  });
-  return ok;
+// check takes about 50 ms of argon2id; logins run on the password workers, not the I/O threads,
+// so other requests go on meanwhile.
+bool password_checks(std::string_view password, const std::string& hash) {
+  if (hash.empty()) {
+    db::spend_password_check(password);
+    return false;
+  }
+  return db::verify_password(password, hash);
 }
 }  // namespace
 
@@ -60,15 +56,15 @@ ApiResponse login(ApiContext& ctx) {
   const auto password = fields.string("password");
 
   check_login_limit(ctx, username, "failed logins");
-  db::UsersRepo users(ctx.app.db());
+  db::UsersRepo users(ctx.db());
   const auto found = users.credentials(username);
   auto& limiter = ctx.app.login_limiter();
-  if (!password_checks(ctx, password, found ? found->password_hash : std::string())) {
+  if (!password_checks(password, found ? found->password_hash : std::string())) {
     limiter.record_failure(username, ctx.client, ctx.now);
     throw ApiError(http::status::unauthorized, "wrong username or password");
   }
   limiter.record_success(username, ctx.client, ctx.now);
-  // Read again: the account may have changed while the password was checked without the lock.
+  // Read again: the account may have changed while the password was checked.
   const auto user = users.find(found->user.id);
   if (!user) throw ApiError(http::status::unauthorized, "wrong username or password");
   // Said only to whoever knows the password, so it reveals nothing to a guesser.
@@ -76,8 +72,8 @@ ApiResponse login(ApiContext& ctx) {
     throw ApiError(http::status::forbidden, "this account is disabled; ask an admin");
   }
   const auto ttl = ctx.app.config().session_ttl_s;
-  const auto token = db::AuthSessionsRepo(ctx.app.db()).create(user->id, ctx.now, ttl);
-  db::AuthSessionsRepo(ctx.app.db()).purge_expired(ctx.now);
+  const auto token = db::AuthSessionsRepo(ctx.db()).create(user->id, ctx.now, ttl);
+  db::AuthSessionsRepo(ctx.db()).purge_expired(ctx.now);
   return {http::status::ok,
           {{"user", to_json(*user)}},
           {{"Set-Cookie", session_cookie(ctx, token, false)}}};
@@ -85,7 +81,7 @@ ApiResponse login(ApiContext& ctx) {
 
 ApiResponse logout(ApiContext& ctx) {
   if (const auto token = ctx.cookie(kSessionCookie)) {
-    db::AuthSessionsRepo(ctx.app.db()).remove(*token);
+    db::AuthSessionsRepo(ctx.db()).remove(*token);
   }
   return {http::status::no_content, nullptr, {{"Set-Cookie", session_cookie(ctx, "", true)}}};
 }
@@ -105,19 +101,19 @@ ApiResponse change_own_password(ApiContext& ctx) {
     throw ApiError(http::status::unprocessable_entity,
                    "new_password must differ from the current one");
   }
-  auto& db = ctx.app.db();
+  auto& db = ctx.db();
   db::UsersRepo users(db);
   // A stolen cookie must not be able to take the account over, nor guess the password here
   // faster than at the login: the same limiter counts these failures.
   check_login_limit(ctx, user.username, "failed attempts");
   const std::string checked = users.password_hash(user.id);
-  if (!password_checks(ctx, current, checked)) {
+  if (!password_checks(current, checked)) {
     ctx.app.login_limiter().record_failure(user.username, ctx.client, ctx.now);
     throw ApiError(http::status::unprocessable_entity, "current_password is wrong");
   }
   const db::PasswordHash hash = ctx.hash_password(next);  // reads `user` again
   db::Transaction tx(db);
-  // Both ran without the lock: an admin's reset (or another change) meanwhile wins.
+  // Both ran outside any transaction: an admin's reset (or another change) meanwhile wins.
   if (users.password_hash(user.id) != checked) {
     throw ApiError(http::status::conflict,
                    "your password was changed meanwhile; log in again and retry");

@@ -33,7 +33,7 @@ std::string conflict_message(const db::BookingConflict& c) {
 ApiResponse list_bookings(ApiContext& ctx) {
   const auto& user = ctx.user();
   auto out = nlohmann::json::array();
-  for (const auto& b : db::BookingsRepo(ctx.app.db()).list(visible_scope(user))) {
+  for (const auto& b : db::BookingsRepo(ctx.db()).list(visible_scope(user))) {
     auto row = to_json(b);
     // Whether it lets its person start a session now: the browser shows the start form by it.
     row["covers_now"] = db::covers(b, ctx.now);
@@ -44,7 +44,7 @@ ApiResponse list_bookings(ApiContext& ctx) {
 
 ApiResponse station_schedule(ApiContext& ctx) {
   const auto& user = ctx.user();
-  auto& db = ctx.app.db();
+  auto& db = ctx.db();
   if (!db::StationsRepo(db).find(ctx.path_id)) {
     throw ApiError(http::status::not_found,
                    "station " + std::to_string(ctx.path_id) + " does not exist");
@@ -77,13 +77,13 @@ ApiResponse create_booking(ApiContext& ctx) {
   if (const auto why = check_slot(starts_at, ends_at, ctx.now)) {
     throw ApiError(http::status::unprocessable_entity, *why);
   }
-  if (const auto station = db::StationsRepo(ctx.app.db()).find(station_id);
+  if (const auto station = db::StationsRepo(ctx.db()).find(station_id);
       station && station->retired()) {
     throw ApiError(http::status::conflict, station->name + " is retired; book another station");
   }
   try {
     const auto booking =
-        db::BookingsRepo(ctx.app.db()).create(station_id, user.id, starts_at, ends_at, ctx.now);
+        db::BookingsRepo(ctx.db()).create(station_id, user.id, starts_at, ends_at, ctx.now);
     return {http::status::created, to_json(booking), {}};
   } catch (const db::BookingConflict& c) {
     throw ApiError(http::status::conflict, conflict_message(c));
@@ -95,7 +95,7 @@ ApiResponse create_booking(ApiContext& ctx) {
 
 ApiResponse cancel_booking(ApiContext& ctx) {
   const auto& user = ctx.user();
-  db::BookingsRepo bookings(ctx.app.db());
+  db::BookingsRepo bookings(ctx.db());
   const auto booking = bookings.find(ctx.path_id);
   if (!booking) {
     throw ApiError(http::status::not_found,
@@ -107,7 +107,7 @@ ApiResponse cancel_booking(ApiContext& ctx) {
   }
   bookings.cancel(booking->id, ctx.now);
   if (booking->user_id != user.id) {
-    audit_change(ctx.app.db(), user.id, "booking.cancel",
+    audit_change(ctx.db(), user.id, "booking.cancel",
                  "booking " + std::to_string(booking->id) + " of " + booking->username, ctx.now,
                  {{"status", booking->status}}, {{"status", "cancelled"}});
   }

@@ -41,12 +41,12 @@ void check_session_access(db::Database& db, const db::User& user,
 }
 
 db::SessionRecord visible_session(ApiContext& ctx) {
-  const auto record = db::TrainingRepo(ctx.app.db()).find_session(ctx.path_id);
+  const auto record = db::TrainingRepo(ctx.db()).find_session(ctx.path_id);
   if (!record) {
     throw ApiError(boost::beast::http::status::not_found,
                    "session " + std::to_string(ctx.path_id) + " does not exist");
   }
-  check_session_access(ctx.app.db(), ctx.user(), *record);
+  check_session_access(ctx.db(), ctx.user(), *record);
   return *record;
 }
 

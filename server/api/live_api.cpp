@@ -40,12 +40,12 @@ nlohmann::json live_json(const std::shared_ptr<live::LiveSession>& session) {
 
 ApiResponse session_response(ApiContext& ctx, std::int64_t session_id, const nlohmann::json& live,
                              http::status status = http::status::ok) {
-  const auto record = db::TrainingRepo(ctx.app.db()).find_session(session_id);
+  const auto record = db::TrainingRepo(ctx.db()).find_session(session_id);
   if (!record) throw ApiError(http::status::not_found, "no session " + std::to_string(session_id));
   auto out = to_json(*record);
   out["live"] = live;
   // The verdict by the progress rules, so that the browser shows it and computes none.
-  const auto passed = session_passed(ctx.app.db(), *record);
+  const auto passed = session_passed(ctx.db(), *record);
   out["passed"] = passed ? nlohmann::json(*passed) : nlohmann::json(nullptr);
   return {status, out, {}};
 }
@@ -74,7 +74,7 @@ ApiResponse start_session(ApiContext& ctx) {
   if (expert && user.role == db::Role::trainee) {
     throw ApiError(http::status::forbidden, "expert runs are instructors' or admins'");
   }
-  auto& db = ctx.app.db();
+  auto& db = ctx.db();
   const auto station = db::StationsRepo(db).find(station_id);
   if (!station) {
     throw ApiError(http::status::not_found, "no station " + std::to_string(station_id));
@@ -109,6 +109,19 @@ ApiResponse start_session(ApiContext& ctx) {
                                                " is busy with session " +
                                                std::to_string(busy->session_id()));
   }
+  // From here until add(): no other start may take the station.
+  if (!ctx.app.live_sessions().claim(station_id)) {
+    throw ApiError(http::status::conflict,
+                   "station " + std::to_string(station_id) + " is busy with a session starting");
+  }
+  struct Claim {
+    LiveSessions& sessions;
+    std::int64_t station_id;
+    bool held = true;
+    ~Claim() {
+      if (held) sessions.release_claim(station_id);
+    }
+  } claim{ctx.app.live_sessions(), station_id};
   if (!ctx.app.station_online(station_id)) {
     throw ApiError(http::status::conflict,
                    "station " + std::to_string(station_id) + " agent is offline");
@@ -148,7 +161,7 @@ ApiResponse start_session(ApiContext& ctx) {
       params.session_id, task->scene, live::scene_version(scene_source->text), 0, kTickHz, ctx.now);
   tx.commit();
   params.task = *task;
-  params.db_path = ctx.app.config().db_path;
+  params.database = ctx.app.config().database;
   params.tick_hz = kTickHz;
 
   AppState* app = &ctx.app;
@@ -164,7 +177,8 @@ ApiResponse start_session(ApiContext& ctx) {
   };
   auto session = std::make_shared<live::LiveSession>(std::move(params), std::move(link));
   session->start();
-  ctx.app.live_sessions().add(session);
+  ctx.app.live_sessions().add(session);  // ends the claim
+  claim.held = false;
   // The agent may have left between the check above and add(), when no session could hear it.
   session->set_agent_online(ctx.app.station_online(station_id));
   return session_response(ctx, session->session_id(), live_json(session), http::status::created);
@@ -182,7 +196,7 @@ ApiResponse pause_session(ApiContext& ctx) {
   if (const auto why = session->pause("paused by " + ctx.user().username); !why.empty()) {
     throw ApiError(http::status::conflict, why);
   }
-  db::TrainingRepo(ctx.app.db()).set_session_state(ctx.path_id, "paused", ctx.now);
+  db::TrainingRepo(ctx.db()).set_session_state(ctx.path_id, "paused", ctx.now);
   return session_response(ctx, ctx.path_id, live_json(session));
 }
 
@@ -191,7 +205,7 @@ ApiResponse resume_session(ApiContext& ctx) {
   if (const auto why = session->resume(); !why.empty()) {
     throw ApiError(http::status::conflict, why);
   }
-  db::TrainingRepo(ctx.app.db()).set_session_state(ctx.path_id, "running", ctx.now);
+  db::TrainingRepo(ctx.db()).set_session_state(ctx.path_id, "running", ctx.now);
   return session_response(ctx, ctx.path_id, live_json(session));
 }
 
@@ -200,7 +214,7 @@ ApiResponse stop_session(ApiContext& ctx) {
   // Waits for the session thread to close the recording and store the score (on its own
   // database connection), without holding up every other request meanwhile.
   const auto who = ctx.user().username;
-  ctx.without_db_lock([&] { session->stop("stopped by " + who); });
+  session->stop("stopped by " + who);
   const auto live = live_json(session);
   ctx.app.live_sessions().remove(session->session_id());
   return session_response(ctx, ctx.path_id, live);

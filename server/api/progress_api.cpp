@@ -44,7 +44,7 @@ nlohmann::json progress_of(db::Database& db, std::int64_t trainee_id) {
 }  // namespace
 
 ApiResponse my_progress(ApiContext& ctx) {
-  return {http::status::ok, progress_of(ctx.app.db(), ctx.user().id)};
+  return {http::status::ok, progress_of(ctx.db(), ctx.user().id)};
 }
 
 ApiResponse trainee_progress(ApiContext& ctx) {
@@ -54,24 +54,24 @@ ApiResponse trainee_progress(ApiContext& ctx) {
   }
   // Checked before the trainee is looked up, so that an instructor cannot tell an unknown id
   // from a trainee they do not teach.
-  if (!may_see_trainee(ctx.app.db(), user, ctx.path_id)) {
+  if (!may_see_trainee(ctx.db(), user, ctx.path_id)) {
     throw ApiError(http::status::forbidden,
                    "you do not teach trainee " + std::to_string(ctx.path_id));
   }
-  const auto trainee = db::UsersRepo(ctx.app.db()).find(ctx.path_id);
+  const auto trainee = db::UsersRepo(ctx.db()).find(ctx.path_id);
   if (!trainee || trainee->role != db::Role::trainee) {
     throw ApiError(http::status::not_found,
                    "trainee " + std::to_string(ctx.path_id) + " does not exist");
   }
-  return {http::status::ok, progress_of(ctx.app.db(), ctx.path_id)};
+  return {http::status::ok, progress_of(ctx.db(), ctx.path_id)};
 }
 
 ApiResponse progress_overview(ApiContext& ctx) {
   const auto& viewer = ctx.require_role({db::Role::instructor, db::Role::admin});
   auto out = nlohmann::json::array();
-  for (const auto& user : db::UsersRepo(ctx.app.db()).list()) {
-    if (user.role != db::Role::trainee || !may_see_trainee(ctx.app.db(), viewer, user.id)) continue;
-    auto row = progress_of(ctx.app.db(), user.id);
+  for (const auto& user : db::UsersRepo(ctx.db()).list()) {
+    if (user.role != db::Role::trainee || !may_see_trainee(ctx.db(), viewer, user.id)) continue;
+    auto row = progress_of(ctx.db(), user.id);
     row["username"] = user.username;
     row["display_name"] = user.display_name;
     out.push_back(std::move(row));

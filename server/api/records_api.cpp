@@ -35,15 +35,15 @@ ApiResponse as_list(const Records& records) {
 }  // namespace
 
 ApiResponse list_sessions(ApiContext& ctx) {
-  return as_list(db::TrainingRepo(ctx.app.db()).sessions(visible_trainee(ctx)));
+  return as_list(db::TrainingRepo(ctx.db()).sessions(visible_trainee(ctx)));
 }
 
 ApiResponse list_recordings(ApiContext& ctx) {
-  return as_list(db::TrainingRepo(ctx.app.db()).recordings(visible_trainee(ctx)));
+  return as_list(db::TrainingRepo(ctx.db()).recordings(visible_trainee(ctx)));
 }
 
 ApiResponse list_scores(ApiContext& ctx) {
-  return as_list(db::TrainingRepo(ctx.app.db()).scores(visible_trainee(ctx)));
+  return as_list(db::TrainingRepo(ctx.db()).scores(visible_trainee(ctx)));
 }
 
 namespace {
@@ -77,15 +77,15 @@ std::string csv_number(double value) {
 ApiResponse export_scores_csv(ApiContext& ctx) {
   const auto& admin = ctx.require_role({db::Role::admin});
   std::string csv = "score_id,session_id,trainee,task,metric,value,unit,passed,created_at\r\n";
-  const auto scores = db::TrainingRepo(ctx.app.db()).scores();
+  const auto scores = db::TrainingRepo(ctx.db()).scores();
   for (const auto& s : scores) {
     csv += std::to_string(s.id) + "," + std::to_string(s.session_id) + "," + csv_text(s.trainee) +
            "," + csv_text(s.task) + "," + csv_text(s.metric) + "," + csv_number(s.value) + "," +
            csv_text(s.unit) + "," + (s.passed ? "true" : "false") + "," + format_utc(s.created_at) +
            "\r\n";
   }
-  db::AuditRepo(ctx.app.db())
-      .record(admin.id, "export.scores", std::to_string(scores.size()) + " rows", ctx.now);
+  db::AuditRepo(ctx.db()).record(admin.id, "export.scores", std::to_string(scores.size()) + " rows",
+                                 ctx.now);
   ApiResponse out;
   out.text_body = std::move(csv);
   out.content_type = "text/csv; charset=utf-8";
@@ -105,7 +105,7 @@ nlohmann::json audit_fields(const std::string& text) {
 ApiResponse list_audit(ApiContext& ctx) {
   ctx.require_role({db::Role::admin});
   auto out = nlohmann::json::array();
-  for (const auto& e : db::AuditRepo(ctx.app.db()).list()) {
+  for (const auto& e : db::AuditRepo(ctx.db()).list()) {
     out.push_back({{"id", e.id},
                    {"at", format_utc(e.at)},
                    {"user_id", e.user_id ? nlohmann::json(*e.user_id) : nlohmann::json(nullptr)},
@@ -140,8 +140,8 @@ ApiResponse import_curriculum(ApiContext& ctx) {
   const auto& admin = ctx.require_role({db::Role::admin});
   const auto plan = curriculum_of(ctx);
   const auto record =
-      db::CurriculaRepo(ctx.app.db()).create(plan.name, curriculum::to_json(plan).dump(), ctx.now);
-  audit_change(ctx.app.db(), admin.id, "curriculum.import", plan.name, ctx.now, nullptr,
+      db::CurriculaRepo(ctx.db()).create(plan.name, curriculum::to_json(plan).dump(), ctx.now);
+  audit_change(ctx.db(), admin.id, "curriculum.import", plan.name, ctx.now, nullptr,
                {{"id", record.id}, {"name", record.name}});
   return {http::status::created, curriculum_json(record)};
 }
@@ -149,7 +149,7 @@ ApiResponse import_curriculum(ApiContext& ctx) {
 ApiResponse update_curriculum(ApiContext& ctx) {
   const auto& admin = ctx.require_role({db::Role::admin});
   const auto plan = curriculum_of(ctx);
-  auto& db = ctx.app.db();
+  auto& db = ctx.db();
   db::CurriculaRepo curricula(db);
   const auto before = curricula.find(ctx.path_id);
   const auto after = curriculum::to_json(plan);
@@ -166,7 +166,7 @@ ApiResponse update_curriculum(ApiContext& ctx) {
 
 ApiResponse export_curriculum(ApiContext& ctx) {
   ctx.require_role({db::Role::admin, db::Role::instructor});
-  const auto record = db::CurriculaRepo(ctx.app.db()).find(ctx.path_id);
+  const auto record = db::CurriculaRepo(ctx.db()).find(ctx.path_id);
   if (!record) {
     throw ApiError(http::status::not_found,
                    "curriculum " + std::to_string(ctx.path_id) + " does not exist");
@@ -196,7 +196,7 @@ ApiResponse list_metrics(ApiContext& ctx) {
 
 ApiResponse list_curricula(ApiContext& ctx) {
   ctx.user();
-  return as_list(db::CurriculaRepo(ctx.app.db()).list());
+  return as_list(db::CurriculaRepo(ctx.db()).list());
 }
 
 }  // namespace incise::server::api

@@ -116,7 +116,7 @@ nlohmann::json results_json(db::Database& db, const db::SessionRecord& session,
 }  // namespace
 
 ApiResponse session_review(ApiContext& ctx) {
-  auto& db = ctx.app.db();
+  auto& db = ctx.db();
   const auto session = visible_session(ctx);
   const auto name = "session " + std::to_string(session.id);
   const auto recording = db::RecordingsRepo(db).find_by_session(session.id);
@@ -175,7 +175,7 @@ ApiResponse set_expert_run(ApiContext& ctx) {
   const auto body = ctx.json_body();
   const RequestFields fields(body, {"expert"});
   const bool expert = fields.boolean("expert");
-  auto& db = ctx.app.db();
+  auto& db = ctx.db();
   const auto name = "session " + std::to_string(session.id);
   if (expert) {
     // Experts are the staff: a trainee's attempt in the benchmark would publish their scores.
@@ -203,7 +203,7 @@ ApiResponse set_expert_run(ApiContext& ctx) {
 ApiResponse list_benchmarks(ApiContext& ctx) {
   ctx.user();
   auto out = nlohmann::json::array();
-  for (const auto& [key, entry] : benchmarks(ctx.app.db())) {
+  for (const auto& [key, entry] : benchmarks(ctx.db())) {
     auto row = to_json(entry.stats);
     row["task"] = key.first;
     row["metric"] = key.second;

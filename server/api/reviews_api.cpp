@@ -37,7 +37,7 @@ nlohmann::json to_json(const db::ScoreAdjustment& s) {
 ApiResponse list_annotations(ApiContext& ctx) {
   const auto session = visible_session(ctx);
   auto out = nlohmann::json::array();
-  for (const auto& a : db::ReviewsRepo(ctx.app.db()).annotations(session.id))
+  for (const auto& a : db::ReviewsRepo(ctx.db()).annotations(session.id))
     out.push_back(to_json(a));
   return {http::status::ok, std::move(out)};
 }
@@ -50,7 +50,7 @@ ApiResponse add_annotation(ApiContext& ctx) {
   const double t_s = fields.number("t_s");
   const auto text = fields.text("text", true);
   // Within the recording: 0 .. its duration (a live session's grows; its end is now).
-  const auto recording = db::RecordingsRepo(ctx.app.db()).find_by_session(session.id);
+  const auto recording = db::RecordingsRepo(ctx.db()).find_by_session(session.id);
   const double duration = recording ? recording->duration_s : 0.0;
   if (!std::isfinite(t_s) || t_s < 0 ||
       (recording && recording->state == "complete" && t_s > duration)) {
@@ -62,14 +62,14 @@ ApiResponse add_annotation(ApiContext& ctx) {
                    "text must be 1-" + std::to_string(kMaxAnnotation) + " characters");
   }
   const auto annotation =
-      db::ReviewsRepo(ctx.app.db()).add_annotation(session.id, author.id, t_s, text, ctx.now);
+      db::ReviewsRepo(ctx.db()).add_annotation(session.id, author.id, t_s, text, ctx.now);
   return {http::status::created, to_json(annotation)};
 }
 
 ApiResponse list_adjustments(ApiContext& ctx) {
   const auto session = visible_session(ctx);
   auto out = nlohmann::json::array();
-  for (const auto& s : db::ReviewsRepo(ctx.app.db()).adjustments(session.id))
+  for (const auto& s : db::ReviewsRepo(ctx.db()).adjustments(session.id))
     out.push_back(to_json(s));
   return {http::status::ok, std::move(out)};
 }
@@ -94,9 +94,9 @@ ApiResponse adjust_score(ApiContext& ctx) {
                    "reason must be 3-" + std::to_string(kMaxReason) + " characters");
   }
   const auto adjustment =
-      db::ReviewsRepo(ctx.app.db()).adjust(session.id, author.id, passed, reason, ctx.now);
+      db::ReviewsRepo(ctx.db()).adjust(session.id, author.id, passed, reason, ctx.now);
   audit_change(
-      ctx.app.db(), author.id, "score.adjust",
+      ctx.db(), author.id, "score.adjust",
       "session " + std::to_string(session.id) + (passed ? " passed: " : " not passed: ") + reason,
       ctx.now, nullptr, {{"session_id", session.id}, {"passed", passed}, {"reason", reason}});
   return {http::status::created, to_json(adjustment)};

@@ -184,9 +184,7 @@ Response handle_api_request(const Request& request, AppState& app, const Caller&
   const auto version = request.version();
   const bool keep_alive = request.keep_alive();
   try {
-    std::unique_lock lock(app.db_mutex());
     ApiContext ctx(request, app, caller);
-    ctx.db_lock = &lock;
     const ApiResponse out = dispatch(ctx, std::string_view(path.data(), path.size()));
     Response res{out.status, version};
     res.set(http::field::cache_control, "no-store");

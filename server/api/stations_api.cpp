@@ -43,7 +43,7 @@ db::Station existing_station(db::StationsRepo& stations, std::int64_t id) {
 ApiResponse list_stations(ApiContext& ctx) {
   ctx.user();
   auto out = nlohmann::json::array();
-  for (const auto& s : db::StationsRepo(ctx.app.db()).list()) {
+  for (const auto& s : db::StationsRepo(ctx.db()).list()) {
     out.push_back(to_json(s, ctx.app.station_online(s.id)));
   }
   return {http::status::ok, out, {}};
@@ -63,15 +63,15 @@ ApiResponse create_station(ApiContext& ctx) {
   }
   const auto kind = station_kind(fields.string_or("kind", ""));
   const auto token = db::random_token();
-  const auto station = db::StationsRepo(ctx.app.db()).create(name, location, token, ctx.now, kind);
-  audit_change(ctx.app.db(), admin.id, "station.create", station.name, ctx.now, nullptr,
+  const auto station = db::StationsRepo(ctx.db()).create(name, location, token, ctx.now, kind);
+  audit_change(ctx.db(), admin.id, "station.create", station.name, ctx.now, nullptr,
                to_json(station, false));
   return {http::status::created, {{"station", to_json(station, false)}, {"token", token}}, {}};
 }
 
 ApiResponse get_station_calibration(ApiContext& ctx) {
   ctx.require_role({db::Role::admin, db::Role::instructor});
-  db::StationsRepo stations(ctx.app.db());
+  db::StationsRepo stations(ctx.db());
   if (!stations.find(ctx.path_id)) {
     throw ApiError(http::status::not_found,
                    "station " + std::to_string(ctx.path_id) + " does not exist");
@@ -100,7 +100,7 @@ ApiResponse put_station_calibration(ApiContext& ctx) {
   if (!parsed) throw ApiError(http::status::unprocessable_entity, parsed.error);
   // Stored normalised (unit quaternions, full precision), so every reader sees the same text.
   const auto text = devices::station_calibration_json(*parsed.value);
-  db::StationsRepo stations(ctx.app.db());
+  db::StationsRepo stations(ctx.db());
   const auto station = stations.find(ctx.path_id);
   if (!station) {
     throw ApiError(http::status::not_found,
@@ -114,9 +114,9 @@ ApiResponse put_station_calibration(ApiContext& ctx) {
                                                "; change its calibration when no session runs");
   }
   const auto stored = stations.calibration(ctx.path_id);
-  db::Transaction tx(ctx.app.db());
+  db::Transaction tx(ctx.db());
   stations.set_calibration(ctx.path_id, text);
-  audit_change(ctx.app.db(), admin.id, "station.calibrate", station->name, ctx.now,
+  audit_change(ctx.db(), admin.id, "station.calibrate", station->name, ctx.now,
                stored.empty() ? nlohmann::json{{"default", true}}
                               : nlohmann::json::parse(stored, nullptr, false),
                nlohmann::json::parse(text));
@@ -141,7 +141,7 @@ std::string retire_refusal(ApiContext& ctx, const db::Station& station) {
            "; retire it when no session runs";
   }
   int ahead = 0;
-  for (const auto& b : db::BookingsRepo(ctx.app.db()).station_schedule(station.id, ctx.now))
+  for (const auto& b : db::BookingsRepo(ctx.db()).station_schedule(station.id, ctx.now))
     ahead += b.ends_at > ctx.now ? 1 : 0;
   if (ahead > 0) {
     return station.name + " has " + std::to_string(ahead) + " booking" + (ahead == 1 ? "" : "s") +
@@ -158,7 +158,7 @@ ApiResponse update_station(ApiContext& ctx) {
   if (!fields.has("kind") && !fields.has("retired")) {
     throw ApiError(http::status::unprocessable_entity, "send kind, retired or both");
   }
-  auto& db = ctx.app.db();
+  auto& db = ctx.db();
   db::StationsRepo stations(db);
   const auto before = existing_station(stations, ctx.path_id);
   auto after = before;
@@ -192,7 +192,7 @@ ApiResponse update_station(ApiContext& ctx) {
 
 ApiResponse station_tasks(ApiContext& ctx) {
   const auto& user = ctx.user();
-  auto& db = ctx.app.db();
+  auto& db = ctx.db();
   db::StationsRepo stations(db);
   const auto station = existing_station(stations, ctx.path_id);
   auto tasks = nlohmann::json::array();

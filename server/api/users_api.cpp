@@ -62,7 +62,7 @@ std::string id_list(const std::vector<std::int64_t>& ids) {
 
 ApiResponse list_users(ApiContext& ctx) {
   ctx.require_role({db::Role::admin});
-  db::UsersRepo users(ctx.app.db());
+  db::UsersRepo users(ctx.db());
   auto out = nlohmann::json::array();
   for (const auto& u : users.list())
     out.push_back(user_json(users, u));
@@ -71,7 +71,7 @@ ApiResponse list_users(ApiContext& ctx) {
 
 ApiResponse set_trainee_instructors(ApiContext& ctx) {
   const auto& admin = ctx.require_role({db::Role::admin});
-  auto& db = ctx.app.db();
+  auto& db = ctx.db();
   db::UsersRepo users(db);
   const auto trainee = users.find(ctx.path_id);
   if (!trainee) {
@@ -118,18 +118,19 @@ ApiResponse create_user(ApiContext& ctx) {
   if (body.contains("instructor_ids") && user.role != db::Role::trainee) {
     throw ApiError(http::status::unprocessable_entity, "only trainees have instructor_ids");
   }
-  // Hashed without the lock, before what follows reads the database; the admin is checked again.
+  // Hashed outside any transaction, before what follows reads the database; the admin is checked
+  // again.
   const db::PasswordHash hash = ctx.hash_password(user.password);
   ctx.require_role({db::Role::admin});
   std::vector<std::int64_t> instructors;
   if (body.contains("instructor_ids")) {
-    instructors = instructor_ids(ctx.app.db(), body["instructor_ids"]);
+    instructors = instructor_ids(ctx.db(), body["instructor_ids"]);
   }
-  db::UsersRepo users(ctx.app.db());
-  db::Transaction tx(ctx.app.db());
+  db::UsersRepo users(ctx.db());
+  db::Transaction tx(ctx.db());
   const auto created = users.create(user, hash, ctx.now);
   if (!instructors.empty()) users.set_instructors(created.id, instructors, ctx.now);
-  audit_change(ctx.app.db(), admin.id, "user.create",
+  audit_change(ctx.db(), admin.id, "user.create",
                created.username + " (" + std::string(db::to_string(created.role)) + ")" +
                    (instructors.empty() ? "" : " taught by " + id_list(instructors)),
                ctx.now, nullptr, user_json(users, created));
@@ -151,7 +152,7 @@ ApiResponse update_user(ApiContext& ctx) {
   const auto body = ctx.json_body();
   const RequestFields fields(body, {"disabled"});
   const bool disabled = fields.boolean("disabled");
-  auto& db = ctx.app.db();
+  auto& db = ctx.db();
   db::UsersRepo users(db);
   const auto before = existing_user(users, ctx.path_id);
   if (before.id == admin.id && disabled) {
@@ -175,7 +176,7 @@ ApiResponse reset_user_password(ApiContext& ctx) {
   const auto body = ctx.json_body();
   const RequestFields fields(body, {"password"});
   const auto password = fields.string("password");
-  auto& db = ctx.app.db();
+  auto& db = ctx.db();
   db::UsersRepo users(db);
   const auto named = existing_user(users, ctx.path_id);
   check_new_password("password", password, named.username);
@@ -183,7 +184,7 @@ ApiResponse reset_user_password(ApiContext& ctx) {
     throw ApiError(http::status::conflict,
                    "reset only others' passwords; change your own with POST /api/me/password");
   }
-  // Hashed without the lock; the admin and the account are read again after (either may have
+  // Hashed outside any transaction; the admin and the account are read again after (either may have
   // changed meanwhile).
   const db::PasswordHash hash = ctx.hash_password(password);
   ctx.require_role({db::Role::admin});

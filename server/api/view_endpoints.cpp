@@ -36,9 +36,9 @@ std::string_view path_of(std::string_view target) {
 
 ViewTarget live_target(ApiContext& ctx, std::int64_t session_id) {
   const auto& user = ctx.user();
-  const auto record = db::TrainingRepo(ctx.app.db()).find_session(session_id);
+  const auto record = db::TrainingRepo(ctx.db()).find_session(session_id);
   if (!record) throw ApiError(http::status::not_found, "no session " + std::to_string(session_id));
-  api::check_session_access(ctx.app.db(), user, *record);
+  api::check_session_access(ctx.db(), user, *record);
   auto session = ctx.app.live_sessions().find(session_id);
   if (!session) {
     throw ApiError(http::status::conflict, "session " + std::to_string(session_id) +
@@ -48,7 +48,7 @@ ViewTarget live_target(ApiContext& ctx, std::int64_t session_id) {
   return {std::move(session), nullptr, api::may_look_outside(user), nullptr, {}, user.id};
 }
 
-// What a replay needs, read under the database lock; the replay itself is built after it.
+// What a replay needs, read on a leased connection; the replay itself is built after it is back.
 struct ReplayInput {
   std::string_view scene_id;
   std::string_view scene_text;
@@ -59,7 +59,7 @@ struct ReplayInput {
 
 ReplayInput replay_input(ApiContext& ctx, std::int64_t recording_id) {
   const auto& user = ctx.user();
-  auto& db = ctx.app.db();
+  auto& db = ctx.db();
   const auto meta = db::RecordingsRepo(db).find(recording_id);
   if (!meta) {
     throw ApiError(http::status::not_found, "no recording " + std::to_string(recording_id));
@@ -112,7 +112,6 @@ std::variant<ViewTarget, Response> resolve_view(const Request& request, AppState
     std::shared_ptr<void> slot;
     std::int64_t user_id = 0;
     {
-      std::lock_guard lock(app.db_mutex());
       ApiContext ctx(request, app, Caller{client});
       if (const auto id = id_between(path, "/api/sessions/", "/view")) {
         return live_target(ctx, id);

@@ -30,7 +30,7 @@ struct ViewTarget {
 bool is_view_path(std::string_view target);
 
 // The stream to attach, or the error response (401/403/404/409) for the upgrade request.
-// Takes the database lock itself.
+// Leases a database connection itself, and gives it back before the replay is built.
 std::variant<ViewTarget, Response> resolve_view(const Request& request, AppState& app,
                                                 const std::string& client);
 

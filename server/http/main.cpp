@@ -1,6 +1,7 @@
 // incise-server: wires the database, the REST API, the dashboard and the agent link to one port.
 #include <boost/asio.hpp>
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <thread>
@@ -32,10 +33,19 @@ int main(int argc, char** argv) {
     return 0;
   }
 
-  std::unique_ptr<db::Database> database;
+  db::DatabaseUrl database_url;
   try {
-    std::filesystem::create_directories(options.data_dir);
-    database = std::make_unique<db::Database>(options.data_dir / "incise.db");
+    const char* from_environment = std::getenv("INCISE_DATABASE_URL");
+    if (!options.database.empty()) {
+      database_url = db::DatabaseUrl::parse(options.database);
+    } else if (from_environment && *from_environment) {
+      database_url = db::DatabaseUrl::parse(from_environment);
+    } else {
+      std::filesystem::create_directories(options.data_dir);
+      database_url = db::DatabaseUrl::sqlite(options.data_dir / "incise.db");
+    }
+    std::cerr << "incise-server: database " << database_url.redacted() << "\n";
+    const auto database = std::make_unique<db::Database>(database_url);
     const int applied = db::apply_migrations(*database);
     if (applied > 0) std::cerr << "incise-server: applied " << applied << " migration(s)\n";
     // A crash leaves sessions running and recordings open. The sessions are aborted; the
@@ -68,14 +78,17 @@ int main(int argc, char** argv) {
 
   server::ServerConfig config;
   config.web_root = options.web_root;
-  config.db_path = options.data_dir / "incise.db";
+  config.database = database_url;
   config.demo = options.demo;
   config.secure_cookies = options.secure_cookies;
   config.trusted_proxy = options.trusted_proxy;
-  auto app = std::make_shared<server::AppState>(*database, config);
+  // A connection for every thread that may run a request at once (the I/O threads, the password
+  // workers, whoever resolves a WebSocket upgrade), and a few more; live sessions open their own.
+  db::ConnectionPool pool(database_url, static_cast<std::size_t>(options.threads) + 8);
+  auto app = std::make_shared<server::AppState>(pool, config);
   if (options.demo) {
     try {
-      if (server::seed_demo_data(*database, app->now())) {
+      if (server::seed_demo_data(*pool.acquire(), app->now())) {
         std::cerr << "incise-server: created demo data\n";
       }
       // Public, so for a demo only: a server started without --demo refuses them.

@@ -47,12 +47,15 @@ void ApiTest::SetUp() {
   dir_ = std::make_unique<TempDir>("incise-api");
   std::filesystem::copy_file(template_dir_->path() / kDatabaseFile, dir_->path() / kDatabaseFile);
   db_ = std::make_unique<db::Database>(dir_->path() / kDatabaseFile);
-  app_ = std::make_unique<AppState>(*db_, config_);
+  pool_ = std::make_unique<db::ConnectionPool>(
+      db::DatabaseUrl::sqlite(dir_->path() / kDatabaseFile), 4);
+  app_ = std::make_unique<AppState>(*pool_, config_);
   app_->set_clock([this] { return now_; });
 }
 
 void ApiTest::TearDown() {
   app_.reset();
+  pool_.reset();
   db_.reset();
   dir_.reset();
 }
@@ -104,14 +107,14 @@ std::int64_t ApiTest::user_id(std::string_view username) {
 }
 
 std::int64_t ApiTest::add_trainee(std::string_view username, bool taught_by_demo_instructor) {
-  db_->prepare(
-         "INSERT INTO users (username, display_name, role, password_hash, created_at) VALUES "
-         "(?, ?, 'trainee', 'not-a-hash', ?)")
-      .bind(1, username)
-      .bind(2, username)
-      .bind(3, now_)
-      .run();
-  const auto id = db_->last_insert_id();
+  const std::int64_t id =
+      db_->prepare(
+             "INSERT INTO users (username, display_name, role, password_hash, created_at) VALUES "
+             "(?, ?, 'trainee', 'not-a-hash', ?) RETURNING id")
+          .bind(1, username)
+          .bind(2, username)
+          .bind(3, now_)
+          .insert();
   if (taught_by_demo_instructor) {
     db::UsersRepo(*db_).set_instructors(id, {user_id("instructor")}, now_);
   }

@@ -14,6 +14,7 @@
 #include <string>
 #include <string_view>
 
+#include "db/connection_pool.h"
 #include "db/database.h"
 #include "server/api/api_context.h"
 #include "server/app_state.h"
@@ -81,7 +82,8 @@ class ApiTest : public ::testing::Test {
  private:
   static std::unique_ptr<TempDir> template_dir_;
   std::unique_ptr<TempDir> dir_;
-  std::unique_ptr<db::Database> db_;
+  std::unique_ptr<db::Database> db_;  // the test's own connection, beside the server's pool
+  std::unique_ptr<db::ConnectionPool> pool_;
   std::unique_ptr<AppState> app_;
   std::int64_t now_ = kStart;
 };
