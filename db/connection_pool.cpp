@@ -1,6 +1,8 @@
 #include "db/connection_pool.h"
 
+#include <chrono>
 #include <stdexcept>
+#include <string>
 
 namespace incise::db {
 
@@ -13,7 +15,13 @@ ConnectionPool::~ConnectionPool() = default;
 
 ConnectionPool::Lease ConnectionPool::acquire() {
   std::unique_lock lock(mutex_);
-  returned_.wait(lock, [&] { return !idle_.empty() || open_ < max_; });
+  // A connection held longer than this is a bug or an overload: fail the caller (its request
+  // answers 500 and logs why) rather than stall its I/O thread for ever.
+  if (!returned_.wait_for(lock, std::chrono::seconds(10),
+                          [&] { return !idle_.empty() || open_ < max_; })) {
+    throw DbError(0, "no database connection became free within 10 s (all " + std::to_string(max_) +
+                         " in use)");
+  }
   if (!idle_.empty()) {
     auto db = std::move(idle_.back());
     idle_.pop_back();

@@ -7,6 +7,8 @@
 #include <charconv>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
+#include <string_view>
 #include <system_error>
 
 #include "db/connection.h"
@@ -141,7 +143,11 @@ class PgCursor final : public Cursor {
     const char* end = value + std::strlen(value);
     const auto [ptr, ec] = std::from_chars(value, end, out);
     if (ec == std::errc{} && ptr == end) return out;
-    return static_cast<std::int64_t>(std::strtod(value, nullptr));  // numeric or float text
+    // Numeric or float text: saturated, as SQLite converts an out-of-range real.
+    const double real = std::strtod(value, nullptr);
+    if (!(real > -9.2233720368547758e18)) return std::numeric_limits<std::int64_t>::min();
+    if (!(real < 9.2233720368547758e18)) return std::numeric_limits<std::int64_t>::max();
+    return static_cast<std::int64_t>(real);
   }
   double real(int column) const override {
     if (is_null(column)) return 0.0;
@@ -249,8 +255,14 @@ class PgConnection final : public Connection {
   bool usable() const override { return PQstatus(conn_) == CONNECTION_OK; }
   void* native_handle() const override { return conn_; }
 
+  // Like sqlite3_changes: the rows of the last INSERT, UPDATE or DELETE (a SELECT leaves it).
   void note_changes(const PGresult* result) {
-    changes_ = std::atoi(PQcmdTuples(const_cast<PGresult*>(result)));
+    auto* r = const_cast<PGresult*>(result);
+    const std::string_view status = PQcmdStatus(r);
+    if (status.starts_with("INSERT") || status.starts_with("UPDATE") ||
+        status.starts_with("DELETE")) {
+      changes_ = std::atoi(PQcmdTuples(r));
+    }
   }
 
  private:

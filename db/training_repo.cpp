@@ -60,17 +60,19 @@ std::int64_t TrainingRepo::create_session(std::int64_t trainee_id,
       .insert();
 }
 
-void TrainingRepo::set_session_state(std::int64_t id, const std::string& state, std::int64_t now) {
+bool TrainingRepo::set_session_state(std::int64_t id, const std::string& state, std::int64_t now) {
   // started_at is set on the first move to running; ended_at when the session ends.
   db_.prepare(
          "UPDATE sessions SET state = ?1, started_at = CASE WHEN ?1 = 'running' AND started_at IS "
          "NULL THEN ?2 ELSE started_at END, ended_at = CASE WHEN ?1 IN ('finished', 'aborted') "
-         "THEN ?2 ELSE ended_at END WHERE id = ?3")
+         "THEN ?2 ELSE ended_at END WHERE id = ?3 AND state NOT IN ('finished', 'aborted')")
       .bind(1, state)
       .bind(2, now)
       .bind(3, id)
       .run();
-  if (db_.changes() == 0) throw NotFound("session " + std::to_string(id) + " does not exist");
+  if (db_.changes() > 0) return true;
+  if (!find_session(id)) throw NotFound("session " + std::to_string(id) + " does not exist");
+  return false;
 }
 
 std::int64_t TrainingRepo::add_recording(std::int64_t session_id, double duration_s,

@@ -74,8 +74,10 @@ class TrainingRepo {
   std::int64_t create_session(std::int64_t trainee_id, std::optional<std::int64_t> station_id,
                               const std::string& task, std::int64_t now,
                               std::optional<std::int64_t> booking_id = std::nullopt);
-  // Throws ConstraintError for an unknown state name, NotFound for an unknown id.
-  void set_session_state(std::int64_t id, const std::string& state, std::int64_t now);
+  // Throws ConstraintError for an unknown state name, NotFound for an unknown id. An ended session
+  // (finished or aborted) stays as it ended: false then, and nothing changes (a pause answered a
+  // moment after the session thread wrote "finished" must not undo it).
+  bool set_session_state(std::int64_t id, const std::string& state, std::int64_t now);
   std::int64_t add_recording(std::int64_t session_id, double duration_s, std::int64_t now);
   // Stores (or replaces) a session's signal. Throws std::invalid_argument for interval_s <= 0 or
   // not finite, or a non-finite value.

@@ -6,14 +6,27 @@ namespace {
 // The key of the one PostgreSQL advisory lock that IMMEDIATE transactions take: it serialises
 // read-check-write sequences across every connection and every server node, as SQLite's
 // BEGIN IMMEDIATE does across connections to one file. Readers and plain writers never wait on it.
-constexpr const char* kBeginImmediatePostgresql = "BEGIN; SELECT pg_advisory_xact_lock(7316240118)";
+// READ COMMITTED whatever the server's default: each statement after the lock then sees what the
+// previous holder committed (a REPEATABLE READ snapshot would be taken before the lock wait).
+constexpr const char* kBeginImmediatePostgresql =
+    "BEGIN ISOLATION LEVEL READ COMMITTED; SELECT pg_advisory_xact_lock(7316240118)";
 }  // namespace
 
 Transaction::Transaction(Database& db, Mode mode) : db_(db), nested_(db.in_transaction()) {
   if (nested_) {
     db_.exec("SAVEPOINT incise_nested");
   } else if (db_.dialect() == Dialect::postgresql) {
-    db_.exec(mode == Mode::immediate ? kBeginImmediatePostgresql : "BEGIN");
+    try {
+      db_.exec(mode == Mode::immediate ? kBeginImmediatePostgresql : "BEGIN");
+    } catch (...) {
+      // The lock wait timed out after BEGIN: no destructor runs for a throwing constructor, and a
+      // connection left in a failed transaction would refuse every later statement.
+      try {
+        db_.exec("ROLLBACK");
+      } catch (...) {
+      }
+      throw;
+    }
   } else {
     db_.exec(mode == Mode::immediate ? "BEGIN IMMEDIATE" : "BEGIN");
   }

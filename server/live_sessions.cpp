@@ -31,6 +31,11 @@ bool LiveSessions::claim(std::int64_t station_id) {
   return true;
 }
 
+bool LiveSessions::starting(std::int64_t station_id) const {
+  std::lock_guard lock(mutex_);
+  return claimed_.count(station_id) > 0;
+}
+
 void LiveSessions::release_claim(std::int64_t station_id) {
   std::lock_guard lock(mutex_);
   claimed_.erase(station_id);

@@ -28,6 +28,8 @@ class LiveSessions {
   // release_claim(), ends the claim.
   bool claim(std::int64_t station_id);
   void release_claim(std::int64_t station_id);
+  // Whether a start holds the station's claim now.
+  bool starting(std::int64_t station_id) const;
 
   // The agent's link report (with the server's loss_up) for the station's active session.
   void on_link_report(std::int64_t station_id, nlohmann::json report) const;

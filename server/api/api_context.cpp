@@ -12,19 +12,23 @@ namespace incise::server {
 db::PasswordHash ApiContext::hash_password(std::string_view password) {
   db::PasswordHash hash;
   hash.value = db::hash_password(password);
-  if (user_) {
-    // The caller's login may have ended, or their account changed, meanwhile: read it again, in
-    // place (handlers hold references to it), and check roles after this.
-    const auto token = cookie(kSessionCookie);
-    auto fresh = token ? db::AuthSessionsRepo(db()).touch(*token, now, app.config().session_ttl_s)
-                       : std::nullopt;
-    if (!fresh) {
-      throw ApiError(http::status::unauthorized,
-                     "not logged in (the session has ended or expired)");
-    }
-    *user_ = std::move(*fresh);
-  }
+  // The caller's login may have ended, or their account changed, meanwhile.
+  if (user_) reread_user();
   return hash;
+}
+
+void ApiContext::reread_user() {
+  const auto token = cookie(kSessionCookie);
+  auto fresh = token ? db::AuthSessionsRepo(db()).touch(*token, now, app.config().session_ttl_s)
+                     : std::nullopt;
+  if (!fresh) {
+    throw ApiError(http::status::unauthorized, "not logged in (the session has ended or expired)");
+  }
+  if (user_) {
+    *user_ = std::move(*fresh);
+  } else {
+    user_ = std::move(fresh);
+  }
 }
 
 const db::User& ApiContext::user() {

@@ -70,6 +70,10 @@ class ApiContext {
   // signed-in user, if any, is read again after (401 if their login ended meanwhile): a handler
   // checks their role after this.
   db::PasswordHash hash_password(std::string_view password);
+  // Reads the signed-in user again, in place (handlers hold references to it): 401 if their
+  // login ended meanwhile. Inside a handler's transaction, so that a check of the caller (still
+  // an admin? still enabled?) holds for the change it guards; check roles after this.
+  void reread_user();
 
   // The logged-in user; throws 401 when there is none or the session expired, and 403 while
   // their password must be changed (an admin reset it): then only signed_in() callers answer.

@@ -1,4 +1,5 @@
 #include "db/stations_repo.h"
+#include "db/transaction.h"
 #include "server/api/api_error.h"
 #include "server/api/audit_change.h"
 #include "server/api/handlers.h"
@@ -77,6 +78,8 @@ ApiResponse create_booking(ApiContext& ctx) {
   if (const auto why = check_slot(starts_at, ends_at, ctx.now)) {
     throw ApiError(http::status::unprocessable_entity, *why);
   }
+  // The retired check holds for the insert: a station retired meanwhile is not booked.
+  db::Transaction tx(ctx.db());
   if (const auto station = db::StationsRepo(ctx.db()).find(station_id);
       station && station->retired()) {
     throw ApiError(http::status::conflict, station->name + " is retired; book another station");
@@ -84,6 +87,7 @@ ApiResponse create_booking(ApiContext& ctx) {
   try {
     const auto booking =
         db::BookingsRepo(ctx.db()).create(station_id, user.id, starts_at, ends_at, ctx.now);
+    tx.commit();
     return {http::status::created, to_json(booking), {}};
   } catch (const db::BookingConflict& c) {
     throw ApiError(http::status::conflict, conflict_message(c));
@@ -96,6 +100,7 @@ ApiResponse create_booking(ApiContext& ctx) {
 ApiResponse cancel_booking(ApiContext& ctx) {
   const auto& user = ctx.user();
   db::BookingsRepo bookings(ctx.db());
+  db::Transaction tx(ctx.db());  // the cancellation and its audit entry, both or neither
   const auto booking = bookings.find(ctx.path_id);
   if (!booking) {
     throw ApiError(http::status::not_found,
@@ -111,6 +116,7 @@ ApiResponse cancel_booking(ApiContext& ctx) {
                  "booking " + std::to_string(booking->id) + " of " + booking->username, ctx.now,
                  {{"status", booking->status}}, {{"status", "cancelled"}});
   }
+  tx.commit();
   return {http::status::no_content, nullptr, {}};
 }
 

@@ -139,10 +139,12 @@ nlohmann::json curriculum_json(const db::CurriculumRecord& record) {
 ApiResponse import_curriculum(ApiContext& ctx) {
   const auto& admin = ctx.require_role({db::Role::admin});
   const auto plan = curriculum_of(ctx);
+  db::Transaction tx(ctx.db());  // the change and its audit entry, both or neither
   const auto record =
       db::CurriculaRepo(ctx.db()).create(plan.name, curriculum::to_json(plan).dump(), ctx.now);
   audit_change(ctx.db(), admin.id, "curriculum.import", plan.name, ctx.now, nullptr,
                {{"id", record.id}, {"name", record.name}});
+  tx.commit();
   return {http::status::created, curriculum_json(record)};
 }
 
@@ -151,9 +153,9 @@ ApiResponse update_curriculum(ApiContext& ctx) {
   const auto plan = curriculum_of(ctx);
   auto& db = ctx.db();
   db::CurriculaRepo curricula(db);
+  db::Transaction tx(db);  // "before", the change and its audit entry, no writer between
   const auto before = curricula.find(ctx.path_id);
   const auto after = curriculum::to_json(plan);
-  db::Transaction tx(db);
   curricula.update(ctx.path_id, plan.name, after.dump());
   // Only the changed places: a threshold edit reads "modules/0/tasks/1/thresholds/0/max".
   audit_change(db, admin.id, "curriculum.update", plan.name, ctx.now,

@@ -189,14 +189,14 @@ ApiResponse set_expert_run(ApiContext& ctx) {
     }
   }
   db::ReviewsRepo reviews(db);
+  db::Transaction tx(db);  // two marks at once log one change, not two
   if (reviews.is_expert_run(session.id) != expert) {
-    db::Transaction tx(db);
     reviews.set_expert_run(session.id, expert, admin.id, ctx.now);
     audit_change(db, admin.id, expert ? "benchmark.add" : "benchmark.remove",
                  name + " task " + session.task, ctx.now, {{"expert_run", !expert}},
                  {{"expert_run", expert}});
-    tx.commit();
   }
+  tx.commit();
   return {http::status::ok, {{"session_id", session.id}, {"expert_run", expert}}};
 }
 

@@ -7,6 +7,7 @@
 #include "db/recordings_repo.h"
 #include "db/reviews_repo.h"
 #include "db/training_repo.h"
+#include "db/transaction.h"
 #include "server/api/api_error.h"
 #include "server/api/audit_change.h"
 #include "server/api/handlers.h"
@@ -93,12 +94,14 @@ ApiResponse adjust_score(ApiContext& ctx) {
     throw ApiError(http::status::unprocessable_entity,
                    "reason must be 3-" + std::to_string(kMaxReason) + " characters");
   }
+  db::Transaction tx(ctx.db());  // the adjustment and its audit entry, both or neither
   const auto adjustment =
       db::ReviewsRepo(ctx.db()).adjust(session.id, author.id, passed, reason, ctx.now);
   audit_change(
       ctx.db(), author.id, "score.adjust",
       "session " + std::to_string(session.id) + (passed ? " passed: " : " not passed: ") + reason,
       ctx.now, nullptr, {{"session_id", session.id}, {"passed", passed}, {"reason", reason}});
+  tx.commit();
   return {http::status::created, to_json(adjustment)};
 }
 

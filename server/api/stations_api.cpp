@@ -63,9 +63,11 @@ ApiResponse create_station(ApiContext& ctx) {
   }
   const auto kind = station_kind(fields.string_or("kind", ""));
   const auto token = db::random_token();
+  db::Transaction tx(ctx.db());  // the change and its audit entry, both or neither
   const auto station = db::StationsRepo(ctx.db()).create(name, location, token, ctx.now, kind);
   audit_change(ctx.db(), admin.id, "station.create", station.name, ctx.now, nullptr,
                to_json(station, false));
+  tx.commit();
   return {http::status::created, {{"station", to_json(station, false)}, {"token", token}}, {}};
 }
 
@@ -101,6 +103,7 @@ ApiResponse put_station_calibration(ApiContext& ctx) {
   // Stored normalised (unit quaternions, full precision), so every reader sees the same text.
   const auto text = devices::station_calibration_json(*parsed.value);
   db::StationsRepo stations(ctx.db());
+  db::Transaction tx(ctx.db());  // "before", the change and its audit entry, no writer between
   const auto station = stations.find(ctx.path_id);
   if (!station) {
     throw ApiError(http::status::not_found,
@@ -114,7 +117,6 @@ ApiResponse put_station_calibration(ApiContext& ctx) {
                                                "; change its calibration when no session runs");
   }
   const auto stored = stations.calibration(ctx.path_id);
-  db::Transaction tx(ctx.db());
   stations.set_calibration(ctx.path_id, text);
   audit_change(ctx.db(), admin.id, "station.calibrate", station->name, ctx.now,
                stored.empty() ? nlohmann::json{{"default", true}}
@@ -140,6 +142,9 @@ std::string retire_refusal(ApiContext& ctx, const db::Station& station) {
     return station.name + " is busy with session " + std::to_string(session->session_id()) +
            "; retire it when no session runs";
   }
+  if (ctx.app.live_sessions().starting(station.id)) {
+    return station.name + " is busy with a session starting; retire it when no session runs";
+  }
   int ahead = 0;
   for (const auto& b : db::BookingsRepo(ctx.db()).station_schedule(station.id, ctx.now))
     ahead += b.ends_at > ctx.now ? 1 : 0;
@@ -160,6 +165,9 @@ ApiResponse update_station(ApiContext& ctx) {
   }
   auto& db = ctx.db();
   db::StationsRepo stations(db);
+  // The checks, the change and its audit entry with no other writer between them: a booking made
+  // meanwhile cannot slip past the retire check, nor a concurrent edit be written back stale.
+  db::Transaction tx(db);
   const auto before = existing_station(stations, ctx.path_id);
   auto after = before;
   if (fields.has("kind")) after.kind = station_kind(fields.string("kind"));
@@ -174,15 +182,14 @@ ApiResponse update_station(ApiContext& ctx) {
     return nlohmann::json{{"kind", s.kind}, {"retired", s.retired()}};
   };
   if (fields_of(after) != fields_of(before)) {
-    db::Transaction tx(db);
     stations.set_kind(before.id, after.kind);
     stations.set_retired(before.id, after.retired_at);
     const char* action = after.retired() == before.retired() ? "station.update"
                          : after.retired()                   ? "station.retire"
                                                              : "station.reinstate";
     audit_change(db, admin.id, action, before.name, ctx.now, fields_of(before), fields_of(after));
-    tx.commit();
   }
+  tx.commit();
   // A retired station's agent is turned away (agent_session.cpp), the one connected now at once.
   if (after.retired() && !before.retired()) {
     if (const auto agent = ctx.app.agent_for_station(after.id)) agent->close("station retired");

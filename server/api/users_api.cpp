@@ -85,8 +85,8 @@ ApiResponse set_trainee_instructors(ApiContext& ctx) {
   const auto body = ctx.json_body();
   const RequestFields fields(body, {"instructor_ids"});
   const auto ids = instructor_ids(db, fields.required("instructor_ids"));
+  db::Transaction tx(db);  // "before" and the change, with no other writer between them
   const nlohmann::json before = {{"instructor_ids", users.instructors_of(trainee->id)}};
-  db::Transaction tx(db);
   users.set_instructors(trainee->id, ids, ctx.now);
   audit_change(db, admin.id, "user.instructors", trainee->username + " taught by " + id_list(ids),
                ctx.now, before, {{"instructor_ids", ids}});
@@ -154,20 +154,25 @@ ApiResponse update_user(ApiContext& ctx) {
   const bool disabled = fields.boolean("disabled");
   auto& db = ctx.db();
   db::UsersRepo users(db);
+  // The checks and the change with no other writer between them: two admins disabling each other
+  // at once must not both succeed (the second finds its own login ended by the first).
+  db::Transaction tx(db);
+  ctx.reread_user();
+  ctx.require_role({db::Role::admin});
   const auto before = existing_user(users, ctx.path_id);
   if (before.id == admin.id && disabled) {
     // Nobody would be left to undo it if this were the last admin.
     throw ApiError(http::status::conflict, "you cannot disable your own account");
   }
-  if (before.disabled_at.has_value() != disabled) {
-    db::Transaction tx(db);
+  const bool changes = before.disabled_at.has_value() != disabled;
+  if (changes) {
     users.set_disabled(before.id, disabled ? std::optional<std::int64_t>(ctx.now) : std::nullopt);
     audit_change(db, admin.id, disabled ? "user.disable" : "user.enable", before.username, ctx.now,
                  {{"disabled", !disabled}}, {{"disabled", disabled}});
-    tx.commit();
-    // Their logins ended with set_disabled; what they were watching ends too.
-    if (disabled) ctx.app.close_views_of(before.id, "your account was disabled");
   }
+  tx.commit();
+  // Their logins ended with set_disabled; what they were watching ends too.
+  if (changes && disabled) ctx.app.close_views_of(before.id, "your account was disabled");
   return {http::status::ok, user_json(users, existing_user(users, before.id)), {}};
 }
 
@@ -187,9 +192,10 @@ ApiResponse reset_user_password(ApiContext& ctx) {
   // Hashed outside any transaction; the admin and the account are read again after (either may have
   // changed meanwhile).
   const db::PasswordHash hash = ctx.hash_password(password);
+  db::Transaction tx(db);
+  ctx.reread_user();
   ctx.require_role({db::Role::admin});
   const auto before = existing_user(users, named.id);
-  db::Transaction tx(db);
   users.set_password(before.id, hash, true);
   audit_change(db, admin.id, "user.password_reset", before.username, ctx.now,
                {{"must_change_password", before.must_change_password}},

@@ -185,6 +185,11 @@ TEST(DatabaseUrl, RedactedHidesOnlyThePassword) {
   EXPECT_EQ(DatabaseUrl::parse("postgresql://db:5432/incise").redacted(),
             "postgresql://db:5432/incise");
   EXPECT_EQ(DatabaseUrl::parse("sqlite:a.db").redacted(), "sqlite:a.db");
+  EXPECT_EQ(DatabaseUrl::parse("postgresql://incise@db/incise?password=hunter2&sslmode=require")
+                .redacted(),
+            "postgresql://incise@db/incise?password=***&sslmode=require");
+  EXPECT_EQ(DatabaseUrl::parse("postgresql://u:p@db/x?host=h&password=q").redacted(),
+            "postgresql://u:***@db/x?host=h&password=***");
 }
 
 TEST(DatabaseUrl, AnUnreachableServerIsADbErrorWithoutThePassword) {

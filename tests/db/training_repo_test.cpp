@@ -82,6 +82,15 @@ TEST_F(TrainingRepoTest, StateChangesStampStartAndEnd) {
   EXPECT_EQ(s.state, "finished");
   EXPECT_EQ(s.started_at, 110);
   EXPECT_EQ(s.ended_at, 140);
+
+  // Ended is final: a late pause (answered after the session thread wrote "finished") changes
+  // nothing, and says so.
+  EXPECT_FALSE(training_.set_session_state(id, "paused", 150));
+  EXPECT_FALSE(training_.set_session_state(id, "aborted", 150));
+  s = training_.sessions().at(0);
+  EXPECT_EQ(s.state, "finished");
+  EXPECT_EQ(s.ended_at, 140);
+  EXPECT_THROW(training_.set_session_state(id + 1000, "running", 150), NotFound);
 }
 
 TEST_F(TrainingRepoTest, AbortedSessionIsEnded) {
