@@ -16,7 +16,8 @@ class AuthSessionsRepo {
 
   // Starts a session for the user; returns the token for the cookie.
   std::string create(std::int64_t user_id, std::int64_t now, std::int64_t ttl_s);
-  // The session's user if the token is known and not expired; slides the expiry to now + ttl_s.
+  // The session's user if the token is known and not expired; slides the expiry to now + ttl_s
+  // when that moves it (either way) by more than ttl_s / 100, so that most requests only read.
   std::optional<User> touch(std::string_view token, std::int64_t now, std::int64_t ttl_s);
   void remove(std::string_view token);
   // Ends every session of the user but the one of `keep` (after they changed their password, a

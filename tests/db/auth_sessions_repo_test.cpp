@@ -57,6 +57,16 @@ TEST_F(AuthSessionsRepoTest, TouchSlidesTheExpiry) {
   EXPECT_FALSE(sessions_.touch(token, 1340, 100));
 }
 
+// A request a moment after the last one only reads: the expiry moves when it would move by more
+// than a hundredth of the lifetime.
+TEST_F(AuthSessionsRepoTest, TouchWritesOnlyWhenTheExpiryMovesByAHundredthOfTheLifetime) {
+  const std::string token = sessions_.create(ann_, 1000, 10'000);  // expires 11000
+  ASSERT_TRUE(sessions_.touch(token, 1100, 10'000));
+  EXPECT_EQ(expiry_of(token), 11000) << "moved by 100 s, no more than a hundredth";
+  ASSERT_TRUE(sessions_.touch(token, 1101, 10'000));
+  EXPECT_EQ(expiry_of(token), 11101);
+}
+
 TEST_F(AuthSessionsRepoTest, UnknownTokenIsRejected) {
   sessions_.create(ann_, 1000, 100);
   EXPECT_FALSE(sessions_.touch(random_token(), 1001, 100));
@@ -122,14 +132,14 @@ TEST_F(AuthSessionsRepoTest, TouchSurvivesAnotherConnectionWriting) {
   int touched = 0;
   try {
     for (; touched < 2000; ++touched)
-      ASSERT_TRUE(sessions_.touch(token, 1001 + touched, 100));
+      ASSERT_TRUE(sessions_.touch(token, 1001 + touched, 99));  // under 100 s: every touch writes
   } catch (const DbError& e) {
     ADD_FAILURE() << "touch " << touched << " failed: " << e.what();
   }
   done = true;
   writer.join();
   EXPECT_EQ(touched, 2000);
-  EXPECT_EQ(expiry_of(token), 1000 + 2000 + 100);
+  EXPECT_EQ(expiry_of(token), 1000 + 2000 + 99);
 }
 
 }  // namespace
