@@ -47,16 +47,18 @@ void check_scores(std::span<const ScoreInput> scores) {
 std::int64_t TrainingRepo::create_session(std::int64_t trainee_id,
                                           std::optional<std::int64_t> station_id,
                                           const std::string& task, std::int64_t now,
-                                          std::optional<std::int64_t> booking_id) {
+                                          std::optional<std::int64_t> booking_id,
+                                          const std::string& node_id) {
   return db_
       .prepare(
-          "INSERT INTO sessions (trainee_id, station_id, task, state, created_at, booking_id) "
-          "VALUES (?, ?, ?, 'created', ?, ?) RETURNING id")
+          "INSERT INTO sessions (trainee_id, station_id, task, state, created_at, booking_id, "
+          "node_id) VALUES (?, ?, ?, 'created', ?, ?, ?) RETURNING id")
       .bind(1, trainee_id)
       .bind(2, station_id)
       .bind(3, task)
       .bind(4, now)
       .bind(5, booking_id)
+      .bind(6, node_id.empty() ? std::nullopt : std::optional<std::string>(node_id))
       .insert();
 }
 

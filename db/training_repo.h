@@ -73,7 +73,8 @@ class TrainingRepo {
   // (BookingsRepo::complete_for_session); none for a session without one (an instructor's).
   std::int64_t create_session(std::int64_t trainee_id, std::optional<std::int64_t> station_id,
                               const std::string& task, std::int64_t now,
-                              std::optional<std::int64_t> booking_id = std::nullopt);
+                              std::optional<std::int64_t> booking_id = std::nullopt,
+                              const std::string& node_id = {});  // the node running it, if live
   // Throws ConstraintError for an unknown state name, NotFound for an unknown id. An ended session
   // (finished or aborted) stays as it ended: false then, and nothing changes (a pause answered a
   // moment after the session thread wrote "finished" must not undo it).

@@ -25,6 +25,7 @@ class ViewSession;
 struct ServerConfig {
   std::filesystem::path web_root;  // the built dashboard (web/dist)
   db::DatabaseUrl database;        // where the data lives; live sessions open their own connection
+  std::string node_id;             // this node's name among those sharing the database
   std::int64_t session_ttl_s = 12 * 3600;
   std::size_t api_body_limit = 64 * 1024;
   bool secure_cookies = false;  // set behind TLS

@@ -11,6 +11,7 @@ namespace incise::server {
 const char* const kServerUsage =
     "usage: incise-server [--host ADDR] [--port N] [--data DIR] [--database URL] [--web DIR]\n"
     "                     [--demo] [--threads N] [--render-threads N]\n"
+    "                     [--node-id ID] [--node-timeout S]\n"
     "                     [--tls-cert FILE --tls-key FILE] [--secure-cookies] [--trusted-proxy "
     "ADDR]\n"
     "\n"
@@ -23,6 +24,11 @@ const char* const kServerUsage =
     "                postgresql://USER:PASSWORD@HOST:PORT/DB (libpq's form). Default: the\n"
     "                environment's INCISE_DATABASE_URL (keeps a password out of the process\n"
     "                list), else sqlite:DIR/incise.db\n"
+    "  --node-id ID  this server's name among the nodes sharing the database (1-64 of a-z, A-Z,\n"
+    "                0-9, '.', '_', '-'; default: $INCISE_NODE_ID, else the host's name). It\n"
+    "                runs its own sessions; at start-up it ends only the ones it left running\n"
+    "  --node-timeout S  a node whose heartbeat (every S/6 s) is S seconds old is taken for\n"
+    "                dead: another node aborts its sessions (3-3600, default 30)\n"
     "  --web DIR     the built dashboard (default ./web/dist)\n"
     "  --demo        on a new database, add demo logins, a station and a curriculum\n"
     "  --threads N   I/O threads (default 2)\n"
@@ -38,6 +44,16 @@ const char* const kServerUsage =
     "  --help        this text\n"
     "Prints 'incise-server: listening on http://HOST:PORT' (https:// with TLS) when ready;\n"
     "SIGINT/SIGTERM stop it.\n";
+
+bool is_node_id(const std::string& text) {
+  if (text.empty() || text.size() > 64) return false;
+  for (const char c : text) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                    c == '.' || c == '_' || c == '-';
+    if (!ok) return false;
+  }
+  return true;
+}
 
 namespace {
 bool parse_int(const std::string& text, long min, long max, long& out) {
@@ -136,6 +152,16 @@ ParsedOptions parse_server_options(const std::vector<std::string>& args) {
         return {std::nullopt, std::string("--database: ") + e.what()};
       }
       o.database = v;
+    } else if (arg == "--node-id") {
+      if (!value(v) || !is_node_id(v)) {
+        return {std::nullopt, "--node-id needs 1-64 characters of a-z, A-Z, 0-9, '.', '_' or '-'"};
+      }
+      o.node_id = v;
+    } else if (arg == "--node-timeout") {
+      if (!value(v) || !parse_int(v, 3, 3600, n)) {
+        return {std::nullopt, "--node-timeout needs a number of seconds from 3 to 3600"};
+      }
+      o.node_timeout_s = static_cast<int>(n);
     } else if (arg == "--web") {
       if (!value(v)) return {std::nullopt, "--web needs a directory"};
       o.web_root = v;

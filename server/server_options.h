@@ -12,7 +12,9 @@ struct ServerOptions {
   std::string host = "127.0.0.1";
   unsigned short port = 8080;  // 0 picks a free port (printed at start-up)
   std::filesystem::path data_dir = "data";
-  std::string database;  // --database URL; "" = $INCISE_DATABASE_URL, else sqlite:DATA/incise.db
+  std::string database;     // --database URL; "" = $INCISE_DATABASE_URL, else sqlite:DATA/incise.db
+  std::string node_id;      // --node-id; "" = $INCISE_NODE_ID, else the host's name
+  int node_timeout_s = 30;  // --node-timeout: a node silent this long is taken for dead
   std::filesystem::path web_root = "web/dist";
   bool demo = false;
   int threads = 2;
@@ -31,6 +33,7 @@ struct ParsedOptions {
 };
 ParsedOptions parse_server_options(const std::vector<std::string>& args);
 bool is_ip_address(const std::string& text);  // IPv4 or IPv6
+bool is_node_id(const std::string& text);     // 1-64 of a-z, A-Z, 0-9, '.', '_', '-'
 
 // The client of a request that came from `peer`: the peer itself, unless it is `trusted_proxy`,
 // whose X-Forwarded-For's last address (the one the proxy appended) is the client then. Anything

@@ -146,7 +146,8 @@ ApiResponse start_session(ApiContext& ctx) {
   }
   db::TrainingRepo training(db);
   db::Transaction tx(db);
-  params.session_id = training.create_session(user.id, station_id, task_key, ctx.now, booking_id);
+  params.session_id = training.create_session(user.id, station_id, task_key, ctx.now, booking_id,
+                                              ctx.app.config().node_id);
   training.set_session_state(params.session_id, "running", ctx.now);
   if (expert) {
     // Marked from the start: its scores join the benchmark when it finishes; an aborted run

@@ -1,4 +1,5 @@
 // incise-server: wires the database, the REST API, the dashboard and the agent link to one port.
+#include <unistd.h>
 #include <boost/asio.hpp>
 #include <chrono>
 #include <cstdlib>
@@ -8,12 +9,12 @@
 #include <vector>
 
 #include "db/migrations.h"
-#include "db/recordings_repo.h"
-#include "db/training_repo.h"
+#include "db/nodes_repo.h"
 #include "server/app_state.h"
 #include "server/demo_data.h"
 #include "server/http/listener.h"
 #include "server/live/render_pool.h"
+#include "server/node_heartbeat.h"
 #include "server/server_options.h"
 #include "server/wire_text.h"
 #include "transport/tls_contexts.h"
@@ -33,6 +34,22 @@ int main(int argc, char** argv) {
     return 0;
   }
 
+  // This node's name among the servers sharing the database: its sessions are its own.
+  std::string node_id = options.node_id;
+  if (const char* from_environment = std::getenv("INCISE_NODE_ID");
+      node_id.empty() && from_environment && *from_environment) {
+    node_id = from_environment;
+  }
+  if (node_id.empty()) {
+    char host[256] = {};
+    node_id = gethostname(host, sizeof host - 1) == 0 && server::is_node_id(host) ? host : "local";
+  }
+  if (!server::is_node_id(node_id)) {
+    std::cerr << "incise-server: INCISE_NODE_ID must be 1-64 characters of a-z, A-Z, 0-9, '.', "
+                 "'_' or '-'\n";
+    return 2;
+  }
+
   db::DatabaseUrl database_url;
   try {
     const char* from_environment = std::getenv("INCISE_DATABASE_URL");
@@ -44,29 +61,26 @@ int main(int argc, char** argv) {
       std::filesystem::create_directories(options.data_dir);
       database_url = db::DatabaseUrl::sqlite(options.data_dir / "incise.db");
     }
-    std::cerr << "incise-server: database " << database_url.redacted() << "\n";
+    std::cerr << "incise-server: database " << database_url.redacted() << ", node " << node_id
+              << "\n";
     const auto database = std::make_unique<db::Database>(database_url);
     const int applied = db::apply_migrations(*database);
     if (applied > 0) std::cerr << "incise-server: applied " << applied << " migration(s)\n";
-    // A crash leaves sessions running and recordings open. The sessions are aborted; the
-    // recordings keep every committed chunk and are closed as they are.
-    db::TrainingRepo training(*database);
+    // A crash leaves this node's sessions running and recordings open. The sessions are aborted;
+    // the recordings keep every committed chunk and are closed as they are. Other nodes' sessions
+    // are theirs: a dead node's are ended by the heartbeat sweep (server/node_heartbeat.h).
     const auto now = std::chrono::duration_cast<std::chrono::seconds>(
                          std::chrono::system_clock::now().time_since_epoch())
                          .count();
-    for (const auto& session : training.sessions()) {
-      if (session.state == "running" || session.state == "paused") {
-        training.set_session_state(session.id, "aborted", now);
-        std::cerr << "incise-server: session " << session.id << " was " << session.state
-                  << " when the server stopped; marked aborted\n";
-      }
+    db::NodesRepo nodes(*database);
+    const auto ended = nodes.end_sessions_of(node_id, now, true);
+    for (const auto id : ended.sessions) {
+      std::cerr << "incise-server: session " << id
+                << " was running when this node stopped; marked aborted\n";
     }
-    db::RecordingsRepo recordings(*database);
-    for (const auto& open : recordings.unfinished()) {
-      recordings.finish(open.id, open.duration_s);
-      std::cerr << "incise-server: closed recording " << open.id << " left open by a crash ("
-                << open.duration_s << " s kept)\n";
-    }
+    for (const auto id : ended.recordings)
+      std::cerr << "incise-server: closed recording " << id << " left open by a crash\n";
+    nodes.start(node_id, "", now);
   } catch (const std::exception& e) {
     std::cerr << "incise-server: " << e.what() << "\n";
     return 1;
@@ -79,6 +93,7 @@ int main(int argc, char** argv) {
   server::ServerConfig config;
   config.web_root = options.web_root;
   config.database = database_url;
+  config.node_id = node_id;
   config.demo = options.demo;
   config.secure_cookies = options.secure_cookies;
   config.trusted_proxy = options.trusted_proxy;
@@ -128,6 +143,9 @@ int main(int argc, char** argv) {
   listener->run();
   std::cout << "incise-server: listening on " << (tls ? "https://" : "http://") << options.host
             << ":" << listener->port() << std::endl;
+  server::NodeHeartbeat heartbeat(pool, node_id,
+                                  options.host + ":" + std::to_string(listener->port()),
+                                  options.node_timeout_s, [&app] { return app->now(); });
 
   // Graceful shutdown: stop accepting, close agent links, give in-flight requests a moment.
   net::signal_set signals(ioc, SIGINT, SIGTERM);

@@ -121,6 +121,24 @@ TEST(ServerOptions, DatabaseUrlNamesTheEngine) {
   EXPECT_FALSE(parse_server_options({"--database"}).options) << "a URL is required";
 }
 
+TEST(ServerOptions, NodeIdAndTimeout) {
+  const auto defaults = parse_server_options({});
+  EXPECT_EQ(defaults.options->node_id, "") << "the environment's or the host's name";
+  EXPECT_EQ(defaults.options->node_timeout_s, 30);
+  const auto parsed =
+      parse_server_options({"--node-id", "incise-server-0.incise", "--node-timeout", "3"});
+  ASSERT_TRUE(parsed.options) << parsed.error;
+  EXPECT_EQ(parsed.options->node_id, "incise-server-0.incise");
+  EXPECT_EQ(parsed.options->node_timeout_s, 3);
+  for (const char* bad : {"", "a b", "x/y", "ü"}) {
+    EXPECT_FALSE(parse_server_options({"--node-id", bad}).options) << bad;
+  }
+  EXPECT_FALSE(parse_server_options({"--node-id", std::string(65, 'a')}).options);
+  EXPECT_TRUE(parse_server_options({"--node-id", std::string(64, 'a')}).options);
+  EXPECT_FALSE(parse_server_options({"--node-timeout", "2"}).options);
+  EXPECT_FALSE(parse_server_options({"--node-timeout", "3601"}).options);
+}
+
 TEST(ServerOptions, BehindAProxy) {
   const auto parsed = parse_server_options({"--secure-cookies", "--trusted-proxy", "10.0.0.2"});
   ASSERT_TRUE(parsed.options) << parsed.error;

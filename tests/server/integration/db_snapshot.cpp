@@ -18,11 +18,12 @@ std::string snapshot_tables(const db::DatabaseUrl& database) {
   }
   std::vector<std::string> tables;
   {
-    auto q = db.prepare(db.dialect() == db::Dialect::sqlite
-                            ? "SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT "
-                              "LIKE 'sqlite_%' AND name != 'auth_sessions' ORDER BY name"
-                            : "SELECT table_name FROM information_schema.tables WHERE table_schema "
-                              "= current_schema() AND table_name != 'auth_sessions' ORDER BY 1");
+    auto q = db.prepare(
+        db.dialect() == db::Dialect::sqlite
+            ? "SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT "
+              "LIKE 'sqlite_%' AND name NOT IN ('auth_sessions', 'nodes') ORDER BY name"
+            : "SELECT table_name FROM information_schema.tables WHERE table_schema "
+              "= current_schema() AND table_name NOT IN ('auth_sessions', 'nodes') ORDER BY 1");
     while (q.step())
       tables.push_back(q.text(0));
   }

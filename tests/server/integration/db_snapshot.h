@@ -1,8 +1,8 @@
 #pragma once
 // Looks into the database of a running server (SQLite's data/incise.db, or the PostgreSQL
 // database the pg/ suites give it), to check that a refused request changed nothing: every table
-// but auth_sessions (which a request's sliding session expiry legitimately updates), dumped row by
-// row.
+// but auth_sessions (which a request's sliding session expiry legitimately updates) and nodes
+// (the heartbeats), dumped row by row.
 #include <cstdint>
 #include <string>
 
@@ -10,7 +10,7 @@
 
 namespace incise::server::test {
 
-// Every row of every table except auth_sessions and the engine's own, in a stable order, as text.
+// Every row of every table except auth_sessions, nodes and the engine's own, in a stable order, as text.
 std::string snapshot_tables(const db::DatabaseUrl& database);
 
 // The single integer (or text) that `sql` returns (e.g. a COUNT); "" for no row or NULL.

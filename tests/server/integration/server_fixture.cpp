@@ -29,7 +29,8 @@ db::DatabaseUrl create_database(const db::DatabaseUrl& cluster, const std::strin
 }
 }  // namespace
 
-ServerProcess::ServerProcess() {
+ServerProcess::ServerProcess(std::vector<std::string> extra_args,
+                             const ServerProcess* same_database_as) {
   const auto web = dir_.path() / "web";
   std::filesystem::create_directories(web);
   std::ofstream(web / "index.html") << kIndexHtml;
@@ -45,13 +46,19 @@ ServerProcess::ServerProcess() {
                                    web.string()};
   database_ = db::DatabaseUrl::sqlite(dir_.path() / "data" / "incise.db");
   const char* server = std::getenv("INCISE_TEST_DATABASE");
-  if (server && *server) {
+  if (same_database_as) {
+    database_ = same_database_as->database_;
+    command.insert(command.end(), {"--database", database_.dialect == db::Dialect::sqlite
+                                                     ? "sqlite:" + database_.target
+                                                     : database_.target});
+  } else if (server && *server) {
     cluster_ = db::DatabaseUrl::parse(server);
     static int count = 0;
     database_name_ = "incise_it" + std::to_string(::getpid()) + "_" + std::to_string(++count);
     database_ = create_database(cluster_, database_name_);
     command.insert(command.end(), {"--database", database_.target});
   }
+  command.insert(command.end(), extra_args.begin(), extra_args.end());
   process_ = std::make_unique<ChildProcess>(command);
   const auto line = process_->wait_for_line(kListening, std::chrono::seconds(20));
   if (!line) {

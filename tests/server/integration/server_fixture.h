@@ -12,6 +12,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "db/database_url.h"
 #include "tests/support/child_process.h"
@@ -39,7 +40,10 @@ inline constexpr const char* kListening = "incise-server: listening on http://12
 class ServerProcess {
  public:
   // Throws std::runtime_error, with the server's stderr, when it is not listening within 20 s.
-  ServerProcess();
+  // `extra_args` go on the command line; with `same_database_as`, this server shares that one's
+  // database (another node of the same platform) instead of getting a fresh one.
+  explicit ServerProcess(std::vector<std::string> extra_args = {},
+                         const ServerProcess* same_database_as = nullptr);
   ~ServerProcess();
   ServerProcess(const ServerProcess&) = delete;
   ServerProcess& operator=(const ServerProcess&) = delete;
@@ -52,7 +56,7 @@ class ServerProcess {
 
  private:
   TempDir dir_{"incise-server-it"};
-  db::DatabaseUrl cluster_;    // PostgreSQL only: the server database_name_ was created on
+  db::DatabaseUrl cluster_;  // PostgreSQL only: the server database_name_ was created on
   std::string database_name_;
   db::DatabaseUrl database_;
   std::unique_ptr<ChildProcess> process_;

@@ -1,0 +1,89 @@
+#include "db/nodes_repo.h"
+
+#include "db/statement.h"
+#include "db/transaction.h"
+
+namespace incise::db {
+
+void NodesRepo::start(const std::string& id, const std::string& address, std::int64_t now) {
+  db_.prepare(
+         "INSERT INTO nodes (id, address, started_at, heartbeat_at) VALUES (?1, ?2, ?3, ?3) ON "
+         "CONFLICT (id) DO UPDATE SET address = excluded.address, started_at = "
+         "excluded.started_at, heartbeat_at = excluded.heartbeat_at")
+      .bind(1, id)
+      .bind(2, address)
+      .bind(3, now)
+      .run();
+}
+
+void NodesRepo::heartbeat(const std::string& id, const std::string& address, std::int64_t now) {
+  // A node swept by the others while it was cut off comes back: registered again.
+  db_.prepare(
+         "INSERT INTO nodes (id, address, started_at, heartbeat_at) VALUES (?1, ?2, ?3, ?3) ON "
+         "CONFLICT (id) DO UPDATE SET address = excluded.address, heartbeat_at = "
+         "excluded.heartbeat_at")
+      .bind(1, id)
+      .bind(2, address)
+      .bind(3, now)
+      .run();
+}
+
+std::vector<NodeRecord> NodesRepo::list() {
+  auto q = db_.prepare("SELECT id, address, started_at, heartbeat_at FROM nodes ORDER BY id");
+  std::vector<NodeRecord> out;
+  while (q.step())
+    out.push_back({q.text(0), q.text(1), q.int64(2), q.int64(3)});
+  return out;
+}
+
+EndedSessions NodesRepo::end_sessions_of(const std::string& node, std::int64_t now,
+                                         bool and_unowned) {
+  constexpr const char* kOwned = "(node_id = ?1 OR (?2 = 1 AND node_id IS NULL))";
+  EndedSessions ended;
+  Transaction tx(db_);
+  {
+    // The recordings first, while their sessions still say whose they are. Closed as they are:
+    // every committed chunk stays, replayable up to the last one.
+    auto q = db_.prepare(std::string("UPDATE recordings SET state = 'complete' WHERE state = "
+                                     "'recording' AND session_id IN (SELECT id FROM sessions "
+                                     "WHERE ") +
+                         kOwned + ") RETURNING id");
+    q.bind(1, node).bind(2, and_unowned ? 1 : 0);
+    while (q.step())
+      ended.recordings.push_back(q.int64(0));
+  }
+  {
+    auto q = db_.prepare(
+        std::string("UPDATE sessions SET state = 'aborted', ended_at = ?3 WHERE state IN "
+                    "('running', 'paused') AND ") +
+        kOwned + " RETURNING id");
+    q.bind(1, node).bind(2, and_unowned ? 1 : 0).bind(3, now);
+    while (q.step())
+      ended.sessions.push_back(q.int64(0));
+  }
+  tx.commit();
+  return ended;
+}
+
+std::vector<std::string> NodesRepo::sweep(const std::string& self, std::int64_t now,
+                                          std::int64_t timeout_s, EndedSessions& ended) {
+  std::vector<std::string> swept;
+  Transaction tx(db_);  // one sweeper at a time; the others then find nothing left to do
+  {
+    auto q = db_.prepare("SELECT id FROM nodes WHERE id != ? AND heartbeat_at < ? ORDER BY id");
+    q.bind(1, self).bind(2, now - timeout_s);
+    while (q.step())
+      swept.push_back(q.text(0));
+  }
+  for (const auto& node : swept) {
+    auto of_node = end_sessions_of(node, now, false);  // a savepoint of this transaction
+    ended.sessions.insert(ended.sessions.end(), of_node.sessions.begin(), of_node.sessions.end());
+    ended.recordings.insert(ended.recordings.end(), of_node.recordings.begin(),
+                            of_node.recordings.end());
+    db_.prepare("DELETE FROM nodes WHERE id = ?").bind(1, node).run();
+  }
+  tx.commit();
+  return swept;
+}
+
+}  // namespace incise::db

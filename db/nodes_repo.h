@@ -1,0 +1,49 @@
+#pragma once
+// The server nodes that share one database, each with a heartbeat, and what a node leaves behind
+// when it stops: its live sessions are aborted and their open recordings closed at their last
+// stored chunk. A node ends only its own sessions at start-up; another node's, only once that
+// node has missed its heartbeats (docs/storage.md, "Nodes").
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "db/database.h"
+
+namespace incise::db {
+
+struct NodeRecord {
+  std::string id;
+  std::string address;  // how other nodes reach it ("" when unknown)
+  std::int64_t started_at = 0;
+  std::int64_t heartbeat_at = 0;
+};
+
+// What ending a node's sessions ended.
+struct EndedSessions {
+  std::vector<std::int64_t> sessions;    // marked aborted
+  std::vector<std::int64_t> recordings;  // closed as they were
+};
+
+class NodesRepo {
+ public:
+  explicit NodesRepo(Database& db) : db_(db) {}
+
+  // Registers the node (started now) or records its heartbeat.
+  void start(const std::string& id, const std::string& address, std::int64_t now);
+  void heartbeat(const std::string& id, const std::string& address, std::int64_t now);
+  std::vector<NodeRecord> list();
+
+  // The sessions `node` left running or paused are aborted (with `and_unowned`, also those no
+  // node owns: from before nodes existed), their open recordings closed. One IMMEDIATE
+  // transaction.
+  EndedSessions end_sessions_of(const std::string& node, std::int64_t now, bool and_unowned);
+  // Every node but `self` whose last heartbeat is older than `timeout_s`: its sessions are ended as
+  // above and the node forgotten. Returns the nodes swept; `ended` gains what was ended.
+  std::vector<std::string> sweep(const std::string& self, std::int64_t now, std::int64_t timeout_s,
+                                 EndedSessions& ended);
+
+ private:
+  Database& db_;
+};
+
+}  // namespace incise::db
