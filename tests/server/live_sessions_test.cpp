@@ -4,11 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <future>
 #include <limits>
 #include <memory>
 #include <thread>
+#include <vector>
 
 #include "tests/server/live/test_scene.h"
 
@@ -181,6 +183,35 @@ TEST(LiveSessions, StopAllForgetsEverySession) {
   EXPECT_EQ(sessions.find(1), nullptr);
   EXPECT_EQ(sessions.find(2), nullptr);
   EXPECT_EQ(sessions.active_at(11), nullptr);
+}
+
+// Two starts racing for a station (requests now run side by side): only one holds the claim, until
+// its session is registered or it gives up; a station with an active session cannot be claimed.
+TEST(LiveSessions, OneStartAtATimeClaimsAStation) {
+  LiveSessions sessions;
+  EXPECT_TRUE(sessions.claim(11));
+  EXPECT_TRUE(sessions.starting(11));
+  EXPECT_FALSE(sessions.claim(11)) << "a second start while the first holds the station";
+  EXPECT_TRUE(sessions.claim(12)) << "another station is free";
+  sessions.release_claim(12);
+  EXPECT_FALSE(sessions.starting(12));
+  EXPECT_TRUE(sessions.claim(12)) << "a start that gave up frees the station";
+
+  sessions.add(unstarted_session(1, 11));
+  EXPECT_FALSE(sessions.starting(11)) << "registering the session ends the claim";
+  EXPECT_FALSE(sessions.claim(11)) << "the station's session is active";
+  sessions.remove(1);
+  EXPECT_TRUE(sessions.claim(11));
+
+  // Many threads at once: exactly one wins.
+  LiveSessions raced;
+  std::atomic<int> won = 0;
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 8; ++t)
+    threads.emplace_back([&] { won += raced.claim(21) ? 1 : 0; });
+  for (auto& t : threads)
+    t.join();
+  EXPECT_EQ(won, 1);
 }
 
 }  // namespace
