@@ -10,7 +10,8 @@
 
 namespace incise::server::test {
 
-// Every row of every table except auth_sessions, nodes and the engine's own, in a stable order, as text.
+// Every row of every table except auth_sessions, nodes and the engine's own, in a stable order, as
+// text.
 std::string snapshot_tables(const db::DatabaseUrl& database);
 
 // The single integer (or text) that `sql` returns (e.g. a COUNT); "" for no row or NULL.
