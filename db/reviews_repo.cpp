@@ -16,6 +16,15 @@ ScoreAdjustment read_adjustment(Statement& q) {
   return {q.int64(0), q.int64(1), q.int64(2), q.text(3), q.int64(4) != 0, q.text(5), q.int64(6)};
 }
 
+// The columns read_annotation reads, with the author's username.
+constexpr const char* kAnnotationSelect =
+    "SELECT a.id, a.session_id, a.author_id, u.username, a.t_s, a.text, a.created_at "
+    "FROM annotations a JOIN users u ON u.id = a.author_id ";
+
+Annotation read_annotation(Statement& q) {
+  return {q.int64(0), q.int64(1), q.int64(2), q.text(3), q.real(4), q.text(5), q.int64(6)};
+}
+
 }  // namespace
 
 Annotation ReviewsRepo::add_annotation(std::int64_t session_id, std::int64_t author_id, double t_s,
@@ -30,22 +39,18 @@ Annotation ReviewsRepo::add_annotation(std::int64_t session_id, std::int64_t aut
           .bind(4, text)
           .bind(5, now)
           .insert();
-  for (auto& a : annotations(session_id))
-    if (a.id == id) return a;
-  return {};
+  auto q = db_.prepare(std::string(kAnnotationSelect) + "WHERE a.id = ?");
+  q.bind(1, id).step();
+  return read_annotation(q);
 }
 
 std::vector<Annotation> ReviewsRepo::annotations(std::int64_t session_id) {
-  auto q = db_.prepare(
-      "SELECT a.id, a.session_id, a.author_id, u.username, a.t_s, a.text, a.created_at "
-      "FROM annotations a JOIN users u ON u.id = a.author_id WHERE a.session_id = ? "
-      "ORDER BY a.t_s, a.id");
+  auto q =
+      db_.prepare(std::string(kAnnotationSelect) + "WHERE a.session_id = ? ORDER BY a.t_s, a.id");
   q.bind(1, session_id);
   std::vector<Annotation> out;
-  while (q.step()) {
-    out.push_back(
-        {q.int64(0), q.int64(1), q.int64(2), q.text(3), q.real(4), q.text(5), q.int64(6)});
-  }
+  while (q.step())
+    out.push_back(read_annotation(q));
   return out;
 }
 
@@ -61,9 +66,9 @@ ScoreAdjustment ReviewsRepo::adjust(std::int64_t session_id, std::int64_t author
           .bind(4, reason)
           .bind(5, now)
           .insert();
-  for (auto& a : adjustments(session_id))
-    if (a.id == id) return a;
-  return {};
+  auto q = db_.prepare(std::string(kAdjustmentSelect) + "WHERE s.id = ?");
+  q.bind(1, id).step();
+  return read_adjustment(q);
 }
 
 std::vector<ScoreAdjustment> ReviewsRepo::adjustments(std::int64_t session_id) {
