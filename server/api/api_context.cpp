@@ -12,8 +12,6 @@ namespace incise::server {
 db::PasswordHash ApiContext::hash_password(std::string_view password) {
   db::PasswordHash hash;
   hash.value = db::hash_password(password);
-  // The caller's login may have ended, or their account changed, meanwhile.
-  if (user_) reread_user();
   return hash;
 }
 

@@ -65,10 +65,9 @@ class ApiContext {
     if (!lease_) lease_.emplace(app.pool().acquire());
     return **lease_;
   }
-  // password's stored form (db::hash_password: about 50 ms of argon2id), made outside any
-  // transaction: hash before reading what the change depends on, or read it again after. The
-  // signed-in user, if any, is read again after (401 if their login ended meanwhile): a handler
-  // checks their role after this.
+  // password's stored form (db::hash_password: about 50 ms of argon2id), made before the
+  // handler's transaction: inside it, the handler reads again what the change depends on
+  // (reread_user(), the account), since either may have changed during the hash.
   db::PasswordHash hash_password(std::string_view password);
   // Reads the signed-in user again, in place (handlers hold references to it): 401 if their
   // login ended meanwhile. Inside a handler's transaction, so that a check of the caller (still

@@ -111,8 +111,9 @@ ApiResponse change_own_password(ApiContext& ctx) {
     ctx.app.login_limiter().record_failure(user.username, ctx.client, ctx.now);
     throw ApiError(http::status::unprocessable_entity, "current_password is wrong");
   }
-  const db::PasswordHash hash = ctx.hash_password(next);  // reads `user` again
+  const db::PasswordHash hash = ctx.hash_password(next);
   db::Transaction tx(db);
+  ctx.reread_user();  // `user` again: the login may have ended during the check and the hash
   // Both ran outside any transaction: an admin's reset (or another change) meanwhile wins.
   if (users.password_hash(user.id) != checked) {
     throw ApiError(http::status::conflict,

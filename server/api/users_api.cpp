@@ -118,16 +118,16 @@ ApiResponse create_user(ApiContext& ctx) {
   if (body.contains("instructor_ids") && user.role != db::Role::trainee) {
     throw ApiError(http::status::unprocessable_entity, "only trainees have instructor_ids");
   }
-  // Hashed outside any transaction, before what follows reads the database; the admin is checked
-  // again.
+  // Hashed before the transaction; the admin is checked again inside it.
   const db::PasswordHash hash = ctx.hash_password(user.password);
-  ctx.require_role({db::Role::admin});
   std::vector<std::int64_t> instructors;
   if (body.contains("instructor_ids")) {
     instructors = instructor_ids(ctx.db(), body["instructor_ids"]);
   }
   db::UsersRepo users(ctx.db());
   db::Transaction tx(ctx.db());
+  ctx.reread_user();
+  ctx.require_role({db::Role::admin});
   const auto created = users.create(user, hash, ctx.now);
   if (!instructors.empty()) users.set_instructors(created.id, instructors, ctx.now);
   audit_change(ctx.db(), admin.id, "user.create",
@@ -189,8 +189,8 @@ ApiResponse reset_user_password(ApiContext& ctx) {
     throw ApiError(http::status::conflict,
                    "reset only others' passwords; change your own with POST /api/me/password");
   }
-  // Hashed outside any transaction; the admin and the account are read again after (either may have
-  // changed meanwhile).
+  // Hashed before the transaction; the admin and the account are read again inside it (either may
+  // have changed meanwhile).
   const db::PasswordHash hash = ctx.hash_password(password);
   db::Transaction tx(db);
   ctx.reread_user();
