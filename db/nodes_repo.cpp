@@ -61,6 +61,7 @@ EndedSessions NodesRepo::end_sessions_of(const std::string& node, std::int64_t n
     while (q.step())
       ended.sessions.push_back(q.int64(0));
   }
+  db_.prepare("DELETE FROM station_links WHERE node_id = ?").bind(1, node).run();
   tx.commit();
   return ended;
 }
@@ -84,6 +85,68 @@ std::vector<std::string> NodesRepo::sweep(const std::string& self, std::int64_t 
   }
   tx.commit();
   return swept;
+}
+
+namespace {
+constexpr const char* kNodeColumns = "n.id, n.address, n.started_at, n.heartbeat_at";
+
+std::optional<NodeRecord> one_node(Statement& q) {
+  if (!q.step()) return std::nullopt;
+  return NodeRecord{q.text(0), q.text(1), q.int64(2), q.int64(3)};
+}
+}  // namespace
+
+std::optional<NodeRecord> NodesRepo::node_of_live_session(std::int64_t session_id) {
+  auto q = db_.prepare(std::string("SELECT ") + kNodeColumns +
+                       " FROM sessions s JOIN nodes n ON n.id = s.node_id WHERE s.id = ? AND "
+                       "s.state IN ('running', 'paused')");
+  q.bind(1, session_id);
+  return one_node(q);
+}
+
+std::optional<NodeRecord> NodesRepo::node_of_station(std::int64_t station_id) {
+  auto q = db_.prepare(std::string("SELECT ") + kNodeColumns +
+                       " FROM station_links l JOIN nodes n ON n.id = l.node_id WHERE "
+                       "l.station_id = ?");
+  q.bind(1, station_id);
+  return one_node(q);
+}
+
+std::string NodesRepo::link_station(std::int64_t station_id, const std::string& node,
+                                    std::int64_t now, std::int64_t timeout_s) {
+  Transaction tx(db_);  // the check and the claim together: two nodes cannot both link
+  if (const auto holder = node_of_station(station_id);
+      holder && holder->id != node && holder->heartbeat_at >= now - timeout_s) {
+    return holder->id;
+  }
+  db_.prepare(
+         "INSERT INTO station_links (station_id, node_id, linked_at) VALUES (?1, ?2, ?3) ON "
+         "CONFLICT (station_id) DO UPDATE SET node_id = excluded.node_id, linked_at = "
+         "excluded.linked_at")
+      .bind(1, station_id)
+      .bind(2, node)
+      .bind(3, now)
+      .run();
+  tx.commit();
+  return {};
+}
+
+void NodesRepo::unlink_station(std::int64_t station_id, const std::string& node) {
+  db_.prepare("DELETE FROM station_links WHERE station_id = ? AND node_id = ?")
+      .bind(1, station_id)
+      .bind(2, node)
+      .run();
+}
+
+std::vector<std::int64_t> NodesRepo::linked_stations(std::int64_t now, std::int64_t timeout_s) {
+  auto q = db_.prepare(
+      "SELECT l.station_id FROM station_links l JOIN nodes n ON n.id = l.node_id WHERE "
+      "n.heartbeat_at >= ? ORDER BY l.station_id");
+  q.bind(1, now - timeout_s);
+  std::vector<std::int64_t> out;
+  while (q.step())
+    out.push_back(q.int64(0));
+  return out;
 }
 
 }  // namespace incise::db

@@ -4,6 +4,7 @@
 // stored chunk. A node ends only its own sessions at start-up; another node's, only once that
 // node has missed its heartbeats (docs/storage.md, "Nodes").
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,13 +35,27 @@ class NodesRepo {
   std::vector<NodeRecord> list();
 
   // The sessions `node` left running or paused are aborted (with `and_unowned`, also those no
-  // node owns: from before nodes existed), their open recordings closed. One IMMEDIATE
-  // transaction.
+  // node owns: from before nodes existed), their open recordings closed, its station links
+  // dropped. One IMMEDIATE transaction.
   EndedSessions end_sessions_of(const std::string& node, std::int64_t now, bool and_unowned);
   // Every node but `self` whose last heartbeat is older than `timeout_s`: its sessions are ended as
   // above and the node forgotten. Returns the nodes swept; `ended` gains what was ended.
   std::vector<std::string> sweep(const std::string& self, std::int64_t now, std::int64_t timeout_s,
                                  EndedSessions& ended);
+
+  // Where things run (docs/scale_out.md). The node running live session `session_id` (running or
+  // paused), or nullopt: not live, or from before nodes.
+  std::optional<NodeRecord> node_of_live_session(std::int64_t session_id);
+  // The node holding `station_id`'s agent link, or nullopt.
+  std::optional<NodeRecord> node_of_station(std::int64_t station_id);
+  // Records that `node` holds the station's agent link, unless another node does whose heartbeat
+  // is at most `timeout_s` old: then nothing changes and that node's id is returned ("" = linked).
+  std::string link_station(std::int64_t station_id, const std::string& node, std::int64_t now,
+                           std::int64_t timeout_s);
+  // The link is gone, if `node` held it.
+  void unlink_station(std::int64_t station_id, const std::string& node);
+  // The stations whose agent link a node holds that beat at most `timeout_s` ago, ascending.
+  std::vector<std::int64_t> linked_stations(std::int64_t now, std::int64_t timeout_s);
 
  private:
   Database& db_;

@@ -42,6 +42,7 @@ AgentSession::AgentSession(transport::MaybeTlsStream&& stream, std::shared_ptr<A
 AgentSession::~AgentSession() {
   if (station_id_ != 0) {
     app_->agent_left(this);
+    app_->unlink_station_if_gone(station_id_);
     std::cerr << "incise-server: station " << station_id_ << " agent disconnected\n";
   }
 }
@@ -185,6 +186,23 @@ void AgentSession::handle_hello() {
     return do_close(websocket::close_code::try_again_later,
                     "station " + station->name + " already has a connected agent (from " + holder +
                         "); try again once it has gone");
+  }
+  // Across nodes, the shared database says who holds the station (docs/scale_out.md).
+  std::string other_node;
+  try {
+    other_node = app_->link_station_here(station->id);
+  } catch (const std::exception& e) {
+    other_node = "?";
+    std::cerr << "incise-server: station " << station->id
+              << ": cannot record its link: " << e.what() << "\n";
+  }
+  if (!other_node.empty()) {
+    app_->agent_left(this);
+    return do_close(websocket::close_code::try_again_later,
+                    other_node == "?"
+                        ? "the database cannot be reached; try again in a moment"
+                        : "station " + station->name + " already has a connected agent (at node " +
+                              other_node + "); try again once it has gone");
   }
   station_id_ = station->id;
   hello_timer_.cancel();

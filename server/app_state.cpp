@@ -1,8 +1,11 @@
 #include "server/app_state.h"
 
+#include <algorithm>
 #include <chrono>
+#include <iostream>
 #include <vector>
 
+#include "db/nodes_repo.h"
 #include "server/agent_session.h"
 #include "server/view_session.h"
 
@@ -74,6 +77,44 @@ std::shared_ptr<AgentSession> AppState::agent_for_station(std::int64_t station_i
     }
   }
   return newest;
+}
+
+std::string AppState::link_station_here(std::int64_t station_id) {
+  auto db = pool_.acquire();
+  return db::NodesRepo(*db).link_station(station_id, config_.node_id, now(),
+                                         config_.node_timeout_s);
+}
+
+void AppState::unlink_station_if_gone(std::int64_t station_id) noexcept {
+  try {
+    if (station_online(station_id)) return;  // a reconnect here already holds it
+    auto db = pool_.acquire();
+    db::NodesRepo(*db).unlink_station(station_id, config_.node_id);
+  } catch (const std::exception& e) {
+    // Left behind, the row only makes other nodes forward a start here, which answers that the
+    // station is offline; the heartbeat sweep drops it if this node dies.
+    std::cerr << "incise-server: station " << station_id
+              << ": cannot drop its link record: " << e.what() << "\n";
+  } catch (...) {
+  }
+}
+
+bool AppState::station_online_anywhere(db::Database& db, std::int64_t station_id) {
+  if (station_online(station_id)) return true;
+  const auto node = db::NodesRepo(db).node_of_station(station_id);
+  return node && node->heartbeat_at >= now() - config_.node_timeout_s;
+}
+
+std::vector<std::int64_t> AppState::stations_online_anywhere(db::Database& db) {
+  auto online = db::NodesRepo(db).linked_stations(now(), config_.node_timeout_s);
+  {
+    std::lock_guard lock(agents_mutex_);
+    for (const auto& [_, entry] : agents_)
+      online.push_back(entry.station_id);
+  }
+  std::sort(online.begin(), online.end());
+  online.erase(std::unique(online.begin(), online.end()), online.end());
+  return online;
 }
 
 bool AppState::station_online(std::int64_t station_id) const {

@@ -26,6 +26,7 @@ struct ServerConfig {
   std::filesystem::path web_root;  // the built dashboard (web/dist)
   db::DatabaseUrl database;        // where the data lives; live sessions open their own connection
   std::string node_id;             // this node's name among those sharing the database
+  int node_timeout_s = 30;         // --node-timeout: a node silent this long is taken for dead
   std::int64_t session_ttl_s = 12 * 3600;
   std::size_t api_body_limit = 64 * 1024;
   bool secure_cookies = false;  // set behind TLS
@@ -57,6 +58,16 @@ class AppState {
   std::string agent_try_join(std::int64_t station_id, const std::shared_ptr<AgentSession>& session);
   void agent_left(const AgentSession* session);
   bool station_online(std::int64_t station_id) const;
+  // The shared database's record of which node holds a station's link (docs/scale_out.md):
+  // claims it for this node and returns "", or returns the live node that holds it. Throws on a
+  // database error.
+  std::string link_station_here(std::int64_t station_id);
+  // Drops this node's claim on the station once no link to it is left here. Never throws.
+  void unlink_station_if_gone(std::int64_t station_id) noexcept;
+  // Whether the station's agent is linked here or to another live node (read on `db`).
+  bool station_online_anywhere(db::Database& db, std::int64_t station_id);
+  // The stations linked here or to another live node, ascending.
+  std::vector<std::int64_t> stations_online_anywhere(db::Database& db);
   // The station's most recently connected agent, or nullptr.
   std::shared_ptr<AgentSession> agent_for_station(std::int64_t station_id) const;
   // Closes every agent link (shutdown).

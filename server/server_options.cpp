@@ -1,6 +1,8 @@
 #include "server/server_options.h"
 
 #include <boost/asio/ip/address.hpp>
+#include <boost/asio/ip/network_v4.hpp>
+#include <boost/asio/ip/network_v6.hpp>
 #include <charconv>
 #include <stdexcept>
 
@@ -11,7 +13,7 @@ namespace incise::server {
 const char* const kServerUsage =
     "usage: incise-server [--host ADDR] [--port N] [--data DIR] [--database URL] [--web DIR]\n"
     "                     [--demo] [--threads N] [--render-threads N]\n"
-    "                     [--node-id ID] [--node-timeout S]\n"
+    "                     [--node-id ID] [--node-address HOST:PORT] [--node-timeout S]\n"
     "                     [--tls-cert FILE --tls-key FILE] [--secure-cookies] [--trusted-proxy "
     "ADDR]\n"
     "\n"
@@ -27,6 +29,9 @@ const char* const kServerUsage =
     "  --node-id ID  this server's name among the nodes sharing the database (1-64 of a-z, A-Z,\n"
     "                0-9, '.', '_', '-'; default: $INCISE_NODE_ID, else the host's name). It\n"
     "                runs its own sessions; at start-up it ends only the ones it left running\n"
+    "  --node-address HOST:PORT  where the other nodes reach this one, to forward a call about\n"
+    "                a session it runs (plain HTTP; default: $INCISE_NODE_ADDRESS, else\n"
+    "                --host, or the host's name when --host is 0.0.0.0 or ::, and the port)\n"
     "  --node-timeout S  a node whose heartbeat (every S/6 s) is S seconds old is taken for\n"
     "                dead: another node aborts its sessions (3-3600, default 30)\n"
     "  --web DIR     the built dashboard (default ./web/dist)\n"
@@ -38,9 +43,11 @@ const char* const kServerUsage =
     "                chain; needs --tls-key FILE, its PEM private key. Without them: plain HTTP\n"
     "  --secure-cookies  always mark the login cookie Secure (it is whenever a request came over\n"
     "                TLS, directly or from --trusted-proxy with X-Forwarded-Proto: https)\n"
-    "  --trusted-proxy ADDR  the proxy's address: for its requests, the client is the last\n"
-    "                address of X-Forwarded-For (login limits and logs count per client) and\n"
-    "                X-Forwarded-Proto says whether the browser used HTTPS\n"
+    "  --trusted-proxy ADDR  the proxy's address, or a range of them (CIDR, as 10.244.0.0/16:\n"
+    "                a Kubernetes pod network, where the Ingress and the other nodes are): for\n"
+    "                their requests, the client is the last address of X-Forwarded-For (login\n"
+    "                limits and logs count per client) and X-Forwarded-Proto says whether the\n"
+    "                browser used HTTPS\n"
     "  --help        this text\n"
     "Prints 'incise-server: listening on http://HOST:PORT' (https:// with TLS) when ready;\n"
     "SIGINT/SIGTERM stop it.\n";
@@ -68,6 +75,25 @@ bool is_ip_address(const std::string& text) {
   return !ec;
 }
 
+bool is_node_address(const std::string& text) {
+  const auto colon = text.rfind(':');
+  if (colon == std::string::npos || colon == 0 || colon + 1 == text.size()) return false;
+  const std::string host = text.substr(0, colon);
+  const std::string port = text.substr(colon + 1);
+  long n = 0;
+  if (!parse_int(port, 1, 65535, n)) return false;
+  if (host.front() == '[') {
+    return host.size() > 2 && host.back() == ']' && is_ip_address(host.substr(1, host.size() - 2));
+  }
+  if (host.size() > 253) return false;
+  for (const char c : host) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                    c == '.' || c == '-';
+    if (!ok) return false;
+  }
+  return true;
+}
+
 namespace {
 // The last element of a comma-separated header, trimmed: what the proxy nearest to us appended.
 std::string_view last_list_value(std::string_view list) {
@@ -81,9 +107,44 @@ std::string_view last_list_value(std::string_view list) {
 }
 }  // namespace
 
+bool is_address_range(const std::string& text) {
+  if (text.find('/') == std::string::npos) return is_ip_address(text);
+  boost::system::error_code ec;
+  if (text.find(':') == std::string::npos) {
+    boost::asio::ip::make_network_v4(text, ec);
+  } else {
+    boost::asio::ip::make_network_v6(text, ec);
+  }
+  return !ec;
+}
+
+bool from_trusted_proxy(const std::string& peer, const std::string& trusted_proxy) {
+  if (trusted_proxy.empty()) return false;
+  if (trusted_proxy.find('/') == std::string::npos) return peer == trusted_proxy;
+  boost::system::error_code ec;
+  const auto address = boost::asio::ip::make_address(peer, ec);
+  if (ec) return false;
+  if (address.is_v4()) {
+    const auto range = boost::asio::ip::make_network_v4(trusted_proxy, ec);
+    if (ec) return false;
+    const auto mask = range.netmask().to_uint();
+    return (address.to_v4().to_uint() & mask) == (range.address().to_uint() & mask);
+  }
+  const auto range = boost::asio::ip::make_network_v6(trusted_proxy, ec);
+  if (ec) return false;
+  const auto a = address.to_v6().to_bytes();
+  const auto r = range.address().to_bytes();
+  const int bits = range.prefix_length();
+  for (int i = 0; i < bits; ++i) {
+    const int mask = 0x80 >> (i % 8);
+    if ((a[i / 8] & mask) != (r[i / 8] & mask)) return false;
+  }
+  return true;
+}
+
 std::string request_client(const std::string& peer, std::string_view forwarded_for,
                            const std::string& trusted_proxy) {
-  if (trusted_proxy.empty() || peer != trusted_proxy) return peer;
+  if (!from_trusted_proxy(peer, trusted_proxy)) return peer;
   std::string client(last_list_value(forwarded_for));
   return is_ip_address(client) ? client : peer;
 }
@@ -91,7 +152,7 @@ std::string request_client(const std::string& peer, std::string_view forwarded_f
 bool reached_over_tls(bool tls_connection, const std::string& peer,
                       std::string_view forwarded_proto, const std::string& trusted_proxy) {
   if (tls_connection) return true;
-  if (trusted_proxy.empty() || peer != trusted_proxy) return false;
+  if (!from_trusted_proxy(peer, trusted_proxy)) return false;
   return last_list_value(forwarded_proto) == "https";
 }
 
@@ -113,8 +174,8 @@ ParsedOptions parse_server_options(const std::vector<std::string>& args) {
     } else if (arg == "--secure-cookies") {
       o.secure_cookies = true;
     } else if (arg == "--trusted-proxy") {
-      if (!value(v) || !is_ip_address(v)) {
-        return {std::nullopt, "--trusted-proxy needs an IP address"};
+      if (!value(v) || !is_address_range(v)) {
+        return {std::nullopt, "--trusted-proxy needs an IP address or a CIDR range"};
       }
       o.trusted_proxy = v;
     } else if (arg == "--tls-cert") {
@@ -157,6 +218,11 @@ ParsedOptions parse_server_options(const std::vector<std::string>& args) {
         return {std::nullopt, "--node-id needs 1-64 characters of a-z, A-Z, 0-9, '.', '_' or '-'"};
       }
       o.node_id = v;
+    } else if (arg == "--node-address") {
+      if (!value(v) || !is_node_address(v)) {
+        return {std::nullopt, "--node-address needs HOST:PORT (a name, an IPv4 address or [IPv6])"};
+      }
+      o.node_address = v;
     } else if (arg == "--node-timeout") {
       if (!value(v) || !parse_int(v, 3, 3600, n)) {
         return {std::nullopt, "--node-timeout needs a number of seconds from 3 to 3600"};

@@ -1,5 +1,6 @@
 #include "db/auth_sessions_repo.h"
 #include "db/password.h"
+#include "db/statement.h"
 #include "db/transaction.h"
 #include "db/users_repo.h"
 #include "server/api/api_error.h"
@@ -25,6 +26,18 @@ std::string session_cookie(const ApiContext& ctx, const std::string& token, bool
 
 ApiResponse health(ApiContext&) {
   return {http::status::ok, {{"status", "ok"}, {"version", "0.1.0"}}, {}};
+}
+
+ApiResponse ready(ApiContext& ctx) {
+  // A load balancer sends no traffic to a node whose database is out of reach. The pool waits
+  // for a free connection, so a busy node is still ready; a failed query is an ApiError's 503.
+  try {
+    ctx.db().prepare("SELECT 1").step();
+  } catch (const std::exception& e) {
+    throw ApiError(http::status::service_unavailable,
+                   std::string("the database does not answer: ") + e.what());
+  }
+  return {http::status::ok, {{"status", "ready"}, {"node", ctx.app.config().node_id}}, {}};
 }
 
 namespace {

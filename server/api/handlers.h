@@ -5,6 +5,8 @@
 namespace incise::server::api {
 
 ApiResponse health(ApiContext& ctx);
+// Readiness (Kubernetes' readinessProbe): 200 once the database answers, else 503.
+ApiResponse ready(ApiContext& ctx);
 
 ApiResponse login(ApiContext& ctx);
 ApiResponse logout(ApiContext& ctx);

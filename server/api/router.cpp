@@ -27,6 +27,7 @@ struct Route {
 
 constexpr std::array kRoutes = {
     Route{http::verb::get, "/api/health", api::health},
+    Route{http::verb::get, "/api/ready", api::ready},
     Route{http::verb::post, "/api/login", api::login},
     Route{http::verb::post, "/api/logout", api::logout},
     Route{http::verb::get, "/api/me", api::me},

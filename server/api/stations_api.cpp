@@ -1,3 +1,5 @@
+#include <algorithm>
+
 #include "curriculum/curriculum_validation.h"
 #include "curriculum/station_offer.h"
 #include "db/bookings_repo.h"
@@ -43,8 +45,10 @@ db::Station existing_station(db::StationsRepo& stations, std::int64_t id) {
 ApiResponse list_stations(ApiContext& ctx) {
   ctx.user();
   auto out = nlohmann::json::array();
+  // Linked here or to another node (docs/scale_out.md).
+  const auto online = ctx.app.stations_online_anywhere(ctx.db());
   for (const auto& s : db::StationsRepo(ctx.db()).list()) {
-    out.push_back(to_json(s, ctx.app.station_online(s.id)));
+    out.push_back(to_json(s, std::binary_search(online.begin(), online.end(), s.id)));
   }
   return {http::status::ok, out, {}};
 }
@@ -194,7 +198,7 @@ ApiResponse update_station(ApiContext& ctx) {
   if (after.retired() && !before.retired()) {
     if (const auto agent = ctx.app.agent_for_station(after.id)) agent->close("station retired");
   }
-  return {http::status::ok, to_json(after, ctx.app.station_online(after.id)), {}};
+  return {http::status::ok, to_json(after, ctx.app.station_online_anywhere(db, after.id)), {}};
 }
 
 ApiResponse station_tasks(ApiContext& ctx) {
@@ -217,7 +221,7 @@ ApiResponse station_tasks(ApiContext& ctx) {
     }
   }
   return {http::status::ok,
-          {{"station", to_json(station, ctx.app.station_online(station.id))},
+          {{"station", to_json(station, ctx.app.station_online_anywhere(db, station.id))},
            {"tasks", std::move(tasks)}},
           {}};
 }

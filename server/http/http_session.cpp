@@ -4,8 +4,10 @@
 #include <chrono>
 
 #include "server/agent_session.h"
+#include "server/api/forwarding.h"
 #include "server/api/router.h"
 #include "server/api/view_endpoints.h"
+#include "server/http/forwarder.h"
 #include "server/http/static_files.h"
 #include "server/server_options.h"
 #include "server/view_session.h"
@@ -33,21 +35,6 @@ bool is_printable_ascii(std::string_view text) {
   return true;
 }
 
-// Accepts a WebSocket upgrade only to close it at once with `code` and `reason`: a browser shows
-// a close reason, never the body of a refused upgrade.
-void refuse_websocket(transport::MaybeTlsStream&& stream, Request&& upgrade,
-                      beast::websocket::close_code code, std::string reason) {
-  using Ws = beast::websocket::stream<transport::MaybeTlsStream>;
-  auto ws = std::make_shared<Ws>(std::move(stream));
-  ws->set_option(beast::websocket::stream_base::timeout::suggested(beast::role_type::server));
-  auto request = std::make_shared<Request>(std::move(upgrade));
-  ws->async_accept(
-      *request, [ws, request, code, reason = close_reason_text(reason)](beast::error_code ec) {
-        if (ec) return;
-        ws->async_close(beast::websocket::close_reason(code, reason), [ws](beast::error_code) {});
-      });
-}
-
 // Plain HTTP on the HTTPS port: a page fetch goes to the same place under https://; anything else
 // (a login sent in the clear among it) is refused, not followed anywhere.
 Response redirect_to_https(const Request& request) {
@@ -70,6 +57,19 @@ Response redirect_to_https(const Request& request) {
 }
 
 }  // namespace
+
+void refuse_websocket(transport::MaybeTlsStream&& stream, Request&& upgrade,
+                      beast::websocket::close_code code, std::string reason) {
+  using Ws = beast::websocket::stream<transport::MaybeTlsStream>;
+  auto ws = std::make_shared<Ws>(std::move(stream));
+  ws->set_option(beast::websocket::stream_base::timeout::suggested(beast::role_type::server));
+  auto request = std::make_shared<Request>(std::move(upgrade));
+  ws->async_accept(
+      *request, [ws, request, code, reason = close_reason_text(reason)](beast::error_code ec) {
+        if (ec) return;
+        ws->async_close(beast::websocket::close_reason(code, reason), [ws](beast::error_code) {});
+      });
+}
 
 bool checks_password(const Request& request) {
   if (request.method() != http::verb::post) return false;
@@ -162,6 +162,7 @@ void HttpSession::on_read(beast::error_code ec, std::size_t) {
                                    config.trusted_proxy);
   if (auto refusal = refuse_request(request)) return send(std::move(*refusal));
   if (plain_on_tls_port_) return send(redirect_to_https(request));
+  if (auto owner = forward_target(request, *app_)) return forward(*owner);
   if (beast::websocket::is_upgrade(request)) {
     // From here on the stream belongs to the WebSocket session (which keeps its own timeouts);
     // this HttpSession ends when this handler returns.
@@ -219,6 +220,24 @@ Response answer_request(const Request& request, AppState& app, const Caller& cal
     return handle_api_request(request, app, caller);
   }
   return serve_static(request, app.config().web_root);
+}
+
+void HttpSession::forward(const ForwardTarget& owner) {
+  // The owner believes these from a node in its --trusted-proxy range: the client as this node
+  // resolved it (last in the list), and whether the browser used HTTPS.
+  auto& request = parser_->get();
+  const auto forwarded_for = request["X-Forwarded-For"];
+  request.set("X-Forwarded-For", forwarded_for.empty()
+                                     ? caller_.address
+                                     : std::string(forwarded_for) + ", " + caller_.address);
+  request.set("X-Forwarded-Proto", caller_.https ? "https" : "http");
+  if (beast::websocket::is_upgrade(request)) {
+    stream_.tcp().expires_never();
+    return forward_websocket(std::move(stream_), std::move(buffer_), owner, app_->config().node_id,
+                             parser_->release());
+  }
+  forward_http(stream_.get_executor(), owner, app_->config().node_id, parser_->release(),
+               [self = shared_from_this()](Response answer) { self->send(std::move(answer)); });
 }
 
 void HttpSession::answer_on_password_worker() {

@@ -6,10 +6,12 @@
 #include <boost/asio/ssl/context.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
+#include <boost/beast/websocket/rfc6455.hpp>
 #include <memory>
 #include <optional>
 
 #include "server/api/api_context.h"
+#include "server/api/forwarding.h"
 #include "server/app_state.h"
 #include "transport/maybe_tls_stream.h"
 
@@ -33,6 +35,11 @@ bool is_api_target(std::string_view target);
 // under /api, the dashboard's files elsewhere.
 Response answer_request(const Request& request, AppState& app, const Caller& caller);
 
+// Accepts a WebSocket upgrade only to close it at once with `code` and `reason`: a browser shows
+// a close reason, never the body of a refused upgrade.
+void refuse_websocket(transport::MaybeTlsStream&& stream, Request&& upgrade,
+                      boost::beast::websocket::close_code code, std::string reason);
+
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
   // `tls`: the server's TLS context, or null for plain HTTP. It outlives every session.
@@ -45,6 +52,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   void on_handshake(boost::beast::error_code ec);
   void do_read();
   void on_read(boost::beast::error_code ec, std::size_t bytes);
+  // The request belongs to another node (server/api/forwarding.h): it answers, through here.
+  void forward(const ForwardTarget& owner);
   // Logins: handled on AppState::password_workers(), answered back on this connection's strand.
   void answer_on_password_worker();
   void send(Response&& response);

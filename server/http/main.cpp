@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -21,6 +22,28 @@
 
 namespace net = boost::asio;
 using namespace incise;
+
+namespace {
+// Where the other nodes reach this one (server_options.h, --node-address); nullopt when the
+// environment's value is not HOST:PORT.
+std::optional<std::string> this_node_address(const server::ServerOptions& options,
+                                             unsigned short port) {
+  if (!options.node_address.empty()) return options.node_address;
+  if (const char* from_environment = std::getenv("INCISE_NODE_ADDRESS");
+      from_environment && *from_environment) {
+    if (!server::is_node_address(from_environment)) return std::nullopt;
+    return std::string(from_environment);
+  }
+  std::string host = options.host;
+  if (host == "0.0.0.0" || host == "::") {
+    char name[256] = {};
+    host = gethostname(name, sizeof name - 1) == 0 ? name : "localhost";
+  } else if (host.find(':') != std::string::npos) {
+    host = "[" + host + "]";
+  }
+  return host + ":" + std::to_string(port);
+}
+}  // namespace
 
 int main(int argc, char** argv) {
   const auto parsed = server::parse_server_options(std::vector<std::string>(argv + 1, argv + argc));
@@ -94,6 +117,7 @@ int main(int argc, char** argv) {
   config.web_root = options.web_root;
   config.database = database_url;
   config.node_id = node_id;
+  config.node_timeout_s = options.node_timeout_s;
   config.demo = options.demo;
   config.secure_cookies = options.secure_cookies;
   config.trusted_proxy = options.trusted_proxy;
@@ -143,9 +167,14 @@ int main(int argc, char** argv) {
   listener->run();
   std::cout << "incise-server: listening on " << (tls ? "https://" : "http://") << options.host
             << ":" << listener->port() << std::endl;
-  server::NodeHeartbeat heartbeat(pool, node_id,
-                                  options.host + ":" + std::to_string(listener->port()),
-                                  options.node_timeout_s, [&app] { return app->now(); });
+  const auto node_address = this_node_address(options, listener->port());
+  if (!node_address) {
+    std::cerr << "incise-server: INCISE_NODE_ADDRESS must be HOST:PORT\n";
+    return 2;
+  }
+  std::cerr << "incise-server: other nodes reach this one at " << *node_address << "\n";
+  server::NodeHeartbeat heartbeat(pool, node_id, *node_address, options.node_timeout_s,
+                                  [&app] { return app->now(); });
 
   // Graceful shutdown: stop accepting, close agent links, give in-flight requests a moment.
   net::signal_set signals(ioc, SIGINT, SIGTERM);

@@ -92,5 +92,45 @@ TEST_F(NodesRepoTest, TheSweepEndsTheSessionsOfNodesThatStoppedBeating) {
   EXPECT_TRUE(again.sessions.empty());
 }
 
+TEST_F(NodesRepoTest, AStationLinksToOneLiveNodeAtATime) {
+  const auto bench = test::add_station(db(), "Bench");
+  nodes_.start("a", "10.0.0.1:8080", 100);
+  nodes_.start("b", "10.0.0.2:8080", 100);
+  EXPECT_FALSE(nodes_.node_of_station(bench));
+  EXPECT_EQ(nodes_.link_station(bench, "a", 101, 30), "");
+  ASSERT_TRUE(nodes_.node_of_station(bench));
+  EXPECT_EQ(nodes_.node_of_station(bench)->address, "10.0.0.1:8080");
+  // Node b is refused while a beats; a's own relink (a reconnect there) is not.
+  EXPECT_EQ(nodes_.link_station(bench, "b", 110, 30), "a");
+  EXPECT_EQ(nodes_.link_station(bench, "a", 111, 30), "");
+  EXPECT_EQ(nodes_.linked_stations(111, 30), std::vector<std::int64_t>{bench});
+  // Node a falls silent (last beat at 100): after the timeout the link is b's to take, and a
+  // station linked to a silent node counts as offline.
+  EXPECT_TRUE(nodes_.linked_stations(131, 30).empty());
+  EXPECT_EQ(nodes_.link_station(bench, "b", 131, 30), "");
+  EXPECT_EQ(nodes_.node_of_station(bench)->id, "b");
+  // Only the holder drops it.
+  nodes_.unlink_station(bench, "a");
+  EXPECT_EQ(nodes_.node_of_station(bench)->id, "b");
+  nodes_.unlink_station(bench, "b");
+  EXPECT_FALSE(nodes_.node_of_station(bench));
+}
+
+TEST_F(NodesRepoTest, AnEndedNodeLeavesNoLinksAndItsSessionsNoOwner) {
+  const auto bench = test::add_station(db(), "Bench");
+  nodes_.start("a", "10.0.0.1:8080", 100);
+  const auto [session, recording] = live_session("a");
+  ASSERT_TRUE(nodes_.node_of_live_session(session));
+  EXPECT_EQ(nodes_.node_of_live_session(session)->address, "10.0.0.1:8080");
+  training_.set_session_state(session, "paused", 12);
+  EXPECT_TRUE(nodes_.node_of_live_session(session)) << "a paused session lives on its node";
+  nodes_.link_station(bench, "a", 101, 30);
+  nodes_.end_sessions_of("a", 120, false);
+  EXPECT_FALSE(nodes_.node_of_station(bench));
+  EXPECT_FALSE(nodes_.node_of_live_session(session)) << "an aborted session is nobody's";
+  const auto [unowned, _] = live_session("");
+  EXPECT_FALSE(nodes_.node_of_live_session(unowned));
+}
+
 }  // namespace
 }  // namespace incise::db

@@ -146,8 +146,13 @@ TEST(ServerOptions, BehindAProxy) {
   EXPECT_EQ(parsed.options->trusted_proxy, "10.0.0.2");
   EXPECT_FALSE(parse_server_options({}).options->secure_cookies);
   EXPECT_EQ(parse_server_options({"--trusted-proxy", "proxy.local"}).error,
-            "--trusted-proxy needs an IP address");
-  EXPECT_EQ(parse_server_options({"--trusted-proxy"}).error, "--trusted-proxy needs an IP address");
+            "--trusted-proxy needs an IP address or a CIDR range");
+  EXPECT_EQ(parse_server_options({"--trusted-proxy"}).error,
+            "--trusted-proxy needs an IP address or a CIDR range");
+  EXPECT_EQ(parse_server_options({"--trusted-proxy", "10.0.0.0/33"}).error,
+            "--trusted-proxy needs an IP address or a CIDR range");
+  EXPECT_EQ(parse_server_options({"--trusted-proxy", "10.244.0.0/16"}).options->trusted_proxy,
+            "10.244.0.0/16");
 }
 
 TEST(ServerOptions, TlsNeedsBothTheCertificateAndTheKey) {
@@ -188,6 +193,28 @@ TEST(RequestClient, OnlyTheTrustedProxysLastForwardedAddressIsBelieved) {
   // A proxy that sent no usable address: the proxy it is.
   EXPECT_EQ(request_client("10.0.0.2", "", "10.0.0.2"), "10.0.0.2");
   EXPECT_EQ(request_client("10.0.0.2", "1.2.3.4, unknown", "10.0.0.2"), "10.0.0.2");
+}
+
+TEST(FromTrustedProxy, AnAddressOrARange) {
+  EXPECT_FALSE(from_trusted_proxy("10.0.0.2", ""));
+  EXPECT_TRUE(from_trusted_proxy("10.0.0.2", "10.0.0.2"));
+  EXPECT_FALSE(from_trusted_proxy("10.0.0.3", "10.0.0.2"));
+  // A pod network: the Ingress's pods and the other nodes, wherever they are scheduled.
+  EXPECT_TRUE(from_trusted_proxy("10.244.7.19", "10.244.0.0/16"));
+  EXPECT_TRUE(from_trusted_proxy("10.244.0.0", "10.244.0.0/16"));
+  EXPECT_TRUE(from_trusted_proxy("10.244.255.255", "10.244.0.0/16"));
+  EXPECT_FALSE(from_trusted_proxy("10.245.0.1", "10.244.0.0/16"));
+  EXPECT_FALSE(from_trusted_proxy("10.243.255.255", "10.244.0.0/16"));
+  EXPECT_TRUE(from_trusted_proxy("10.0.0.2", "10.0.0.2/32"));
+  EXPECT_FALSE(from_trusted_proxy("10.0.0.3", "10.0.0.2/32"));
+  EXPECT_TRUE(from_trusted_proxy("192.0.2.1", "0.0.0.0/0"));
+  EXPECT_TRUE(from_trusted_proxy("fd00:10:244::1f", "fd00:10:244::/56"));
+  EXPECT_FALSE(from_trusted_proxy("fd00:10:245::1f", "fd00:10:244::/56"));
+  EXPECT_FALSE(from_trusted_proxy("10.244.0.1", "fd00:10:244::/56")) << "another family";
+  EXPECT_FALSE(from_trusted_proxy("fd00:10:244::1", "10.244.0.0/16"));
+  EXPECT_FALSE(from_trusted_proxy("not an address", "10.244.0.0/16"));
+  EXPECT_EQ(request_client("10.244.3.4", "203.0.113.1", "10.244.0.0/16"), "203.0.113.1");
+  EXPECT_TRUE(reached_over_tls(false, "10.244.3.4", "https", "10.244.0.0/16"));
 }
 
 }  // namespace

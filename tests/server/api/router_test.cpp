@@ -72,6 +72,7 @@ class Router : public ApiTest {
 TEST_F(Router, AccessTable) {
   const std::vector<Access> table = {
       {http::verb::get, "/api/health", {200, 200, 200, 200}},
+      {http::verb::get, "/api/ready", {200, 200, 200, 200}},
       {http::verb::post, "/api/login", {200, 200, 200, 200}},
       {http::verb::post, "/api/logout", {204, 204, 204, 204}},
       {http::verb::get, "/api/me", {401, 200, 200, 200}},

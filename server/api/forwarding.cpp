@@ -1,0 +1,64 @@
+#include "server/api/forwarding.h"
+
+#include <charconv>
+#include <nlohmann/json.hpp>
+
+#include "db/nodes_repo.h"
+
+namespace incise::server {
+namespace {
+
+constexpr std::string_view kSessions = "/api/sessions";
+
+// "/api/sessions/7" or "/api/sessions/7/anything" -> 7; else 0.
+std::int64_t session_in_path(std::string_view path) {
+  if (!path.starts_with(kSessions) || path.size() <= kSessions.size() + 1 ||
+      path[kSessions.size()] != '/') {
+    return 0;
+  }
+  const auto rest = path.substr(kSessions.size() + 1);
+  const auto digits = rest.substr(0, rest.find('/'));
+  std::int64_t id = 0;
+  const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), id);
+  return ec == std::errc{} && end == digits.data() + digits.size() && id > 0 ? id : 0;
+}
+
+// The station a session start names, or 0 (the handler then answers what is wrong with it).
+std::int64_t station_of_start(const Request& request) {
+  const auto body = nlohmann::json::parse(request.body(), nullptr, false);
+  if (!body.is_object()) return 0;
+  const auto it = body.find("station_id");
+  if (it == body.end() || !it->is_number_integer()) return 0;
+  return it->get<std::int64_t>();
+}
+
+std::optional<ForwardTarget> elsewhere(const std::optional<db::NodeRecord>& node,
+                                       const AppState& app) {
+  if (!node || node->id == app.config().node_id || node->address.empty()) return std::nullopt;
+  return ForwardTarget{node->id, node->address};
+}
+
+}  // namespace
+
+std::optional<ForwardTarget> forward_target(const Request& request, AppState& app) noexcept {
+  try {
+    if (request.count(kForwardedByHeader) > 0) return std::nullopt;
+    const std::string_view target(request.target().data(), request.target().size());
+    const auto path = target.substr(0, target.find('?'));
+    if (const auto session = session_in_path(path)) {
+      auto db = app.pool().acquire();
+      return elsewhere(db::NodesRepo(*db).node_of_live_session(session), app);
+    }
+    if (path == kSessions && request.method() == http::verb::post) {
+      const auto station = station_of_start(request);
+      if (station <= 0 || app.station_online(station)) return std::nullopt;
+      auto db = app.pool().acquire();
+      return elsewhere(db::NodesRepo(*db).node_of_station(station), app);
+    }
+    return std::nullopt;
+  } catch (...) {
+    return std::nullopt;
+  }
+}
+
+}  // namespace incise::server
