@@ -12,6 +12,7 @@ apt_packages=(
   libeigen3-dev libcgal-dev libboost1.74-dev libfcl-dev libnifti2-dev
   nlohmann-json3-dev libsqlite3-dev sqlite3
   libpq-dev postgresql
+  nginx-light python3 python3-yaml
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri libgles-dev
   libturbojpeg0-dev libsodium-dev libssl-dev openssl
   libgtest-dev libgmock-dev libbenchmark-dev
@@ -31,6 +32,9 @@ missing=()
 for p in "${apt_packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+# kubectl renders deploy/kubernetes/ in the tests (kubectl kustomize): Debian's, unless a kubectl
+# is already installed (Debian's package would clash with it).
+if ! command -v kubectl >/dev/null 2>&1; then missing+=(kubernetes-client); fi
 # Node.js with npm: any recent node >= 18 will do; Debian's packages are the fallback.
 if ! command -v npm >/dev/null 2>&1; then missing+=(nodejs npm); fi
 
