@@ -59,6 +59,12 @@ out=results/bench-$(date -u +%Y%m%dT%H%M%SZ).txt
   echo "## the same on PostgreSQL (a throwaway local cluster)"
   bash deploy/bench_api.sh "$live_seconds" --postgresql
   echo
+  echo "## three local nodes on PostgreSQL behind nginx: three stations' sessions, two viewers each (one forwarded), ${live_seconds} s"
+  pg_dir=/tmp/incise-bench-cluster-$$
+  INCISE_TEST_DATABASE=$(bash tests/support/postgres_cluster.sh start "$pg_dir") \
+    "$bin/bench_cluster" --seconds "$live_seconds" 2>/dev/null || echo "bench_cluster failed"
+  bash tests/support/postgres_cluster.sh stop "$pg_dir"
+  echo
   echo "## speed against error: every model x integrator (results/accuracy.csv, results/*.svg)"
   if [ "${1:-}" = "--quick" ]; then "$bin/bench_accuracy" --quick; else "$bin/bench_accuracy"; fi
   echo
