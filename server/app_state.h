@@ -14,8 +14,8 @@
 #include "db/connection_pool.h"
 #include "server/live_sessions.h"
 #include "server/login_limiter.h"
-#include "server/password_workers.h"
 #include "server/replay_slots.h"
+#include "server/worker_pool.h"
 
 namespace incise::server {
 
@@ -42,7 +42,8 @@ class AppState {
   db::ConnectionPool& pool() { return pool_; }
   const ServerConfig& config() const { return config_; }
   LoginLimiter& login_limiter() { return login_limiter_; }
-  PasswordWorkers& password_workers() { return password_workers_; }
+  WorkerPool& password_workers() { return password_workers_; }
+  WorkerPool& long_reads() { return long_reads_; }
   ReplaySlots& replay_slots() { return replay_slots_; }
 
   // Unix seconds; replaceable so that tests can move time.
@@ -86,7 +87,8 @@ class AppState {
   ServerConfig config_;
   LoginLimiter login_limiter_;
   LoginLimiter agent_limiter_;
-  PasswordWorkers password_workers_;
+  WorkerPool password_workers_{"password worker"};
+  WorkerPool long_reads_{"long read", 0, 32};
   ReplaySlots replay_slots_;
   std::function<std::int64_t()> clock_;
   mutable std::mutex agents_mutex_;

@@ -93,9 +93,11 @@ ReplayInput replay_input(ApiContext& ctx, std::int64_t recording_id) {
 }  // namespace
 
 bool is_view_path(std::string_view target) {
-  const auto path = path_of(target);
-  return id_between(path, "/api/sessions/", "/view") != 0 ||
-         id_between(path, "/api/recordings/", "/replay") != 0;
+  return id_between(path_of(target), "/api/sessions/", "/view") != 0 || is_replay_path(target);
+}
+
+bool is_replay_path(std::string_view target) {
+  return id_between(path_of(target), "/api/recordings/", "/replay") != 0;
 }
 
 std::variant<ViewTarget, Response> resolve_view(const Request& request, AppState& app,

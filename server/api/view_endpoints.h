@@ -28,6 +28,8 @@ struct ViewTarget {
 
 // Whether target is one of the view paths (so that other upgrades get a 404).
 bool is_view_path(std::string_view target);
+// Whether it is a replay's (/api/recordings/{id}/replay), which reads its whole recording first.
+bool is_replay_path(std::string_view target);
 
 // The stream to attach, or the error response (401/403/404/409) for the upgrade request.
 // Leases a database connection itself, and gives it back before the replay is built.

@@ -171,27 +171,59 @@ void HttpSession::on_read(beast::error_code ec, std::size_t) {
       return std::make_shared<AgentSession>(std::move(stream_), app_)->run(parser_->release());
     }
     if (is_view_path(target)) {
-      auto resolved = resolve_view(request, *app_, caller_.address);
-      if (auto* error = std::get_if<Response>(&resolved)) return send(std::move(*error));
-      auto& view = std::get<ViewTarget>(resolved);
-      if (!view.busy.empty()) {
-        return refuse_websocket(std::move(stream_), parser_->release(),
-                                beast::websocket::close_code::try_again_later, view.busy);
-      }
-      auto session = view.replay
-                         ? std::make_shared<ViewSession>(std::move(stream_), std::move(view.replay),
-                                                         view.outside_view_allowed)
-                         : std::make_shared<ViewSession>(std::move(stream_), std::move(view.live),
-                                                         view.outside_view_allowed);
-      session->hold(std::move(view.replay_slot));
-      app_->view_opened(view.user_id, session);
-      return session->run(parser_->release());
+      if (!is_replay_path(target)) return open_view(resolve_view(request, *app_, caller_.address));
+      // A replay reads its whole recording first: on a long-read worker, like a review.
+      auto job = [self = shared_from_this()] {
+        auto resolved = resolve_view(self->parser_->get(), *self->app_, self->caller_.address);
+        net::post(self->stream_.get_executor(), [self, resolved = std::move(resolved)]() mutable {
+          self->open_view(std::move(resolved));
+        });
+      };
+      if (app_->long_reads().try_post(std::move(job))) return;
+      return refuse_websocket(std::move(stream_), parser_->release(),
+                              beast::websocket::close_code::try_again_later,
+                              "too many recordings are being read; try again in a moment");
     }
     return send(json_error(http::status::not_found,
                            "no WebSocket endpoint at " + std::string(target), 11, false));
   }
-  if (checks_password(request)) return answer_on_password_worker();
+  if (checks_password(request)) {
+    return answer_on(app_->password_workers(),
+                     "too many passwords are being checked; try again in a moment");
+  }
+  if (is_long_read(request)) {
+    return answer_on(app_->long_reads(), "too many long reads at once; try again in a moment");
+  }
   send(answer_request(request, *app_, caller_));
+}
+
+void HttpSession::open_view(std::variant<ViewTarget, Response>&& resolved) {
+  if (auto* error = std::get_if<Response>(&resolved)) return send(std::move(*error));
+  auto& view = std::get<ViewTarget>(resolved);
+  if (!view.busy.empty()) {
+    return refuse_websocket(std::move(stream_), parser_->release(),
+                            beast::websocket::close_code::try_again_later, view.busy);
+  }
+  auto session = view.replay
+                     ? std::make_shared<ViewSession>(std::move(stream_), std::move(view.replay),
+                                                     view.outside_view_allowed)
+                     : std::make_shared<ViewSession>(std::move(stream_), std::move(view.live),
+                                                     view.outside_view_allowed);
+  session->hold(std::move(view.replay_slot));
+  app_->view_opened(view.user_id, session);
+  session->run(parser_->release());
+}
+
+bool is_long_read(const Request& request) {
+  if (request.method() != http::verb::get) return false;
+  const std::string_view target(request.target().data(), request.target().size());
+  const auto path = target.substr(0, target.find('?'));
+  if (path == "/api/exports/scores.csv") return true;
+  // GET /api/sessions/{id}/review
+  constexpr std::string_view sessions = "/api/sessions/", review = "/review";
+  if (!path.starts_with(sessions) || !path.ends_with(review)) return false;
+  const auto id = path.substr(sessions.size(), path.size() - sessions.size() - review.size());
+  return !id.empty() && id.find('/') == std::string_view::npos;
 }
 
 std::optional<Response> refuse_request(const Request& request) {
@@ -240,7 +272,7 @@ void HttpSession::forward(const ForwardTarget& owner) {
                [self = shared_from_this()](Response answer) { self->send(std::move(answer)); });
 }
 
-void HttpSession::answer_on_password_worker() {
+void HttpSession::answer_on(WorkerPool& workers, std::string_view busy) {
   auto job = [self = shared_from_this()] {
     // No read is pending meanwhile, so the parsed request stays as it is.
     auto response = handle_api_request(self->parser_->get(), *self->app_, self->caller_);
@@ -248,12 +280,11 @@ void HttpSession::answer_on_password_worker() {
       self->send(std::move(response));
     });
   };
-  if (app_->password_workers().try_post(std::move(job))) return;
-  auto busy = json_error(http::status::service_unavailable,
-                         "too many passwords are being checked; try again in a moment",
-                         parser_->get().version(), parser_->get().keep_alive());
-  busy.set(http::field::retry_after, "1");
-  send(std::move(busy));
+  if (workers.try_post(std::move(job))) return;
+  auto refusal = json_error(http::status::service_unavailable, busy, parser_->get().version(),
+                            parser_->get().keep_alive());
+  refusal.set(http::field::retry_after, "1");
+  send(std::move(refusal));
 }
 
 void set_security_headers(Response& response, bool tls) {

@@ -9,9 +9,12 @@
 #include <boost/beast/websocket/rfc6455.hpp>
 #include <memory>
 #include <optional>
+#include <string_view>
+#include <variant>
 
 #include "server/api/api_context.h"
 #include "server/api/forwarding.h"
+#include "server/api/view_endpoints.h"
 #include "server/app_state.h"
 #include "transport/maybe_tls_stream.h"
 
@@ -29,6 +32,10 @@ std::optional<Response> refuse_request(const Request& request);
 // /api/users/{id}/password): such requests run on AppState::password_workers(), never on an I/O
 // thread (argon2id takes about 50 ms).
 bool checks_password(const Request& request);
+// Whether the request reads a whole recording or table (GET /api/sessions/{id}/review, GET
+// /api/exports/scores.csv): such requests run on AppState::long_reads(), never on an I/O thread.
+// A replay's upgrade (/api/recordings/{id}/replay) loads its recording there too.
+bool is_long_read(const Request& request);
 // Whether a request target is the REST API's (/api, /api/..., with any query): else a file.
 bool is_api_target(std::string_view target);
 // A plain (not upgrade, not password-checking) request that passed refuse_request: the REST API
@@ -54,8 +61,11 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   void on_read(boost::beast::error_code ec, std::size_t bytes);
   // The request belongs to another node (server/api/forwarding.h): it answers, through here.
   void forward(const ForwardTarget& owner);
-  // Logins: handled on AppState::password_workers(), answered back on this connection's strand.
-  void answer_on_password_worker();
+  // Logins and long reads: handled on `workers`, answered back on this connection's strand; 503
+  // with Retry-After and `busy` when its queue is full.
+  void answer_on(WorkerPool& workers, std::string_view busy);
+  // A view WebSocket, resolved (server/api/view_endpoints.h): opened, or refused.
+  void open_view(std::variant<ViewTarget, Response>&& resolved);
   void send(Response&& response);
   void on_write(bool keep_alive, boost::beast::error_code ec, std::size_t bytes);
   void do_close();

@@ -1,5 +1,6 @@
 // incise-server: wires the database, the REST API, the dashboard and the agent link to one port.
 #include <unistd.h>
+#include <algorithm>
 #include <boost/asio.hpp>
 #include <chrono>
 #include <cstdlib>
@@ -122,8 +123,11 @@ int main(int argc, char** argv) {
   config.secure_cookies = options.secure_cookies;
   config.trusted_proxy = options.trusted_proxy;
   // A connection for every thread that may run a request at once (the I/O threads, the password
-  // workers, whoever resolves a WebSocket upgrade), and a few more; live sessions open their own.
-  db::ConnectionPool pool(database_url, static_cast<std::size_t>(options.threads) + 8);
+  // workers and the long reads: half the cores each, server/worker_pool.h), and a few more for
+  // the heartbeat and agents' lookups; live sessions open their own.
+  const std::size_t workers = std::max(1u, std::thread::hardware_concurrency() / 2);
+  db::ConnectionPool pool(database_url,
+                          static_cast<std::size_t>(options.threads) + 2 * workers + 6);
   auto app = std::make_shared<server::AppState>(pool, config);
   if (options.demo) {
     try {
@@ -212,8 +216,9 @@ int main(int argc, char** argv) {
   run_io();
   for (auto& t : threads)
     t.join();
-  // Before the I/O context goes: a finishing login posts its answer to it.
+  // Before the I/O context goes: a finishing login or long read posts its answer to it.
   app->password_workers().stop();
+  app->long_reads().stop();
   std::cerr << "incise-server: stopped\n";
   return 0;
 }

@@ -1,5 +1,6 @@
 // Which requests check or hash a password, and so run on the password workers rather than an I/O
-// thread (server/http/http_session.h: checks_password); and ApiContext::hash_password.
+// thread (server/http/http_session.h: checks_password), which are long reads (is_long_read); and
+// ApiContext::hash_password.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -29,6 +30,21 @@ TEST(PasswordRoutes, EveryRequestThatHashesOrChecksAPasswordRunsOnTheWorkers) {
        {"/api/users/7", "/api/users//password", "/api/users/7/8/password", "/api/me",
         "/api/users/password", "/api/usersx", "/api/login/x", "/api/users/7/passwordx"}) {
     EXPECT_FALSE(checks_password(request(http::verb::post, target))) << target;
+  }
+}
+
+// The long reads (is_long_read) run on their own workers, for the same reason.
+TEST(LongReadRoutes, TheReviewAndTheExportRunOnTheLongReadWorkers) {
+  for (const char* target :
+       {"/api/sessions/7/review", "/api/sessions/7/review?x=1", "/api/exports/scores.csv",
+        "/api/exports/scores.csv?from=2026-01-01"}) {
+    EXPECT_TRUE(is_long_read(request(http::verb::get, target))) << target;
+    EXPECT_FALSE(is_long_read(request(http::verb::post, target))) << target;
+  }
+  for (const char* target :
+       {"/api/sessions//review", "/api/sessions/7/8/review", "/api/sessions/7", "/api/sessions",
+        "/api/sessions/7/reviewx", "/api/exports/scores.csvx", "/api/recordings/3/replay"}) {
+    EXPECT_FALSE(is_long_read(request(http::verb::get, target))) << target;
   }
 }
 

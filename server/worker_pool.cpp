@@ -1,4 +1,4 @@
-#include "server/password_workers.h"
+#include "server/worker_pool.h"
 
 #include <algorithm>
 #include <boost/asio/post.hpp>
@@ -14,14 +14,17 @@ std::size_t worker_count(std::size_t asked) {
 }
 }  // namespace
 
-PasswordWorkers::PasswordWorkers(std::size_t threads, std::size_t max_waiting)
-    : threads_(worker_count(threads)), max_waiting_(max_waiting), pool_(threads_) {}
+WorkerPool::WorkerPool(std::string name, std::size_t threads, std::size_t max_waiting)
+    : name_(std::move(name)),
+      threads_(worker_count(threads)),
+      max_waiting_(max_waiting),
+      pool_(threads_) {}
 
-PasswordWorkers::~PasswordWorkers() {
+WorkerPool::~WorkerPool() {
   stop();
 }
 
-bool PasswordWorkers::try_post(std::function<void()> job) {
+bool WorkerPool::try_post(std::function<void()> job) {
   if (waiting_.fetch_add(1) >= max_waiting_) {
     waiting_.fetch_sub(1);
     return false;
@@ -32,15 +35,15 @@ bool PasswordWorkers::try_post(std::function<void()> job) {
       job();
     } catch (const std::exception& e) {
       // A job answers its own errors; this only keeps a worker alive if that answer failed.
-      std::cerr << "incise-server: password worker: " << e.what() << "\n";
+      std::cerr << "incise-server: " << name_ << ": " << e.what() << "\n";
     } catch (...) {
-      std::cerr << "incise-server: password worker: unknown error\n";
+      std::cerr << "incise-server: " << name_ << ": unknown error\n";
     }
   });
   return true;
 }
 
-void PasswordWorkers::stop() {
+void WorkerPool::stop() {
   pool_.stop();
   pool_.join();
 }

@@ -1,5 +1,5 @@
-// The password workers' bounds: server/password_workers.h.
-#include "server/password_workers.h"
+// A worker pool's bounds: server/worker_pool.h.
+#include "server/worker_pool.h"
 
 #include <gtest/gtest.h>
 
@@ -13,8 +13,8 @@ namespace {
 
 using namespace std::chrono_literals;
 
-TEST(PasswordWorkers, AFullQueueRefusesAtOnceAndEveryAcceptedJobRuns) {
-  PasswordWorkers workers(1, 3);
+TEST(WorkerPool, AFullQueueRefusesAtOnceAndEveryAcceptedJobRuns) {
+  WorkerPool workers("test", 1, 3);
   std::promise<void> release;
   const auto gate = release.get_future().share();
   std::atomic<int> ran = 0;
@@ -40,8 +40,8 @@ TEST(PasswordWorkers, AFullQueueRefusesAtOnceAndEveryAcceptedJobRuns) {
   EXPECT_LE(ran, 5);
 }
 
-TEST(PasswordWorkers, AThrowingJobDoesNotStopTheWorker) {
-  PasswordWorkers workers(1, 4);
+TEST(WorkerPool, AThrowingJobDoesNotStopTheWorker) {
+  WorkerPool workers("test", 1, 4);
   std::promise<void> done;
   ASSERT_TRUE(workers.try_post([] { throw std::runtime_error("boom"); }));
   ASSERT_TRUE(workers.try_post([&] { done.set_value(); }));
