@@ -49,6 +49,8 @@ const char* const kServerUsage =
     "                limits and logs count per client) and X-Forwarded-Proto says whether the\n"
     "                browser used HTTPS\n"
     "  --help        this text\n"
+    "INCISE_ADMIN_PASSWORD in the environment: on a database without users, create the admin\n"
+    "\"admin\" with this password, to be replaced at the first login (a real site's first login)\n"
     "Prints 'incise-server: listening on http://HOST:PORT' (https:// with TLS) when ready;\n"
     "SIGINT/SIGTERM stop it.\n";
 

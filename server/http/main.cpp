@@ -14,6 +14,7 @@
 #include "db/nodes_repo.h"
 #include "server/app_state.h"
 #include "server/demo_data.h"
+#include "server/first_admin.h"
 #include "server/http/listener.h"
 #include "server/live/render_pool.h"
 #include "server/node_heartbeat.h"
@@ -140,6 +141,22 @@ int main(int argc, char** argv) {
                 << server::kDemoArthroscopyStationToken << ")\n";
     } catch (const std::exception& e) {
       std::cerr << "incise-server: demo data: " << e.what() << "\n";
+      return 1;
+    }
+  }
+  if (const char* password = std::getenv("INCISE_ADMIN_PASSWORD"); password && *password) {
+    try {
+      const auto first = server::create_first_admin(*pool.acquire(), password, app->now());
+      if (!first.problem.empty()) {
+        std::cerr << "incise-server: " << first.problem << "\n";
+        return 2;
+      }
+      if (first.created) {
+        std::cerr << "incise-server: created the first admin, \"admin\", with the password of "
+                     "INCISE_ADMIN_PASSWORD; they choose another at the first login\n";
+      }
+    } catch (const std::exception& e) {
+      std::cerr << "incise-server: first admin: " << e.what() << "\n";
       return 1;
     }
   }
