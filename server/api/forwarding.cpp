@@ -9,14 +9,15 @@ namespace incise::server {
 namespace {
 
 constexpr std::string_view kSessions = "/api/sessions";
+constexpr std::string_view kStations = "/api/stations";
 
-// "/api/sessions/7" or "/api/sessions/7/anything" -> 7; else 0.
-std::int64_t session_in_path(std::string_view path) {
-  if (!path.starts_with(kSessions) || path.size() <= kSessions.size() + 1 ||
-      path[kSessions.size()] != '/') {
+// With `collection` "/api/sessions": "/api/sessions/7" or "/api/sessions/7/anything" -> 7; else 0.
+std::int64_t id_in_path(std::string_view path, std::string_view collection) {
+  if (!path.starts_with(collection) || path.size() <= collection.size() + 1 ||
+      path[collection.size()] != '/') {
     return 0;
   }
-  const auto rest = path.substr(kSessions.size() + 1);
+  const auto rest = path.substr(collection.size() + 1);
   const auto digits = rest.substr(0, rest.find('/'));
   std::int64_t id = 0;
   const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), id);
@@ -45,13 +46,20 @@ std::optional<ForwardTarget> forward_target(const Request& request, AppState& ap
     if (request.count(kForwardedByHeader) > 0) return std::nullopt;
     const std::string_view target(request.target().data(), request.target().size());
     const auto path = target.substr(0, target.find('?'));
-    if (const auto session = session_in_path(path)) {
+    if (const auto session = id_in_path(path, kSessions)) {
       auto db = app.pool().acquire();
       return elsewhere(db::NodesRepo(*db).node_of_live_session(session), app);
     }
+    // A start, and a change to a station (retiring it closes its agent link; a new calibration
+    // goes to its agent at once; neither while a session runs there): where its agent is.
+    std::int64_t station = 0;
     if (path == kSessions && request.method() == http::verb::post) {
-      const auto station = station_of_start(request);
-      if (station <= 0 || app.station_online(station)) return std::nullopt;
+      station = station_of_start(request);
+    } else if (request.method() != http::verb::get) {
+      station = id_in_path(path, kStations);
+    }
+    if (station > 0) {
+      if (app.station_online(station)) return std::nullopt;
       auto db = app.pool().acquire();
       return elsewhere(db::NodesRepo(*db).node_of_station(station), app);
     }

@@ -2,9 +2,9 @@
 // Which node should answer a request (docs/scale_out.md). Every node serves every call from the
 // shared database, except what lives in one node's memory: a live session (its view, pause,
 // resume, stop, annotations while it runs) lives on the node that runs it, and a session can
-// only start on the node that holds the station's agent link. Such a request reaching another
-// node is forwarded there (server/http/forwarder.h), so that a browser never needs to know where
-// a session runs.
+// only start on, and a station's agent hears of changes from, the node that holds its link. Such a
+// request reaching another node is forwarded there (server/http/forwarder.h), so that a browser
+// never needs to know where a session runs.
 #include <optional>
 #include <string>
 
@@ -25,7 +25,9 @@ struct ForwardTarget {
 // The other node that should answer `request`, or nullopt to answer it here:
 // - /api/sessions/{id} and /api/sessions/{id}/... (the view WebSocket among them) while the
 //   session is running or paused on another node;
-// - POST /api/sessions whose JSON body names a station linked to another node, not here.
+// - POST /api/sessions whose JSON body names a station linked to another node, not here; and
+//   any change to such a station (PATCH /api/stations/{id}, PUT .../calibration), which its
+//   agent link must hear of.
 // Reads the database; never throws (on any error the request is answered here).
 std::optional<ForwardTarget> forward_target(const Request& request, AppState& app) noexcept;
 

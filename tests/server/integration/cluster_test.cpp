@@ -4,7 +4,8 @@
 // land on different nodes; a session starts on the node holding its station's agent whichever
 // node the request reaches; a trainee watches and pauses it through another node; kill -9 that
 // node mid-session: the others keep serving, its session is aborted within the heartbeat timeout,
-// its recording replays to its last stored chunk, and its agent reconnects to a live node.
+// its recording replays to its last stored chunk, and its agent reconnects to a live node. A
+// station retired through one node has its agent's link closed by the node that holds it.
 #include <signal.h>
 
 #include <gtest/gtest.h>
@@ -219,6 +220,23 @@ TEST(Cluster, ThreeNodesBehindNginxLoseNothingWhenOneDies) {
       trainee.post("/api/sessions/" + std::to_string(again_id) + "/stop", nlohmann::json::object())
           .status,
       200);
+
+  // An admin retires the Arthroscopy station on a node that does not hold its agent: the change
+  // goes to the node that does, which closes the agent's link at once.
+  const auto knee_node = node_of_station(db, 3);
+  ServerProcess* elsewhere = nullptr;
+  for (const auto& [id, node] : nodes) {
+    if (id != knee_node && id != owner) elsewhere = node;
+  }
+  ASSERT_NE(elsewhere, nullptr);
+  HttpClient admin("127.0.0.1", elsewhere->port());
+  ASSERT_EQ(admin.login(kAdmin.username, kAdmin.password).status, 200);
+  const auto retired =
+      admin.request(http::verb::patch, "/api/stations/3", R"({"retired": true})",
+                    {{"Content-Type", "application/json"}, {"Origin", admin.origin()}});
+  ASSERT_EQ(retired.status, 200) << retired.body;
+  EXPECT_TRUE(wait_for([&] { return node_of_station(db, 3).empty(); }, 10s))
+      << "the retired station's agent is still linked to " << node_of_station(db, 3);
 }
 
 }  // namespace
