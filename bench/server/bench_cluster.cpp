@@ -17,6 +17,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench/median.h"
 #include "db/database.h"
 #include "db/statement.h"
 #include "server/demo_data.h"
@@ -29,11 +30,7 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-double median(std::vector<double> v) {
-  if (v.empty()) return -1;
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
+using incise::bench::median;
 
 struct Watch {
   long frames = 0;

@@ -13,6 +13,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench/median.h"
 #include "tests/server/integration/server_fixture.h"
 #include "tests/support/ws_client.h"
 
@@ -22,11 +23,7 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-double median(std::vector<double> v) {
-  if (v.empty()) return -1;
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
+using incise::bench::median;
 
 }  // namespace
 

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/median.h"
 #include "sim/mesh/box_mesher.h"
 #include "sim/models/corotational_fem.h"
 #include "sim/scene/scene_run.h"
@@ -39,10 +40,7 @@ double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
+using incise::bench::median;
 
 // Twelve independent chains of x <- x * a + b (a multiply and an add each; contracted into one
 // fused multiply-add where the processor has it, as in the kernels): flops per second.
