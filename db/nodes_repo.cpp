@@ -1,5 +1,7 @@
 #include "db/nodes_repo.h"
 
+#include <algorithm>
+
 #include "db/statement.h"
 #include "db/transaction.h"
 
@@ -136,6 +138,36 @@ void NodesRepo::unlink_station(std::int64_t station_id, const std::string& node)
       .bind(1, station_id)
       .bind(2, node)
       .run();
+}
+
+std::vector<std::int64_t> NodesRepo::reconcile_links(const std::string& node,
+                                                     const std::vector<std::int64_t>& stations,
+                                                     std::int64_t now, std::int64_t timeout_s) {
+  const auto recorded = [&] {
+    auto q = db_.prepare(
+        "SELECT station_id FROM station_links WHERE node_id = ? ORDER BY "
+        "station_id");
+    q.bind(1, node);
+    std::vector<std::int64_t> out;
+    while (q.step())
+      out.push_back(q.int64(0));
+    return out;
+  };
+  std::vector<std::int64_t> elsewhere;
+  if (recorded() == stations) return elsewhere;  // the usual beat: nothing to write
+  Transaction tx(db_);
+  for (const auto station : recorded()) {
+    if (!std::binary_search(stations.begin(), stations.end(), station)) {
+      unlink_station(station, node);
+    }
+  }
+  for (const auto station : stations) {
+    if (const auto holder = link_station(station, node, now, timeout_s); !holder.empty()) {
+      elsewhere.push_back(station);
+    }
+  }
+  tx.commit();
+  return elsewhere;
 }
 
 std::vector<std::int64_t> NodesRepo::linked_stations(std::int64_t now, std::int64_t timeout_s) {

@@ -54,6 +54,13 @@ class NodesRepo {
                            std::int64_t timeout_s);
   // The link is gone, if `node` held it.
   void unlink_station(std::int64_t station_id, const std::string& node);
+  // Makes the database say what this node knows: `node` holds exactly `stations` (ascending), its
+  // agent links. Drops its rows of stations it has no link to (an unlink that failed), records the
+  // missing ones (after a sweep of a node that was cut off but lived) unless another live node
+  // holds them. Returns the stations it found held elsewhere. Writes only when something differs.
+  std::vector<std::int64_t> reconcile_links(const std::string& node,
+                                            const std::vector<std::int64_t>& stations,
+                                            std::int64_t now, std::int64_t timeout_s);
   // The stations whose agent link a node holds that beat at most `timeout_s` ago, ascending.
   std::vector<std::int64_t> linked_stations(std::int64_t now, std::int64_t timeout_s);
 

@@ -80,6 +80,7 @@ std::shared_ptr<AgentSession> AppState::agent_for_station(std::int64_t station_i
 }
 
 std::string AppState::link_station_here(std::int64_t station_id) {
+  std::lock_guard links(links_mutex_);
   auto db = pool_.acquire();
   return db::NodesRepo(*db).link_station(station_id, config_.node_id, now(),
                                          config_.node_timeout_s);
@@ -87,6 +88,7 @@ std::string AppState::link_station_here(std::int64_t station_id) {
 
 void AppState::unlink_station_if_gone(std::int64_t station_id) noexcept {
   try {
+    std::lock_guard links(links_mutex_);
     if (station_online(station_id)) return;  // a reconnect here already holds it
     auto db = pool_.acquire();
     db::NodesRepo(*db).unlink_station(station_id, config_.node_id);
@@ -96,6 +98,23 @@ void AppState::unlink_station_if_gone(std::int64_t station_id) noexcept {
     std::cerr << "incise-server: station " << station_id
               << ": cannot drop its link record: " << e.what() << "\n";
   } catch (...) {
+  }
+}
+
+void AppState::reconcile_station_links(db::Database& db) {
+  std::lock_guard links(links_mutex_);
+  std::vector<std::int64_t> here;
+  {
+    std::lock_guard lock(agents_mutex_);
+    for (const auto& [_, entry] : agents_)
+      here.push_back(entry.station_id);
+  }
+  std::sort(here.begin(), here.end());
+  here.erase(std::unique(here.begin(), here.end()), here.end());
+  for (const auto station :
+       db::NodesRepo(db).reconcile_links(config_.node_id, here, now(), config_.node_timeout_s)) {
+    std::cerr << "incise-server: station " << station
+              << " has an agent here and at another live node\n";
   }
 }
 

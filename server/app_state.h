@@ -65,6 +65,9 @@ class AppState {
   std::string link_station_here(std::int64_t station_id);
   // Drops this node's claim on the station once no link to it is left here. Never throws.
   void unlink_station_if_gone(std::int64_t station_id) noexcept;
+  // After each heartbeat: the database's links of this node made to match the links it holds
+  // (db::NodesRepo::reconcile_links), should an unlink have failed or a sweep have taken them.
+  void reconcile_station_links(db::Database& db);
   // Whether the station's agent is linked here or to another live node (read on `db`).
   bool station_online_anywhere(db::Database& db, std::int64_t station_id);
   // The stations linked here or to another live node, ascending.
@@ -92,6 +95,10 @@ class AppState {
   ReplaySlots replay_slots_;
   std::function<std::int64_t()> clock_;
   mutable std::mutex agents_mutex_;
+  // Held across a look at the links here and the database's record of them, so that a reconnect
+  // and the old link's unlink cannot interleave (the unlink would drop the new link's row).
+  // Taken before agents_mutex_, never after.
+  std::mutex links_mutex_;
   struct AgentEntry {
     std::int64_t station_id;
     std::weak_ptr<AgentSession> session;

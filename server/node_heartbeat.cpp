@@ -9,12 +9,14 @@
 namespace incise::server {
 
 NodeHeartbeat::NodeHeartbeat(db::ConnectionPool& pool, std::string node_id, std::string address,
-                             int timeout_s, std::function<std::int64_t()> clock)
+                             int timeout_s, std::function<std::int64_t()> clock,
+                             std::function<void(db::Database&)> after_beat)
     : pool_(pool),
       node_id_(std::move(node_id)),
       address_(std::move(address)),
       timeout_s_(timeout_s),
-      clock_(std::move(clock)) {
+      clock_(std::move(clock)),
+      after_beat_(std::move(after_beat)) {
   // Six beats per timeout: a node is taken for dead only after missing several in a row.
   const auto period = std::chrono::milliseconds(1000 * timeout_s_ / 6);
   thread_ = std::thread([this, period] {
@@ -52,6 +54,7 @@ bool NodeHeartbeat::beat() {
       std::cerr << "incise-server: session " << id << " of a dead node marked aborted\n";
     for (const auto id : ended.recordings)
       std::cerr << "incise-server: recording " << id << " of a dead node closed as it was\n";
+    if (after_beat_) after_beat_(*db);
     return true;
   } catch (const std::exception& e) {
     std::cerr << "incise-server: heartbeat of node " << node_id_

@@ -17,8 +17,10 @@ namespace incise::server {
 
 class NodeHeartbeat {
  public:
+  // `after_beat` runs after each successful beat on its connection (AppState's link check).
   NodeHeartbeat(db::ConnectionPool& pool, std::string node_id, std::string address, int timeout_s,
-                std::function<std::int64_t()> clock);
+                std::function<std::int64_t()> clock,
+                std::function<void(db::Database&)> after_beat = {});
   ~NodeHeartbeat();  // stops the thread
   NodeHeartbeat(const NodeHeartbeat&) = delete;
   NodeHeartbeat& operator=(const NodeHeartbeat&) = delete;
@@ -32,6 +34,7 @@ class NodeHeartbeat {
   const std::string address_;
   const int timeout_s_;
   std::function<std::int64_t()> clock_;
+  std::function<void(db::Database&)> after_beat_;
   std::mutex mutex_;
   std::condition_variable wake_;
   bool stopping_ = false;

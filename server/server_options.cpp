@@ -122,10 +122,17 @@ bool is_address_range(const std::string& text) {
 
 bool from_trusted_proxy(const std::string& peer, const std::string& trusted_proxy) {
   if (trusted_proxy.empty()) return false;
-  if (trusted_proxy.find('/') == std::string::npos) return peer == trusted_proxy;
   boost::system::error_code ec;
-  const auto address = boost::asio::ip::make_address(peer, ec);
+  auto address = boost::asio::ip::make_address(peer, ec);
   if (ec) return false;
+  // An IPv4 client of a dual-stack listener arrives as ::ffff:a.b.c.d.
+  if (address.is_v6() && address.to_v6().is_v4_mapped()) {
+    address = boost::asio::ip::make_address_v4(boost::asio::ip::v4_mapped, address.to_v6());
+  }
+  if (trusted_proxy.find('/') == std::string::npos) {
+    const auto trusted = boost::asio::ip::make_address(trusted_proxy, ec);
+    return !ec && trusted == address;
+  }
   if (address.is_v4()) {
     const auto range = boost::asio::ip::make_network_v4(trusted_proxy, ec);
     if (ec) return false;

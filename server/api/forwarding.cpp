@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "db/nodes_repo.h"
+#include "server/server_options.h"
 
 namespace incise::server {
 namespace {
@@ -33,9 +34,16 @@ std::int64_t station_of_start(const Request& request) {
   return it->get<std::int64_t>();
 }
 
-std::optional<ForwardTarget> elsewhere(const std::optional<db::NodeRecord>& node,
-                                       const AppState& app) {
-  if (!node || node->id == app.config().node_id || node->address.empty()) return std::nullopt;
+// `node`, unless it is this one or has no usable address (a node serving TLS itself registers
+// none). With `live_only`, also unless its heartbeat is stale: a dead node's station is offline.
+std::optional<ForwardTarget> elsewhere(const std::optional<db::NodeRecord>& node, AppState& app,
+                                       bool live_only) {
+  if (!node || node->id == app.config().node_id || !is_node_address(node->address)) {
+    return std::nullopt;
+  }
+  if (live_only && node->heartbeat_at < app.now() - app.config().node_timeout_s) {
+    return std::nullopt;
+  }
   return ForwardTarget{node->id, node->address};
 }
 
@@ -48,7 +56,8 @@ std::optional<ForwardTarget> forward_target(const Request& request, AppState& ap
     const auto path = target.substr(0, target.find('?'));
     if (const auto session = id_in_path(path, kSessions)) {
       auto db = app.pool().acquire();
-      return elsewhere(db::NodesRepo(*db).node_of_live_session(session), app);
+      // Its node even when silent: 503 (try again) until the sweep ends the session.
+      return elsewhere(db::NodesRepo(*db).node_of_live_session(session), app, false);
     }
     // A start, and a change to a station (retiring it closes its agent link; a new calibration
     // goes to its agent at once; neither while a session runs there): where its agent is.
@@ -61,7 +70,7 @@ std::optional<ForwardTarget> forward_target(const Request& request, AppState& ap
     if (station > 0) {
       if (app.station_online(station)) return std::nullopt;
       auto db = app.pool().acquire();
-      return elsewhere(db::NodesRepo(*db).node_of_station(station), app);
+      return elsewhere(db::NodesRepo(*db).node_of_station(station), app, true);
     }
     return std::nullopt;
   } catch (...) {

@@ -1,5 +1,9 @@
 #include "server/http/forwarder.h"
 
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sys/socket.h>
+
 #include <array>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
@@ -41,6 +45,16 @@ void mark_forwarded(Request& request, const std::string& self_node) {
 std::string unreachable(const ForwardTarget& to, const beast::error_code& ec) {
   return "node " + to.node_id + ", which runs this, does not answer (" + ec.message() +
          "); try again in a moment";
+}
+
+void keep_alive(tcp::socket& socket) {
+  boost::system::error_code ignored;
+  socket.set_option(tcp::socket::keep_alive(true), ignored);
+  const int fd = socket.native_handle();
+  const int idle_s = 10, interval_s = 5, probes = 3;
+  setsockopt(fd, IPPROTO_TCP, TCP_KEEPIDLE, &idle_s, sizeof idle_s);
+  setsockopt(fd, IPPROTO_TCP, TCP_KEEPINTVL, &interval_s, sizeof interval_s);
+  setsockopt(fd, IPPROTO_TCP, TCP_KEEPCNT, &probes, sizeof probes);
 }
 
 // What both kinds share: reaching the owner.
@@ -188,6 +202,10 @@ class WebSocketForward : public std::enable_shared_from_this<WebSocketForward> {
   // Bytes either side sent before the pumps start (the owner's first frames, read along with its
   // 101) go first.
   void start_pumps() {
+    // A view is long and mostly one-way: a peer gone without a FIN (a host down, a cable out)
+    // shows as failed keepalive probes within about 25 s, and the other side is closed then.
+    keep_alive(upstream_.stream().socket());
+    keep_alive(client_.tcp().socket());
     auto self = shared_from_this();
     net::async_write(client_, upstream_bytes_.data(), [self](beast::error_code ec, std::size_t n) {
       if (ec) return self->close();

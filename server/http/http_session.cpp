@@ -20,6 +20,7 @@ namespace net = boost::asio;
 
 namespace {
 constexpr auto kReadTimeout = std::chrono::seconds(30);
+constexpr auto kWriteTimeout = std::chrono::seconds(30);
 // A TLS handshake is a few round trips; a client that stalls in it holds a socket, nothing more.
 constexpr auto kHandshakeTimeout = std::chrono::seconds(10);
 constexpr auto kShutdownTimeout = std::chrono::seconds(5);
@@ -306,6 +307,8 @@ void set_security_headers(Response& response, bool tls) {
 }
 
 void HttpSession::send(Response&& response) {
+  // The answer may come long after the read's deadline was set (a long read, a forwarded call).
+  stream_.tcp().expires_after(kWriteTimeout);
   response_ = std::make_shared<Response>(std::move(response));
   response_->set(http::field::server, "incise-server");
   set_security_headers(*response_, stream_.is_tls());

@@ -6,7 +6,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
-#include <optional>
 #include <thread>
 #include <vector>
 
@@ -26,15 +25,13 @@ namespace net = boost::asio;
 using namespace incise;
 
 namespace {
-// Where the other nodes reach this one (server_options.h, --node-address); nullopt when the
-// environment's value is not HOST:PORT.
-std::optional<std::string> this_node_address(const server::ServerOptions& options,
-                                             unsigned short port) {
+// Where the other nodes reach this one (server_options.h, --node-address); INCISE_NODE_ADDRESS
+// was checked at start-up.
+std::string this_node_address(const server::ServerOptions& options, unsigned short port) {
   if (!options.node_address.empty()) return options.node_address;
   if (const char* from_environment = std::getenv("INCISE_NODE_ADDRESS");
       from_environment && *from_environment) {
-    if (!server::is_node_address(from_environment)) return std::nullopt;
-    return std::string(from_environment);
+    return from_environment;
   }
   std::string host = options.host;
   if (host == "0.0.0.0" || host == "::") {
@@ -72,6 +69,12 @@ int main(int argc, char** argv) {
   if (!server::is_node_id(node_id)) {
     std::cerr << "incise-server: INCISE_NODE_ID must be 1-64 characters of a-z, A-Z, 0-9, '.', "
                  "'_' or '-'\n";
+    return 2;
+  }
+
+  if (const char* address = std::getenv("INCISE_NODE_ADDRESS");
+      options.node_address.empty() && address && *address && !server::is_node_address(address)) {
+    std::cerr << "incise-server: INCISE_NODE_ADDRESS must be HOST:PORT\n";
     return 2;
   }
 
@@ -188,14 +191,18 @@ int main(int argc, char** argv) {
   listener->run();
   std::cout << "incise-server: listening on " << (tls ? "https://" : "http://") << options.host
             << ":" << listener->port() << std::endl;
-  const auto node_address = this_node_address(options, listener->port());
-  if (!node_address) {
-    std::cerr << "incise-server: INCISE_NODE_ADDRESS must be HOST:PORT\n";
-    return 2;
+  // Forwarding speaks plain HTTP (server/http/forwarder.h): a node serving TLS itself registers
+  // no address, and the others answer its sessions' calls with 503 rather than loop on a redirect.
+  const auto node_address = tls ? std::string() : this_node_address(options, listener->port());
+  if (tls) {
+    std::cerr << "incise-server: serving TLS itself, this node is not reachable for forwarding; "
+                 "run several nodes behind a TLS proxy (docs/scale_out.md)\n";
+  } else {
+    std::cerr << "incise-server: other nodes reach this one at " << node_address << "\n";
   }
-  std::cerr << "incise-server: other nodes reach this one at " << *node_address << "\n";
-  server::NodeHeartbeat heartbeat(pool, node_id, *node_address, options.node_timeout_s,
-                                  [&app] { return app->now(); });
+  server::NodeHeartbeat heartbeat(
+      pool, node_id, node_address, options.node_timeout_s, [&app] { return app->now(); },
+      [&app](db::Database& db) { app->reconcile_station_links(db); });
 
   // Graceful shutdown: stop accepting, close agent links, give in-flight requests a moment.
   net::signal_set signals(ioc, SIGINT, SIGTERM);

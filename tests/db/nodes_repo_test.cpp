@@ -116,6 +116,30 @@ TEST_F(NodesRepoTest, AStationLinksToOneLiveNodeAtATime) {
   EXPECT_FALSE(nodes_.node_of_station(bench));
 }
 
+TEST_F(NodesRepoTest, AHeartbeatMakesTheLinksMatchTheAgentsANodeHolds) {
+  const auto bench = test::add_station(db(), "Bench");
+  const auto surgical = test::add_station(db(), "Surgical");
+  const auto knee = test::add_station(db(), "Knee");
+  nodes_.start("a", "10.0.0.1:8080", 100);
+  nodes_.start("b", "10.0.0.2:8080", 100);
+  // Node a lost its rows in a sweep (cut off, yet alive) but kept its agents of bench and
+  // surgical; it still has a row of knee whose unlink failed; node b holds nothing yet.
+  nodes_.link_station(knee, "a", 100, 30);
+  const std::vector<std::int64_t> held = {bench, surgical};
+  EXPECT_TRUE(nodes_.reconcile_links("a", held, 101, 30).empty());
+  EXPECT_EQ(nodes_.node_of_station(bench)->id, "a");
+  EXPECT_EQ(nodes_.node_of_station(surgical)->id, "a");
+  EXPECT_FALSE(nodes_.node_of_station(knee));
+  // Nothing differs: the links stay as they are.
+  EXPECT_TRUE(nodes_.reconcile_links("a", held, 150, 30).empty());
+  EXPECT_EQ(nodes_.linked_stations(101, 30), held);
+  // A station whose link a live node b holds stays b's, and is reported.
+  nodes_.unlink_station(surgical, "a");
+  nodes_.link_station(surgical, "b", 102, 30);
+  EXPECT_EQ(nodes_.reconcile_links("a", held, 103, 30), std::vector<std::int64_t>{surgical});
+  EXPECT_EQ(nodes_.node_of_station(surgical)->id, "b");
+}
+
 TEST_F(NodesRepoTest, AnEndedNodeLeavesNoLinksAndItsSessionsNoOwner) {
   const auto bench = test::add_station(db(), "Bench");
   nodes_.start("a", "10.0.0.1:8080", 100);

@@ -213,6 +213,10 @@ TEST(FromTrustedProxy, AnAddressOrARange) {
   EXPECT_FALSE(from_trusted_proxy("10.244.0.1", "fd00:10:244::/56")) << "another family";
   EXPECT_FALSE(from_trusted_proxy("fd00:10:244::1", "10.244.0.0/16"));
   EXPECT_FALSE(from_trusted_proxy("not an address", "10.244.0.0/16"));
+  // An IPv4 client of a dual-stack listener, and another spelling of the same address.
+  EXPECT_TRUE(from_trusted_proxy("::ffff:10.244.1.2", "10.244.0.0/16"));
+  EXPECT_TRUE(from_trusted_proxy("::ffff:10.0.0.2", "10.0.0.2"));
+  EXPECT_TRUE(from_trusted_proxy("2001:db8:0:0::1", "2001:db8::1"));
   EXPECT_EQ(request_client("10.244.3.4", "203.0.113.1", "10.244.0.0/16"), "203.0.113.1");
   EXPECT_TRUE(reached_over_tls(false, "10.244.3.4", "https", "10.244.0.0/16"));
 }
