@@ -89,6 +89,9 @@ out=results/bench-$(date -u +%Y%m%dT%H%M%SZ).txt
   "$bin/bench_liver_adaptive" corotational
   "$bin/bench_liver_adaptive" mss
   echo
+  echo "## planning: minimum-penetration paths among 3 to 10 obstacles, degree 3 and 5 (seed 004)"
+  "$bin/bench_planning"
+  echo
   echo "## collision: the surface tree's refit and queries on a ~10k-triangle surface"
   "$bin/bench_collide"
   echo
