@@ -7,6 +7,7 @@
 
 #include "sim/cli/mesh_command.h"
 #include "sim/cli/scene_mesh.h"
+#include "sim/cli/plan_command.h"
 #include "sim/cli/surgery_command.h"
 #include "sim/io/result_json.h"
 #include "sim/io/scene_json.h"
@@ -23,7 +24,8 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: incise solve SCENE.json --out RESULT.json, incise mesh-info MESH, incise mesh "
-    "VOLUME.nii --labels 1=NAME --cell-size H --out MESH, incise surgery ..., or incise --help";
+    "VOLUME.nii --labels 1=NAME --cell-size H --out MESH, incise surgery ..., incise plan ..., or "
+    "incise --help";
 
 constexpr const char* kHelp =
     R"(incise - the Incise soft-tissue simulation core from the command line
@@ -36,6 +38,10 @@ usage:
   incise surgery SCENE.json --script SCRIPT.json --out RESULT.json
                                               run a surgical scene file with a tool script
                                               (docs/surgical_scene_files.md)
+  incise plan SCENE.json --from X,Y,Z --to X,Y,Z [--degree 3] [--probe-radius 0.002]
+              [--bound 0] --out PATH.json     the tool path that least enters the scene's
+                                              tissues, by their stiffness, and its bones
+                                              (seed 004's planning aid; docs/planning.md)
   incise --help                               show this text
 
 MESH: a gmsh .msh file (ASCII 2.2 or 4.1; tetrahedra and their physical tags as labels) or a
@@ -208,6 +214,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
     if (args[0] == "mesh-info") return mesh_info(args, out, err);
     if (args[0] == "mesh") return run_mesh_command(args, out, err);
     if (args[0] == "surgery") return run_surgery_command(args, out, err);
+    if (args[0] == "plan") return run_plan_command(args, out, err);
     return usage_error(err, "unknown command " + args[0]);
   } catch (const std::exception& error) {
     err << "incise: internal error: " << error.what() << "\n";

@@ -254,13 +254,76 @@ VecX surface_depth(const Points& points) {
     });
     if (count < 7 || (sum / count - p).norm() > 0.25 * spacing) boundary.push_back(i);
   }
+  if (boundary.empty()) return depth;
+  // The nearest boundary point, searched on a grid in growing shells of cells: a shell at ring
+  // distance k cannot hold anything nearer than (k - 1) cells.
+  const Real cell = 2 * spacing;
+  std::unordered_map<std::int64_t, std::vector<int>> cells;
+  const auto cell_of = [&](const Vec3& p) {
+    return Vec3i(static_cast<int>(std::floor(p.x() / cell)),
+                 static_cast<int>(std::floor(p.y() / cell)),
+                 static_cast<int>(std::floor(p.z() / cell)));
+  };
+  const auto key = [](const Vec3i& c) {
+    const auto part = [](int v) { return static_cast<std::int64_t>(v & 0x1FFFFF); };
+    return part(c.x()) | (part(c.y()) << 21) | (part(c.z()) << 42);
+  };
+  for (const int b : boundary)
+    cells[key(cell_of(row3(points, b)))].push_back(b);
+  const int max_ring = static_cast<int>(std::ceil(box.diagonal().norm() / cell)) + 1;
   for (int i = 0; i < n; ++i) {
+    const Vec3 p = row3(points, i);
+    const Vec3i c = cell_of(p);
     Real best = std::numeric_limits<Real>::infinity();
-    for (const int b : boundary)
-      best = std::min(best, (row3(points, b) - row3(points, i)).squaredNorm());
-    depth[i] = boundary.empty() ? 0 : std::sqrt(best);
+    for (int ring = 0; ring <= max_ring; ++ring) {
+      if (std::sqrt(best) <= (ring - 1) * cell) break;
+      for (int dx = -ring; dx <= ring; ++dx)
+        for (int dy = -ring; dy <= ring; ++dy)
+          for (int dz = -ring; dz <= ring; ++dz) {
+            if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) != ring) continue;
+            const auto it = cells.find(key(c + Vec3i(dx, dy, dz)));
+            if (it == cells.end()) continue;
+            for (const int b : it->second)
+              best = std::min(best, (row3(points, b) - p).squaredNorm());
+          }
+    }
+    depth[i] = std::sqrt(best);
   }
   return depth;
+}
+
+Points volume_points(const Points& nodes, const Tets& tets, Real spacing) {
+  if (!(spacing > 0)) throw std::invalid_argument("spacing must be > 0");
+  std::unordered_map<std::int64_t, Vec3> found;  // by lattice cell: a point on a shared face once
+  for (int t = 0; t < tets.rows(); ++t) {
+    const Vec3 a = row3(nodes, tets(t, 0));
+    Mat3 edges;
+    edges << row3(nodes, tets(t, 1)) - a, row3(nodes, tets(t, 2)) - a, row3(nodes, tets(t, 3)) - a;
+    if (std::abs(edges.determinant()) < 1e-30) continue;  // a flat tet holds no volume
+    const Mat3 to_barycentric = edges.inverse();
+    Box3 box;
+    for (int k = 0; k < 4; ++k)
+      box.extend(row3(nodes, tets(t, k)));
+    const Vec3i lo = (box.min() / spacing).array().ceil().cast<int>();
+    const Vec3i hi = (box.max() / spacing).array().floor().cast<int>();
+    for (int i = lo.x(); i <= hi.x(); ++i)
+      for (int j = lo.y(); j <= hi.y(); ++j)
+        for (int k = lo.z(); k <= hi.z(); ++k) {
+          const Vec3 q(i * spacing, j * spacing, k * spacing);
+          const Vec3 b = to_barycentric * (q - a);
+          if (b.minCoeff() < -1e-12 || b.sum() > 1 + 1e-12) continue;
+          const auto part = [](int v) { return static_cast<std::int64_t>(v & 0x1FFFFF); };
+          found.emplace(part(i) | (part(j) << 21) | (part(k) << 42), q);
+        }
+  }
+  Points out(static_cast<Eigen::Index>(found.size()), 3);
+  // In lattice order, not the map's: the same mesh gives the same points in the same order.
+  std::vector<std::pair<std::int64_t, Vec3>> sorted(found.begin(), found.end());
+  std::sort(sorted.begin(), sorted.end(),
+            [](const auto& x, const auto& y) { return x.first < y.first; });
+  for (std::size_t r = 0; r < sorted.size(); ++r)
+    out.row(static_cast<Eigen::Index>(r)) = sorted[r].second.transpose();
+  return out;
 }
 
 Vec3 PlannedPath::at(Real s) const {

@@ -64,6 +64,10 @@ struct PlannedPath {
 // 2.5 spacings lie lopsidedly around it. 0 on the boundary.
 VecX surface_depth(const Points& points);
 
+// Points on a cubic lattice of `spacing` [m] inside the tets (of nodes): a tissue's volume sampled
+// evenly, however coarse its mesh (the planner's points must be closer than its probe).
+Points volume_points(const Points& nodes, const Tets& tets, Real spacing);
+
 // Throws std::invalid_argument for options out of range or from == to.
 PlannedPath plan_path(const Vec3& from, const Vec3& to, const std::vector<Obstacle>& obstacles,
                       const PlanOptions& options = {});

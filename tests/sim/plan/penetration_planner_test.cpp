@@ -161,6 +161,26 @@ TEST(SurfaceDepth, OfALatticeBallIsTheDistanceToItsSphere) {
   EXPECT_EQ(depth.minCoeff(), 0);
 }
 
+TEST(VolumePoints, FillACubeOfSixTetsOnceEach) {
+  // The unit cube [0, 2 cm]^3 as six tets around its diagonal; a 2 mm lattice: 11^3 points,
+  // each once although many lie on faces the tets share.
+  Points nodes(8, 3);
+  for (int i = 0; i < 8; ++i)
+    nodes.row(i) << 0.02 * (i & 1), 0.02 * ((i >> 1) & 1), 0.02 * ((i >> 2) & 1);
+  Tets tets(6, 4);
+  tets << 0, 1, 3, 7, 0, 1, 5, 7, 0, 2, 3, 7, 0, 2, 6, 7, 0, 4, 5, 7, 0, 4, 6, 7;
+  const auto points = volume_points(nodes, tets, 0.002);
+  EXPECT_EQ(points.rows(), 11 * 11 * 11);
+  EXPECT_GE(points.minCoeff(), -1e-12);
+  EXPECT_LE(points.maxCoeff(), 0.02 + 1e-12);
+  // Three of the six tets hold half the cube: about half the points, give or take a face's.
+  Tets half(3, 4);
+  half << 0, 1, 3, 7, 0, 1, 5, 7, 0, 4, 5, 7;
+  const auto some = volume_points(nodes, half, 0.002);
+  EXPECT_GT(some.rows(), 11 * 11 * 11 / 2 - 11 * 11);
+  EXPECT_LT(some.rows(), 11 * 11 * 11 / 2 + 2 * 11 * 11);
+}
+
 TEST(PenetrationPlanner, RefusesOptionsOutOfRange) {
   PlanOptions options;
   options.degree = 8;
