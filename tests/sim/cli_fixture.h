@@ -21,6 +21,11 @@ struct CliRun {
   std::string err;
 };
 
+// Whether `text` is exactly one line (a message, an error), newline-terminated.
+inline bool one_line(const std::string& text) {
+  return !text.empty() && text.back() == '\n' && text.find('\n') == text.size() - 1;
+}
+
 inline std::string read_file(const std::filesystem::path& path) {
   std::ifstream stream(path);
   std::ostringstream text;

@@ -24,6 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 using test::CliRun;
+using test::one_line;
 
 class Cli : public test::CliFixture {
  protected:
@@ -37,11 +38,6 @@ class Cli : public test::CliFixture {
     })");
   }
 };
-
-// Exactly one line, ending in a newline.
-bool one_line(const std::string& text) {
-  return !text.empty() && text.back() == '\n' && text.find('\n') == text.size() - 1;
-}
 
 TEST_F(Cli, SolvesASceneAndWritesTheResult) {
   write("scene.json", small_scene().dump());

@@ -14,12 +14,9 @@ namespace {
 
 using nlohmann::json;
 using test::CliRun;
+using test::one_line;
 
 class PlanCli : public test::CliFixture {};
-
-bool one_line(const std::string& text) {
-  return !text.empty() && text.back() == '\n' && text.find('\n') == text.size() - 1;
-}
 
 Vec3 point(const json& p) {
   return Vec3(p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>());

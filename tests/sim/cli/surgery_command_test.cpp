@@ -15,12 +15,9 @@ namespace {
 
 using nlohmann::json;
 using test::CliRun;
+using test::one_line;
 
 class SurgeryCli : public test::CliFixture {};
-
-bool one_line(const std::string& text) {
-  return !text.empty() && text.back() == '\n' && text.find('\n') == text.size() - 1;
-}
 
 double metric(const json& result, const std::string& name) {
   for (const json& row : result.at("damage")) {
