@@ -103,7 +103,9 @@ cat <<MSG
 
   Demo logins as for deploy/run.sh (trainee / incise-trainee-demo, admin / incise-admin-demo, ...).
   PostgreSQL: $INCISE_DATABASE_URL
-  Logs: $dir/logs/.   Try: kill -9 a node, watch its sessions end and its agent move.
+  Logs: $dir/logs/ (nginx's: $dir/nginx/error.log).
+  Try: kill -9 a node, and within about 35 s (the 30 s heartbeat timeout and a beat) its
+  sessions end and its station's agent moves to another node.
   Press Ctrl-C to stop.
 
 MSG
