@@ -1,13 +1,15 @@
 #include "sim/cli/cli.h"
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <exception>
 #include <fstream>
 #include <optional>
 
 #include "sim/cli/mesh_command.h"
-#include "sim/cli/scene_mesh.h"
 #include "sim/cli/plan_command.h"
+#include "sim/cli/scene_mesh.h"
 #include "sim/cli/surgery_command.h"
 #include "sim/io/result_json.h"
 #include "sim/io/scene_json.h"
@@ -222,6 +224,15 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
     err << "incise: internal error\n";
   }
   return kExitFailed;
+}
+
+std::optional<Real> parse_real(const std::string& text) {
+  Real value = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc{} || end != text.data() + text.size() || !std::isfinite(value)) {
+    return std::nullopt;
+  }
+  return value;
 }
 
 CommandArgs parse_command_args(const std::vector<std::string>& args,

@@ -8,6 +8,8 @@
 #include <string_view>
 #include <vector>
 
+#include "sim/core/types.h"
+
 namespace incise::sim {
 
 // Exit codes of the incise command line.
@@ -33,5 +35,9 @@ struct CommandArgs {
 };
 CommandArgs parse_command_args(const std::vector<std::string>& args,
                                std::initializer_list<std::string_view> file_options);
+
+// An option's number: the whole text one finite number (from_chars: no locale, no exception),
+// else nullopt.
+std::optional<Real> parse_real(const std::string& text);
 
 }  // namespace incise::sim

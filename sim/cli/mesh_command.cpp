@@ -49,10 +49,8 @@ std::optional<SegmentationTissues> parse_tissues(const std::string& text, std::s
 }
 
 std::optional<Real> parse_length(const std::string& text) {
-  Real value = 0;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (ec != std::errc{} || end != text.data() + text.size() || !std::isfinite(value) || value <= 0)
-    return std::nullopt;
+  const auto value = parse_real(text);
+  if (!value || *value <= 0) return std::nullopt;
   return value;
 }
 

@@ -33,26 +33,17 @@ int usage_error(std::ostream& err, const std::string& problem) {
 
 // "x,y,z" in metres, all finite.
 std::optional<Vec3> parse_point(const std::string& text) {
-  std::istringstream in(text);
   Vec3 p;
-  char comma1 = 0, comma2 = 0;
-  if (!(in >> p.x() >> comma1 >> p.y() >> comma2 >> p.z()) || comma1 != ',' || comma2 != ',') {
-    return std::nullopt;
+  std::size_t start = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto comma = axis < 2 ? text.find(',', start) : text.size();
+    if (comma == std::string::npos) return std::nullopt;
+    const auto value = parse_real(text.substr(start, comma - start));
+    if (!value) return std::nullopt;
+    p[axis] = *value;
+    start = comma + 1;
   }
-  in >> std::ws;
-  if (!in.eof() || !p.allFinite()) return std::nullopt;
   return p;
-}
-
-std::optional<Real> parse_number(const std::string& text) {
-  std::size_t used = 0;
-  try {
-    const Real value = std::stod(text, &used);
-    if (used != text.size() || !std::isfinite(value)) return std::nullopt;
-    return value;
-  } catch (const std::exception&) {
-    return std::nullopt;
-  }
 }
 
 json vec3_json(const Vec3& v) {
@@ -137,21 +128,21 @@ int run_plan_command(const std::vector<std::string>& args, std::ostream& out, st
   if ((*to - *from).norm() == 0) return usage_error(err, "--from and --to are the same point");
   plan::PlanOptions options;
   if (const auto text = option("--degree")) {
-    const auto degree = parse_number(*text);
+    const auto degree = parse_real(*text);
     if (!degree || *degree != std::floor(*degree) || *degree < 2 || *degree > 7) {
       return usage_error(err, "--degree needs a whole number from 2 to 7");
     }
     options.degree = static_cast<int>(*degree);
   }
   if (const auto text = option("--probe-radius")) {
-    const auto radius = parse_number(*text);
+    const auto radius = parse_real(*text);
     if (!radius || *radius <= 0 || *radius > 0.05) {
       return usage_error(err, "--probe-radius needs metres in (0, 0.05]");
     }
     options.probe_radius = *radius;
   }
   if (const auto text = option("--bound")) {
-    const auto bound = parse_number(*text);
+    const auto bound = parse_real(*text);
     if (!bound || *bound < 0 || *bound > 0.05) {
       return usage_error(err, "--bound needs metres in [0, 0.05]");
     }

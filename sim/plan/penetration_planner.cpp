@@ -11,6 +11,19 @@
 namespace incise::sim::plan {
 namespace {
 
+// The cell of a uniform grid of `size` that holds p, and its key in a hash map: 21 bits a
+// coordinate, so cells of a millimetre or more cover +-1 km.
+Vec3i cell_of(const Vec3& p, Real size) {
+  return Vec3i(static_cast<int>(std::floor(p.x() / size)),
+               static_cast<int>(std::floor(p.y() / size)),
+               static_cast<int>(std::floor(p.z() / size)));
+}
+
+std::int64_t cell_key(const Vec3i& c) {
+  const auto part = [](int v) { return static_cast<std::int64_t>(v & 0x1FFFFF); };
+  return part(c.x()) | (part(c.y()) << 21) | (part(c.z()) << 42);
+}
+
 // The obstacles' points in a uniform grid of cells as large as the cost's sphere: a query visits
 // the 27 cells around it. Built once per plan.
 class PointGrid {
@@ -19,18 +32,18 @@ class PointGrid {
     for (int o = 0; o < static_cast<int>(obstacles.size()); ++o) {
       const auto& points = obstacles[o].points;
       for (int i = 0; i < points.rows(); ++i)
-        cells_[key(cell_of(row3(points, i)))].push_back({o, i});
+        cells_[cell_key(cell_of(row3(points, i), cell_))].push_back({o, i});
     }
   }
 
   // Calls visit(obstacle, point) for every point within the 27 cells around p.
   template <class Visit>
   void around(const Vec3& p, Visit&& visit) const {
-    const Vec3i c = cell_of(p);
+    const Vec3i c = cell_of(p, cell_);
     for (int dx = -1; dx <= 1; ++dx)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dz = -1; dz <= 1; ++dz) {
-          const auto it = cells_.find(key(c + Vec3i(dx, dy, dz)));
+          const auto it = cells_.find(cell_key(c + Vec3i(dx, dy, dz)));
           if (it == cells_.end()) continue;
           for (const auto& [o, i] : it->second)
             visit(o, i);
@@ -38,17 +51,6 @@ class PointGrid {
   }
 
  private:
-  Vec3i cell_of(const Vec3& p) const {
-    return Vec3i(static_cast<int>(std::floor(p.x() / cell_)),
-                 static_cast<int>(std::floor(p.y() / cell_)),
-                 static_cast<int>(std::floor(p.z() / cell_)));
-  }
-  static std::int64_t key(const Vec3i& c) {
-    // 21 bits a coordinate: cells of a millimetre or more cover +-1 km.
-    const auto part = [](int v) { return static_cast<std::int64_t>(v & 0x1FFFFF); };
-    return part(c.x()) | (part(c.y()) << 21) | (part(c.z()) << 42);
-  }
-
   Real cell_;
   std::unordered_map<std::int64_t, std::vector<std::pair<int, int>>> cells_;
 };
@@ -259,21 +261,12 @@ VecX surface_depth(const Points& points) {
   // distance k cannot hold anything nearer than (k - 1) cells.
   const Real cell = 2 * spacing;
   std::unordered_map<std::int64_t, std::vector<int>> cells;
-  const auto cell_of = [&](const Vec3& p) {
-    return Vec3i(static_cast<int>(std::floor(p.x() / cell)),
-                 static_cast<int>(std::floor(p.y() / cell)),
-                 static_cast<int>(std::floor(p.z() / cell)));
-  };
-  const auto key = [](const Vec3i& c) {
-    const auto part = [](int v) { return static_cast<std::int64_t>(v & 0x1FFFFF); };
-    return part(c.x()) | (part(c.y()) << 21) | (part(c.z()) << 42);
-  };
   for (const int b : boundary)
-    cells[key(cell_of(row3(points, b)))].push_back(b);
+    cells[cell_key(cell_of(row3(points, b), cell))].push_back(b);
   const int max_ring = static_cast<int>(std::ceil(box.diagonal().norm() / cell)) + 1;
   for (int i = 0; i < n; ++i) {
     const Vec3 p = row3(points, i);
-    const Vec3i c = cell_of(p);
+    const Vec3i c = cell_of(p, cell);
     Real best = std::numeric_limits<Real>::infinity();
     for (int ring = 0; ring <= max_ring; ++ring) {
       if (std::sqrt(best) <= (ring - 1) * cell) break;
@@ -281,7 +274,7 @@ VecX surface_depth(const Points& points) {
         for (int dy = -ring; dy <= ring; ++dy)
           for (int dz = -ring; dz <= ring; ++dz) {
             if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) != ring) continue;
-            const auto it = cells.find(key(c + Vec3i(dx, dy, dz)));
+            const auto it = cells.find(cell_key(c + Vec3i(dx, dy, dz)));
             if (it == cells.end()) continue;
             for (const int b : it->second)
               best = std::min(best, (row3(points, b) - p).squaredNorm());
@@ -312,8 +305,7 @@ Points volume_points(const Points& nodes, const Tets& tets, Real spacing) {
           const Vec3 q(i * spacing, j * spacing, k * spacing);
           const Vec3 b = to_barycentric * (q - a);
           if (b.minCoeff() < -1e-12 || b.sum() > 1 + 1e-12) continue;
-          const auto part = [](int v) { return static_cast<std::int64_t>(v & 0x1FFFFF); };
-          found.emplace(part(i) | (part(j) << 21) | (part(k) << 42), q);
+          found.emplace(cell_key(Vec3i(i, j, k)), q);
         }
   }
   Points out(static_cast<Eigen::Index>(found.size()), 3);
