@@ -7,6 +7,7 @@
 #include <fstream>
 #include <optional>
 
+#include "sim/cli/calibrate_command.h"
 #include "sim/cli/mesh_command.h"
 #include "sim/cli/plan_command.h"
 #include "sim/cli/scene_mesh.h"
@@ -26,8 +27,8 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: incise solve SCENE.json --out RESULT.json, incise mesh-info MESH, incise mesh "
-    "VOLUME.nii --labels 1=NAME --cell-size H --out MESH, incise surgery ..., incise plan ..., or "
-    "incise --help";
+    "VOLUME.nii --labels 1=NAME --cell-size H --out MESH, incise surgery ..., incise plan ..., "
+    "incise calibrate ..., or incise --help";
 
 constexpr const char* kHelp =
     R"(incise - the Incise soft-tissue simulation core from the command line
@@ -44,6 +45,10 @@ usage:
               [--bound 0] --out PATH.json     the tool path that least enters the scene's
                                               tissues, by their stiffness, and its bones
                                               (seed 004's planning aid; docs/planning.md)
+  incise calibrate DATA.csv SCENE.json --method ga|cmaes|lm --out MATERIAL.json
+              [--per label|node] [--budget 2000] [--seed 1] [--population P] [--smoothing 1e-5]
+                                              fit the scene's material constants to probe
+                                              data (seed 004; docs/calibration.md)
   incise --help                               show this text
 
 MESH: a gmsh .msh file (ASCII 2.2 or 4.1; tetrahedra and their physical tags as labels) or a
@@ -60,6 +65,12 @@ VOLUME: a labelled segmentation in NIfTI-1 or -2 (.nii, .nii.gz; 3D Slicer, ITK-
   volume's voxels, spacing, axes and origin, each tissue's voxel and meshed volumes and the
   mesh's quality as mesh-info does. A bad volume (an unknown or empty label, not 3-D, a
   truncated file, a sheared affine, a non-integer voxel) is one error line and exit code 2.
+
+DATA.csv: probe data for calibrate, a header and one row per sample: time_s, contact (an integer
+  per contact point), x, y, z (the probe tip [m]), dir_x, dir_y, dir_z (the direction it
+  pushes), force_n (the force along it [N]). Per contact at least 5 samples evenly spaced in
+  time, the tissue at rest at the first; some force. A bad file is one error line naming the
+  line and column, and exit code 2.
 
 SCENE.json (units SI; members marked ? are optional):
   { "mesh": {"box": {"size": [Lx, Ly, Lz], "cells": [nx, ny, nz]}},
@@ -217,6 +228,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
     if (args[0] == "mesh") return run_mesh_command(args, out, err);
     if (args[0] == "surgery") return run_surgery_command(args, out, err);
     if (args[0] == "plan") return run_plan_command(args, out, err);
+    if (args[0] == "calibrate") return run_calibrate_command(args, out, err);
     return usage_error(err, "unknown command " + args[0]);
   } catch (const std::exception& error) {
     err << "incise: internal error: " << error.what() << "\n";
