@@ -96,6 +96,9 @@ struct Task {
   // Where the tools enter the body (the trocar, the fulcrum of a laparoscopic shaft), in scene
   // coordinates; when set, each hand's depth along its shaft is measured from it (run_events.h).
   std::optional<std::array<double, 3>> portal_m;
+  // A named material (docs/calibration.md: saved from a tissue calibration) the scene runs with in
+  // place of its own constants; empty: the scene's. The server checks that it exists and fits.
+  std::string material;
 
   // True if something in this task can be a never event (a never zone or a never force).
   bool has_never_events() const;

@@ -195,12 +195,13 @@ Task parse_task(const json& value, const std::string& path) {
       value, path,
       {"key", "name", "scene", "station_kind", "instructions", "tools", "metrics", "completion",
        "consecutive_passes_required", "prerequisites", "protected_zones", "targets", "safe_force_n",
-       "never_force_n", "portal_m"});
+       "never_force_n", "portal_m", "material"});
   Task task;
   task.key = reader.string("key", required);
   task.name = reader.string("name", required);
   task.scene = reader.string("scene", required);
   task.station_kind = reader.string("station_kind", optional);
+  task.material = reader.string("material", optional);
   task.instructions = reader.string("instructions", optional);
   task.tools = reader.strings("tools", optional);
   const json::array_t& metrics = reader.array("metrics", required);
@@ -304,6 +305,7 @@ json to_json(const Curriculum& curriculum) {
       if (task.portal_m) tasks.back()["portal_m"] = *task.portal_m;
       // Absent when unset, as curricula written before them leave them out.
       if (!task.station_kind.empty()) tasks.back()["station_kind"] = task.station_kind;
+      if (!task.material.empty()) tasks.back()["material"] = task.material;
       const Completion& c = task.completion;
       if (c != Completion{}) {
         json completion = json::object();

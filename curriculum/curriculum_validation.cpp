@@ -117,6 +117,7 @@ void check_task(const Task& task, const std::string& path) {
   require_text(member(path, "name"), task.name);
   require_text(member(path, "scene"), task.scene);
   if (!task.station_kind.empty()) require_key(member(path, "station_kind"), task.station_kind);
+  if (!task.material.empty()) require_text(member(path, "material"), task.material);
   require_distinct_names(member(path, "tools"), task.tools);
   const std::string metrics_path = member(path, "metrics");
   if (task.metrics.empty()) throw CurriculumError(metrics_path, "must list at least one metric");

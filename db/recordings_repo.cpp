@@ -14,12 +14,12 @@ namespace {
 
 constexpr const char* meta_columns =
     "SELECT id, session_id, scene, scene_version, seed, tick_hz, duration_s, state, created_at, "
-    "final_state_hash "
+    "final_state_hash, COALESCE(material, '') "
     "FROM recordings ";
 
 RecordingMeta read_meta(const Statement& q) {
-  return RecordingMeta{q.int64(0), q.int64(1), q.text(2), q.text(3),  q.int64(4),
-                       q.real(5),  q.real(6),  q.text(7), q.int64(8), q.text(9)};
+  return RecordingMeta{q.int64(0), q.int64(1), q.text(2),  q.text(3), q.int64(4), q.real(5),
+                       q.real(6),  q.text(7),  q.int64(8), q.text(9), q.text(10)};
 }
 
 void check_duration(double duration_s) {
@@ -46,7 +46,7 @@ void require_open(Database& db, std::int64_t recording_id) {
 
 std::int64_t RecordingsRepo::create(std::int64_t session_id, const std::string& scene,
                                     const std::string& scene_version, std::int64_t seed,
-                                    double tick_hz, std::int64_t now) {
+                                    double tick_hz, std::int64_t now, const std::string& material) {
   if (!std::isfinite(tick_hz) || tick_hz <= 0) {
     throw std::invalid_argument("recording tick_hz must be finite and > 0, got " +
                                 std::to_string(tick_hz));
@@ -54,13 +54,14 @@ std::int64_t RecordingsRepo::create(std::int64_t session_id, const std::string& 
   return db_
       .prepare(
           "INSERT INTO recordings (session_id, scene, scene_version, seed, tick_hz, duration_s, "
-          "state, created_at) VALUES (?, ?, ?, ?, ?, 0, 'recording', ?) RETURNING id")
+          "state, created_at, material) VALUES (?, ?, ?, ?, ?, 0, 'recording', ?, ?) RETURNING id")
       .bind(1, session_id)
       .bind(2, scene)
       .bind(3, scene_version)
       .bind(4, seed)
       .bind(5, tick_hz)
       .bind(6, now)
+      .bind(7, material.empty() ? std::optional<std::string>() : std::optional(material))
       .insert();
 }
 

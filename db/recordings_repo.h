@@ -31,6 +31,7 @@ struct RecordingMeta {
   std::string state;          // "recording" or "complete"
   std::int64_t created_at = 0;
   std::string final_state_hash;  // the simulation state hash at the end; "" if not known
+  std::string material;  // the named material the session ran its scene with; "" for the scene's
 };
 
 class RecordingsRepo {
@@ -39,10 +40,11 @@ class RecordingsRepo {
 
   // Opens the recording of a session: state 'recording', duration 0. Throws
   // std::invalid_argument unless tick_hz is finite and > 0, ConstraintError when the session is
-  // unknown or already has a recording (one per session).
+  // unknown or already has a recording (one per session). material: the named material the
+  // scene runs with ("" for the scene's own constants).
   std::int64_t create(std::int64_t session_id, const std::string& scene,
                       const std::string& scene_version, std::int64_t seed, double tick_hz,
-                      std::int64_t now);
+                      std::int64_t now, const std::string& material = "");
 
   // One small transaction: inserts chunk `seq`, starting at t0_us [µs since the start], and sets
   // the recording's duration to duration_s. seq must be the next one (0, 1, 2, ...), else

@@ -25,9 +25,11 @@ AppState::AppState(db::ConnectionPool& pool, ServerConfig config)
         return std::chrono::duration_cast<std::chrono::seconds>(
                    std::chrono::system_clock::now().time_since_epoch())
             .count();
-      }) {}
+      }),
+      calibration_runner_(pool_, config_.node_id, [this] { return now(); }) {}
 
 AppState::~AppState() {
+  calibration_runner_.stop();
   // Sessions call back into the agent registry: end them while it still exists.
   live_sessions_.stop_all("server shutting down");
 }

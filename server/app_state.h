@@ -12,6 +12,7 @@
 #include <string>
 
 #include "db/connection_pool.h"
+#include "server/calibration_runner.h"
 #include "server/live_sessions.h"
 #include "server/login_limiter.h"
 #include "server/replay_slots.h"
@@ -45,6 +46,8 @@ class AppState {
   WorkerPool& password_workers() { return password_workers_; }
   WorkerPool& long_reads() { return long_reads_; }
   ReplaySlots& replay_slots() { return replay_slots_; }
+  // This node's tissue calibration jobs (calibration_runner.h).
+  CalibrationRunner& calibration_runner() { return calibration_runner_; }
 
   // Unix seconds; replaceable so that tests can move time.
   std::int64_t now() const { return clock_(); }
@@ -94,6 +97,7 @@ class AppState {
   WorkerPool long_reads_{"long read", 0, 32};
   ReplaySlots replay_slots_;
   std::function<std::int64_t()> clock_;
+  CalibrationRunner calibration_runner_;
   mutable std::mutex agents_mutex_;
   // Held across a look at the links here and the database's record of them, so that a reconnect
   // and the old link's unlink cannot interleave (the unlink would drop the new link's row).

@@ -87,4 +87,18 @@ ApiResponse pause_session(ApiContext& ctx);
 ApiResponse resume_session(ApiContext& ctx);
 ApiResponse stop_session(ApiContext& ctx);
 
+// Tissue calibration (admin; docs/calibration.md): the scenes it can fit and their example data
+// (GET /api/calibration/example?scene=ID, a CSV download), jobs (POST: 201, the data checked
+// first, 422 naming what is wrong and where; GET list and one with its result; POST .../cancel:
+// 409 once ended) and the named materials saved from finished jobs (POST: 201, 409 for a taken
+// name or an unfinished job; GET also for instructors, with the tasks that name each).
+ApiResponse list_calibration_scenes(ApiContext& ctx);
+ApiResponse calibration_example(ApiContext& ctx);
+ApiResponse create_calibration_job(ApiContext& ctx);
+ApiResponse list_calibration_jobs(ApiContext& ctx);
+ApiResponse get_calibration_job(ApiContext& ctx);
+ApiResponse cancel_calibration_job(ApiContext& ctx);
+ApiResponse create_material(ApiContext& ctx);
+ApiResponse list_materials(ApiContext& ctx);
+
 }  // namespace incise::server::api

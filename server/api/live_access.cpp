@@ -4,9 +4,11 @@
 #include <map>
 
 #include "curriculum/curriculum_json.h"
+#include "db/calibration_repo.h"
 #include "db/curricula_repo.h"
 #include "db/reviews_repo.h"
 #include "server/api/api_error.h"
+#include "server/live/scene_material.h"
 
 namespace incise::server::api {
 
@@ -103,6 +105,20 @@ std::optional<curriculum::Task> find_curriculum_task(db::Database& db, const std
   const auto c = curriculum_with_task(db, key);
   if (!c) return std::nullopt;
   return *curriculum::find_task(*c, key);
+}
+
+std::string scene_text_with_material(db::Database& db, std::string_view scene_id,
+                                     std::string_view scene_text, const std::string& material,
+                                     http::status status, const std::string& prefix) {
+  const auto found = db::MaterialsRepo(db).find_by_name(material);
+  if (!found) {
+    throw ApiError(status, prefix + "material \"" + material + "\", which does not exist");
+  }
+  try {
+    return live::scene_with_material(scene_id, scene_text, found->constants, found->model);
+  } catch (const std::invalid_argument& e) {
+    throw ApiError(status, prefix + "material \"" + material + "\": " + e.what());
+  }
 }
 
 }  // namespace incise::server::api

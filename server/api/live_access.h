@@ -34,6 +34,13 @@ db::SessionRecord visible_session(ApiContext& ctx);
 // The curriculum task with this key, from the first curriculum that has it.
 std::optional<curriculum::Task> find_curriculum_task(db::Database& db, const std::string& key);
 
+// The scene text with the named material's constants (live/scene_material.h), for a session of a
+// task that names one and its replay. Throws ApiError `status`, "<prefix>material \"X\", which
+// does not exist" (or why it does not fit the scene).
+std::string scene_text_with_material(db::Database& db, std::string_view scene_id,
+                                     std::string_view scene_text, const std::string& material,
+                                     http::status status, const std::string& prefix);
+
 // The curriculum sessions run: the first one stored (docs/api.md, "Live sessions"); none when no
 // curriculum is stored.
 std::optional<curriculum::Curriculum> session_curriculum(db::Database& db);

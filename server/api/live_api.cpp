@@ -133,9 +133,16 @@ ApiResponse start_session(ApiContext& ctx) {
                                                            "\", which this server does not have");
   }
 
+  // A task's named material (docs/calibration.md) replaces the scene's constants in its text.
+  std::string scene_text(scene_source->text);
+  if (!task->material.empty()) {
+    scene_text = api::scene_text_with_material(db, scene_source->id, scene_source->text,
+                                               task->material, http::status::unprocessable_entity,
+                                               "task \"" + task_key + "\" names ");
+  }
   live::LiveSessionParams params;
   try {
-    params.scene = live::load_session_scene(scene_source->id, scene_source->text);
+    params.scene = live::load_session_scene(scene_source->id, scene_text);
   } catch (const std::exception& e) {
     throw ApiError(http::status::unprocessable_entity,
                    "scene \"" + task->scene + "\" is invalid: " + e.what());
@@ -158,8 +165,9 @@ ApiResponse start_session(ApiContext& ctx) {
                  {{"expert_run", false}}, {{"expert_run", true}});
   }
   params.station_id = station_id;
-  params.recording_id = db::RecordingsRepo(db).create(
-      params.session_id, task->scene, live::scene_version(scene_source->text), 0, kTickHz, ctx.now);
+  params.recording_id =
+      db::RecordingsRepo(db).create(params.session_id, task->scene, live::scene_version(scene_text),
+                                    0, kTickHz, ctx.now, task->material);
   tx.commit();
   params.task = *task;
   params.database = ctx.app.config().database;

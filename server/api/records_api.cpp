@@ -6,6 +6,7 @@
 #include "curriculum/curriculum_json.h"
 #include "curriculum/metric_catalogue.h"
 #include "db/audit_repo.h"
+#include "db/calibration_repo.h"
 #include "db/curricula_repo.h"
 #include "db/training_repo.h"
 #include "db/transaction.h"
@@ -14,6 +15,7 @@
 #include "server/api/handlers.h"
 #include "server/api/json_views.h"
 #include "server/api/live_access.h"
+#include "server/live/scene_library.h"
 #include "server/time_text.h"
 
 namespace incise::server::api {
@@ -121,11 +123,32 @@ namespace {
 
 // The request body as a validated curriculum, or a 422 naming the path of the first problem.
 curriculum::Curriculum curriculum_of(ApiContext& ctx) {
+  curriculum::Curriculum plan;
   try {
-    return curriculum::parse_curriculum(ctx.json_body());
+    plan = curriculum::parse_curriculum(ctx.json_body());
   } catch (const curriculum::CurriculumError& e) {
     throw ApiError(http::status::unprocessable_entity, e.what());
   }
+  // A task's named material must exist and fit its scene (docs/calibration.md).
+  for (std::size_t m = 0; m < plan.modules.size(); ++m) {
+    for (std::size_t t = 0; t < plan.modules[m].tasks.size(); ++t) {
+      const curriculum::Task& task = plan.modules[m].tasks[t];
+      if (task.material.empty()) continue;
+      const std::string path =
+          "modules[" + std::to_string(m) + "].tasks[" + std::to_string(t) + "].material: ";
+      const auto scene = live::find_scene(task.scene);
+      if (!scene) {
+        if (!db::MaterialsRepo(ctx.db()).find_by_name(task.material)) {
+          throw ApiError(http::status::unprocessable_entity,
+                         path + "no material named \"" + task.material + "\"");
+        }
+        continue;
+      }
+      scene_text_with_material(ctx.db(), scene->id, scene->text, task.material,
+                               http::status::unprocessable_entity, path);
+    }
+  }
+  return plan;
 }
 
 nlohmann::json curriculum_json(const db::CurriculumRecord& record) {

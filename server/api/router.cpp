@@ -72,6 +72,14 @@ constexpr std::array kRoutes = {
     Route{http::verb::post, "/api/curricula", api::import_curriculum},
     Route{http::verb::put, "/api/curricula/{id}", api::update_curriculum},
     Route{http::verb::get, "/api/curricula/{id}/export", api::export_curriculum},
+    Route{http::verb::get, "/api/calibration/scenes", api::list_calibration_scenes},
+    Route{http::verb::get, "/api/calibration/example", api::calibration_example},
+    Route{http::verb::get, "/api/calibration/jobs", api::list_calibration_jobs},
+    Route{http::verb::post, "/api/calibration/jobs", api::create_calibration_job},
+    Route{http::verb::get, "/api/calibration/jobs/{id}", api::get_calibration_job},
+    Route{http::verb::post, "/api/calibration/jobs/{id}/cancel", api::cancel_calibration_job},
+    Route{http::verb::get, "/api/materials", api::list_materials},
+    Route{http::verb::post, "/api/materials", api::create_material},
 };
 
 // Matches `path` against `pattern` segment by segment; fills `id` for "{id}".

@@ -51,7 +51,7 @@ ViewTarget live_target(ApiContext& ctx, std::int64_t session_id) {
 // What a replay needs, read on a leased connection; the replay itself is built after it is back.
 struct ReplayInput {
   std::string_view scene_id;
-  std::string_view scene_text;
+  std::string scene_text;  // with the recorded named material's constants, if it had one
   double tick_s = 0;
   std::vector<live::TickRecord> ticks;
   std::vector<render::MarkView> zones;  // the recorded task's visible zones
@@ -79,14 +79,19 @@ ReplayInput replay_input(ApiContext& ctx, std::int64_t recording_id) {
     throw ApiError(http::status::conflict,
                    name + " needs scene \"" + meta->scene + "\", which this server does not have");
   }
-  if (const auto refusal = live::replay_refusal(meta->scene, meta->scene_version, scene->text);
+  std::string text(scene->text);
+  if (!meta->material.empty()) {
+    text = api::scene_text_with_material(db, scene->id, scene->text, meta->material,
+                                         http::status::conflict, name + " ran with ");
+  }
+  if (const auto refusal = live::replay_refusal(meta->scene, meta->scene_version, text);
       !refusal.empty()) {
     throw ApiError(http::status::conflict, name + " cannot be replayed: " + refusal);
   }
   auto ticks = live::load_tick_records(db, recording_id);
   if (ticks.empty()) throw ApiError(http::status::conflict, name + " is empty");
   const auto task = api::find_curriculum_task(db, record->task);
-  return {scene->id, scene->text, 1.0 / meta->tick_hz, std::move(ticks),
+  return {scene->id, std::move(text), 1.0 / meta->tick_hz, std::move(ticks),
           task ? live::task_zones(*task) : std::vector<render::MarkView>{}};
 }
 

@@ -1,5 +1,6 @@
 #include "server/http/http_session.h"
 
+#include <algorithm>
 #include <boost/beast/websocket.hpp>
 #include <chrono>
 
@@ -126,11 +127,31 @@ void HttpSession::on_handshake(beast::error_code ec) {
   do_read();
 }
 
+std::size_t body_limit_for(http::verb method, std::string_view target, const ServerConfig& config) {
+  // A calibration's data file travels as the job's JSON (docs/calibration.md).
+  if (method == http::verb::post && target == "/api/calibration/jobs") return kUploadBodyLimit;
+  return config.api_body_limit;
+}
+
 void HttpSession::do_read() {
   parser_.emplace();
   parser_->header_limit(kHeaderLimit);
-  parser_->body_limit(app_->config().api_body_limit);
+  // The header first: its target decides how large a body may be (an upload's, or the API's).
+  // Beast checks a Content-Length against the limit as the header ends, so the header is read
+  // under the largest limit and the request's own is applied in on_header.
+  parser_->body_limit(std::max(kUploadBodyLimit, app_->config().api_body_limit));
   stream_.tcp().expires_after(kReadTimeout);
+  http::async_read_header(stream_, buffer_, *parser_,
+                          beast::bind_front_handler(&HttpSession::on_header, shared_from_this()));
+}
+
+void HttpSession::on_header(beast::error_code ec, std::size_t bytes) {
+  if (ec) return on_read(ec, bytes);
+  const std::size_t limit =
+      body_limit_for(parser_->get().method(), parser_->get().target(), app_->config());
+  const auto length = parser_->content_length();
+  if (length && *length > limit) return on_read(http::error::body_limit, bytes);
+  parser_->body_limit(limit);  // a chunked body counts against it as it comes
   http::async_read(stream_, buffer_, *parser_,
                    beast::bind_front_handler(&HttpSession::on_read, shared_from_this()));
 }
@@ -142,10 +163,14 @@ void HttpSession::on_read(beast::error_code ec, std::size_t) {
   }
   if (ec == http::error::body_limit) {
     // The rest of the body is still on the wire, so the connection cannot be reused.
-    return send(json_error(
-        http::status::payload_too_large,
-        "request body exceeds " + std::to_string(app_->config().api_body_limit / 1024) + " KiB", 11,
-        false));
+    return send(
+        json_error(http::status::payload_too_large,
+                   "request body exceeds " +
+                       std::to_string(body_limit_for(parser_->get().method(),
+                                                     parser_->get().target(), app_->config()) /
+                                      1024) +
+                       " KiB",
+                   11, false));
   }
   if (ec) {
     if (ec != net::error::operation_aborted && ec != net::error::connection_reset) {

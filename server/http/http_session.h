@@ -36,6 +36,10 @@ bool checks_password(const Request& request);
 // /api/exports/scores.csv): such requests run on AppState::long_reads(), never on an I/O thread.
 // A replay's upgrade (/api/recordings/{id}/replay) loads its recording there too.
 bool is_long_read(const Request& request);
+// A request body may be this large: ServerConfig::api_body_limit, except for an upload (POST
+// /api/calibration/jobs carries a calibration's data file), kUploadBodyLimit.
+inline constexpr std::size_t kUploadBodyLimit = 8 * 1024 * 1024;
+std::size_t body_limit_for(http::verb method, std::string_view target, const ServerConfig& config);
 // Whether a request target is the REST API's (/api, /api/..., with any query): else a file.
 bool is_api_target(std::string_view target);
 // A plain (not upgrade, not password-checking) request that passed refuse_request: the REST API
@@ -58,6 +62,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   void on_detect(boost::beast::error_code ec, bool tls);
   void on_handshake(boost::beast::error_code ec);
   void do_read();
+  void on_header(boost::beast::error_code ec, std::size_t bytes);
   void on_read(boost::beast::error_code ec, std::size_t bytes);
   // The request belongs to another node (server/api/forwarding.h): it answers, through here.
   void forward(const ForwardTarget& owner);

@@ -9,6 +9,7 @@
 #include <thread>
 #include <vector>
 
+#include "db/calibration_repo.h"
 #include "db/migrations.h"
 #include "db/nodes_repo.h"
 #include "server/app_state.h"
@@ -108,6 +109,10 @@ int main(int argc, char** argv) {
     }
     for (const auto id : ended.recordings)
       std::cerr << "incise-server: closed recording " << id << " left open by a crash\n";
+    if (const int failed = db::CalibrationJobsRepo(*database).fail_unfinished(
+            node_id, "the server stopped while it ran", now)) {
+      std::cerr << "incise-server: " << failed << " calibration job(s) ended by the stop\n";
+    }
     nodes.start(node_id, "", now);
   } catch (const std::exception& e) {
     std::cerr << "incise-server: " << e.what() << "\n";

@@ -4,6 +4,7 @@
 // the text: a recording stores it, and a replay refuses to run on another runtime or against a
 // scene that has changed since.
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -19,6 +20,11 @@ struct SceneSource {
 
 // The scene with this id, or nullopt.
 std::optional<SceneSource> find_scene(std::string_view id);
+// Every scene, in the order of their ids.
+std::span<const SceneSource> all_scenes();
+// An example probe data file for calibrating the scene (sim/scenes/calibration/X.json has
+// X_pushes.csv beside it; docs/calibration.md), or nullopt.
+std::optional<std::string_view> find_example_data(std::string_view scene_id);
 
 // FNV-1a 64 of the text, 16 hex digits.
 std::string text_hash(std::string_view text);

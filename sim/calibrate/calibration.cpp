@@ -90,6 +90,20 @@ std::vector<char> fixed_nodes(const Scene& scene, const TetMesh& mesh) {
   return fixed;
 }
 
+void check_probe_data(const Scene& scene, const TetMesh& mesh, const ProbeData& data,
+                      Real max_contact_distance) {
+  const std::vector<char> fixed = fixed_nodes(scene, mesh);
+  const std::vector<ProbeExperiment> experiments =
+      attach_probe_data(data, mesh.rest, fixed,
+                        max_contact_distance > 0 ? max_contact_distance : mean_edge_length(mesh));
+  Real sum = 0;
+  for (const ProbeExperiment& e : experiments)
+    sum += e.measured.squaredNorm();
+  if (!(sum > 0)) {
+    throw CalibrationError("the probe never moves in the data: nothing tells the stiffness");
+  }
+}
+
 CalibrationResult calibrate(const Scene& scene, const TetMesh& mesh, const ProbeData& data,
                             const CalibrationOptions& options) {
   if (!(options.smoothing >= 0)) throw CalibrationError("smoothing must be >= 0");

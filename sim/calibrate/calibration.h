@@ -70,6 +70,11 @@ struct CalibrationResult {
 // rest).
 std::vector<char> fixed_nodes(const Scene& scene, const TetMesh& mesh);
 
+// Checks, without simulating, that the body can take the data: every contact near a free node,
+// the probe moving somewhere. Throws CalibrationError as calibrate does.
+void check_probe_data(const Scene& scene, const TetMesh& mesh, const ProbeData& data,
+                      Real max_contact_distance = 0);
+
 // Throws CalibrationError for data the body cannot take (no contact, a fixed node, a probe that
 // never moves) and for options out of range.
 CalibrationResult calibrate(const Scene& scene, const TetMesh& mesh, const ProbeData& data,

@@ -74,7 +74,6 @@ void genetic_algorithm(const Problem& p, const OptimiserSettings& s, Evaluator& 
   constexpr int kTournament = 3;
   constexpr Real kCrossover = 0.9;
   constexpr Real kBlend = 0.3;  // BLX-alpha
-  constexpr std::size_t kStall = 30;
   const Real mutation_rate = std::max(Real(1) / static_cast<Real>(n), Real(0.1));
   std::mt19937_64 random(s.seed);
   std::normal_distribution<Real> normal;
@@ -141,13 +140,6 @@ void genetic_algorithm(const Problem& p, const OptimiserSettings& s, Evaluator& 
     population = std::move(next);
     fitness = std::move(next_fitness);
     eval.iteration_done();
-    // Converged: the best has gained less than the tolerance over the last kStall generations.
-    const auto& h = result.history;
-    if (h.size() > kStall && std::isfinite(h[h.size() - 1 - kStall]) &&
-        h[h.size() - 1 - kStall] - h.back() <= s.tolerance * h[h.size() - 1 - kStall]) {
-      result.stopped = "converged";
-      break;
-    }
   }
   // The spread of the better half.
   order.resize(population.size());
@@ -256,6 +248,7 @@ void levenberg_marquardt(const Problem& p, const OptimiserSettings& s, Evaluator
   const auto n = p.start.size();
   VecX z = clip(p.start, p);
   VecX r;
+  if (!eval.can_evaluate()) return;  // the start's residuals again: minimise kept only its misfit
   Real f = eval.misfit(z, r);
   if (!std::isfinite(f)) {
     result.stopped = "the start cannot be evaluated";
@@ -350,7 +343,10 @@ OptimiserResult minimise(const Problem& problem, const OptimiserSettings& settin
   if (!(problem.lower.array() < problem.upper.array()).all()) {
     throw std::invalid_argument("the box is empty on some coordinate");
   }
-  if (!(settings.initial_step > 0)) throw std::invalid_argument("initial_step must be > 0");
+  if (!(settings.initial_step > 0) || !std::isfinite(settings.initial_step)) {
+    throw std::invalid_argument("initial_step must be finite and > 0");
+  }
+  if (!problem.residuals) throw std::invalid_argument("the problem has no residuals");
   OptimiserResult result;
   result.spread = VecX::Zero(n);
   Evaluator eval(problem, settings, result);

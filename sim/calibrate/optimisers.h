@@ -50,7 +50,7 @@ struct OptimiserSettings {
   std::uint64_t seed = 1;      // ga, cmaes
   int population = 0;          // ga, cmaes; 0 = the method's default (ga 40, cmaes 4 + 3 ln n)
   Real initial_step = 0.3;     // ga's initial spread, cmaes's sigma, in z (0.3: a factor 1.35)
-  Real tolerance = 1e-10;      // stop when an iteration lowers the misfit by less, relatively
+  Real tolerance = 1e-10;      // lm: stop when an iteration lowers the misfit by less, relatively
   const std::atomic<bool>* cancel = nullptr;      // stop soon after it becomes true
   std::function<void(const Progress&)> progress;  // after each generation or iteration
 };

@@ -36,7 +36,9 @@ std::vector<std::string_view> split(std::string_view line) {
 
 std::optional<Real> number(std::string_view text) {
   Real value = 0;
-  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+  if (text.size() > 1 && text.front() == '+' && text[1] != '-' && text[1] != '+') {
+    text.remove_prefix(1);
+  }
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value)) {
     return std::nullopt;
@@ -55,7 +57,7 @@ std::string quoted(std::string_view text) {
 
 std::string fixed(Real value) {
   std::ostringstream s;
-  s.precision(6);
+  s.precision(10);
   s << value;
   return s.str();
 }
@@ -63,6 +65,8 @@ std::string fixed(Real value) {
 }  // namespace
 
 ProbeData parse_probe_csv(std::string_view text) {
+  // A spreadsheet's UTF-8 byte-order mark is not part of the first column's name.
+  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
   std::array<int, kColumns.size()> where{};
   where.fill(-1);
   std::size_t fields_per_row = 0;
@@ -126,8 +130,11 @@ ProbeData parse_probe_csv(std::string_view text) {
     ProbeSample sample;
     sample.time = v[kTime];
     sample.position = {v[kX], v[kY], v[kZ]};
-    const Vec3 direction(v[kDirX], v[kDirY], v[kDirZ]);
-    if (!(direction.norm() > 1e-12)) throw CalibrationError(at + "the direction is zero");
+    // Scaled by its largest component first, so that no norm overflows or underflows.
+    Vec3 direction(v[kDirX], v[kDirY], v[kDirZ]);
+    const Real largest = direction.cwiseAbs().maxCoeff();
+    if (!(largest > 0)) throw CalibrationError(at + "the direction is zero");
+    direction /= largest;
     sample.direction = direction.normalized();
     if (v[kForce] < 0) {
       throw CalibrationError(at + "force_n " + fixed(v[kForce]) +

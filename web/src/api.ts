@@ -335,6 +335,135 @@ export type CalibrationAnswer = z.infer<typeof calibration_answer>;
 const listed_user = user.extend({ instructor_ids: z.array(z.number()).optional() });
 export type ListedUser = z.infer<typeof listed_user>;
 
+// Tissue calibration (docs/calibration.md): a scene's material constants fitted to a probe's
+// force-displacement data by a job on the server, and the materials saved from finished jobs.
+const calibration_method = z.enum(['ga', 'cmaes', 'lm']);
+export type CalibrationMethod = z.infer<typeof calibration_method>;
+
+/** What is fitted: E and nu per label of the scene's mesh, or a modulus per node (mass-spring). */
+const calibration_per = z.enum(['label', 'node']);
+export type CalibrationPer = z.infer<typeof calibration_per>;
+
+/** A scene that can be calibrated (GET /api/calibration/scenes). */
+const calibration_scene = z.object({
+  /** Its path on the server, e.g. "scenes/calibration/cube.json". */
+  id: z.string(),
+  title: z.string(),
+  /** The material model ("mss", "corotational", …). */
+  model: z.string(),
+  /** What may be fitted in it. */
+  per: z.array(calibration_per),
+  /** Whether GET /api/calibration/example?scene=<id> has a data file for it. */
+  has_example: z.boolean(),
+});
+export type CalibrationScene = z.infer<typeof calibration_scene>;
+
+const calibration_job = z.object({
+  id: z.number(),
+  scene: z.string(),
+  method: calibration_method,
+  per: calibration_per,
+  /** The most simulations (evaluations of the misfit) the search may run. */
+  budget: z.number(),
+  data_name: z.string(),
+  contacts: z.number(),
+  samples: z.number(),
+  status: z.enum(['queued', 'running', 'done', 'failed', 'cancelled']),
+  /** After each generation (ga, cmaes) or iteration (lm); null before the first. The misfit is the best so far. */
+  progress: z.object({ iteration: z.number(), evaluations: z.number(), misfit: z.number() }).nullable(),
+  created_at: z.string(),
+  created_by: z.string(),
+  finished_at: z.string().nullable(),
+  /** Why it failed. */
+  error: z.string().nullable(),
+  /** The name of the material saved from it. */
+  material: z.string().nullable(),
+});
+export type CalibrationJob = z.infer<typeof calibration_job>;
+export type CalibrationStatus = CalibrationJob['status'];
+
+/** A material's constants: E [Pa], nu, density [kg/m^3], damping. */
+const material_constants = z.object({ E: z.number(), nu: z.number(), density: z.number(), damping: z.number() });
+
+/** One fitted constant: "E[0]" (Pa) or "nu[0]" of label 0, or "E[17]" of node 17 (per node). */
+const calibrated_value = z.object({
+  name: z.string(),
+  /** Its label or node. */
+  owner: z.number(),
+  /** The scene's value. */
+  start: z.number(),
+  value: z.number(),
+  /** The search's uncertainty of the value, in its unit. */
+  spread: z.number(),
+});
+export type CalibratedValue = z.infer<typeof calibrated_value>;
+
+/** One contact's displacement along the push [m] over time [s]: measured, and simulated with the
+ * scene's constants (start) and the calibrated ones (fitted). */
+const contact_fit = z.object({
+  contact: z.number(),
+  node: z.number(),
+  /** From the probe's first position to the node it pushes [m]. */
+  distance: z.number(),
+  time: z.array(z.number()),
+  force: z.array(z.number()),
+  measured: z.array(z.number()),
+  start: z.array(z.number()),
+  fitted: z.array(z.number()),
+});
+export type ContactFit = z.infer<typeof contact_fit>;
+
+const calibration_result = z.object({
+  material: material_constants.extend({ model: z.string() }),
+  /** Per label other than 0, by label. */
+  materials: z.record(z.string(), material_constants).optional(),
+  /** Per node [Pa], when fitted per node. */
+  node_moduli: z.array(z.number()).optional(),
+  calibration: z.object({
+    method: z.string(),
+    parameters: calibration_per,
+    /** Relative: sum |u_sim - u_measured|^2 / sum |u_measured|^2. */
+    misfit: z.number(),
+    start_misfit: z.number(),
+    evaluations: z.number(),
+    iterations: z.number(),
+    seconds: z.number(),
+    /** Why the search stopped: "converged", "budget", "cancelled", … */
+    stopped: z.string(),
+    /** The best misfit after each generation or iteration. */
+    history: z.array(z.number()),
+    values: z.array(calibrated_value),
+    fits: z.array(contact_fit),
+  }),
+});
+export type CalibrationResult = z.infer<typeof calibration_result>;
+
+/** A tissue material saved from a calibration; a task uses it by naming it in its curriculum. */
+const material = material_constants.extend({
+  id: z.number(),
+  name: z.string(),
+  scene: z.string(),
+  model: z.string(),
+  method: z.string(),
+  misfit: z.number(),
+  job: z.number().nullable(),
+  created_at: z.string(),
+  created_by: z.string(),
+  /** The keys of the tasks whose curriculum names it. */
+  tasks: z.array(z.string()),
+});
+export type Material = z.infer<typeof material>;
+
+/** What POST /api/calibration/jobs takes: `data` is the CSV file's text. */
+export interface CalibrationRequest {
+  scene: string;
+  method: CalibrationMethod;
+  per: CalibrationPer;
+  budget: number;
+  data: string;
+  data_name: string;
+}
+
 /** The schema of each GET endpoint's answer, for api below and for tests. */
 export const schemas = {
   user,
@@ -357,6 +486,10 @@ export const schemas = {
   review,
   annotations: z.array(annotation),
   adjustments: z.array(score_adjustment),
+  calibration_scenes: z.object({ scenes: z.array(calibration_scene) }),
+  calibration_jobs: z.object({ jobs: z.array(calibration_job) }),
+  calibration_job: z.object({ job: calibration_job, result: calibration_result.nullable() }),
+  materials: z.object({ materials: z.array(material) }),
 };
 
 export class ApiError extends Error {
@@ -504,4 +637,23 @@ export const api = {
     request<ScoreAdjustment>('POST', `/api/sessions/${session_id}/adjustments`, { passed, reason }),
   update_curriculum: (id: number, definition: CurriculumEntry['definition']) =>
     request<CurriculumEntry>('PUT', `/api/curricula/${id}`, definition),
+
+  calibration_scenes: async () => (await get('/api/calibration/scenes', schemas.calibration_scenes)).scenes,
+  /** newest first */
+  calibration_jobs: async () => (await get('/api/calibration/jobs', schemas.calibration_jobs)).jobs,
+  /** The job with its result (null until it is done). */
+  calibration_job: (id: number) => get(`/api/calibration/jobs/${id}`, schemas.calibration_job),
+  start_calibration: async (job: CalibrationRequest) =>
+    (await request<{ job: CalibrationJob }>('POST', '/api/calibration/jobs', job)).job,
+  cancel_calibration: async (id: number) =>
+    (await request<{ job: CalibrationJob }>('POST', `/api/calibration/jobs/${id}/cancel`, {})).job,
+  materials: async () => (await get('/api/materials', schemas.materials)).materials,
+  /** Saves a done job's calibrated material under `name` (409 when the name is taken). */
+  save_material: async (job: number, name: string) =>
+    (await request<{ material: Material }>('POST', '/api/materials', { job, name })).material,
 };
+
+/** The example data file of a scene (text/csv), for a download link. */
+export function calibration_example_url(scene: string): string {
+  return `/api/calibration/example?scene=${encodeURIComponent(scene)}`;
+}

@@ -4,7 +4,7 @@ import { QueryClientProvider } from '@tanstack/react-query';
 import { render, type RenderResult } from '@testing-library/react';
 import type { ReactElement } from 'react';
 import { vi } from 'vitest';
-import type { MetricInfo } from './api';
+import type { CalibrationJob, MetricInfo } from './api';
 import { make_query_client } from './query_client';
 import type { StreamMetrics } from './stream';
 
@@ -14,9 +14,18 @@ export interface SentRequest {
   body: unknown;
 }
 
+/** A route's answer with another status than 200, e.g. `new Reply(409, { error: '…' })`. */
+export class Reply {
+  constructor(
+    readonly status: number,
+    readonly body: unknown,
+  ) {}
+}
+
 /**
  * Replaces fetch: "GET /api/x" answers `routes["GET /api/x"]` with 200 (a function of the request
- * body for other methods), anything else 404. Returns the requests sent, in order.
+ * body for other methods; a Reply for another status), anything else 404. Returns the requests
+ * sent, in order.
  */
 export function fake_server(routes: Record<string, unknown>): SentRequest[] {
   const sent: SentRequest[] = [];
@@ -31,6 +40,7 @@ export function fake_server(routes: Record<string, unknown>): SentRequest[] {
     }
     const route = routes[key];
     const answer: unknown = typeof route === 'function' ? (route as (b: unknown) => unknown)(body) : route;
+    if (answer instanceof Reply) return Promise.resolve(new Response(JSON.stringify(answer.body), { status: answer.status }));
     return Promise.resolve(new Response(JSON.stringify(answer), { status: 200 }));
   });
   vi.stubGlobal('fetch', fetch);
@@ -80,6 +90,28 @@ export function stream_metrics(change: Partial<StreamMetrics>): StreamMetrics {
     steps: 0,
     sim_rate_hz: 500,
     frames_sent: 1,
+    ...change,
+  };
+}
+
+/** A calibration job as GET /api/calibration/jobs lists it, with `change` over a running one's. */
+export function calibration_job(change: Partial<CalibrationJob>): CalibrationJob {
+  return {
+    id: 7,
+    scene: 'scenes/calibration/cube.json',
+    method: 'lm',
+    per: 'label',
+    budget: 2000,
+    data_name: 'pushes.csv',
+    contacts: 2,
+    samples: 200,
+    status: 'running',
+    progress: { iteration: 12, evaluations: 480, misfit: 3.1e-4 },
+    created_at: '2026-11-29T15:00:00Z',
+    created_by: 'admin',
+    finished_at: null,
+    error: null,
+    material: null,
     ...change,
   };
 }

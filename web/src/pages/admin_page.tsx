@@ -1,4 +1,4 @@
-import type { ReactNode } from 'react';
+import { useState, type ReactNode } from 'react';
 import { api, type ListedUser, type Station } from '../api';
 import { useAuth } from '../auth';
 import { AuditLog } from '../components/admin/audit_log';
@@ -15,6 +15,10 @@ import { Card } from '../components/common/card';
 import { DataTable } from '../components/common/data_table';
 import { ResourceView } from '../components/common/resource_view';
 import { BenchmarksTable } from '../components/review/benchmarks_table';
+import { CalibrationForm } from '../components/tissue/calibration_form';
+import { CalibrationJobs, useCalibrationJobs } from '../components/tissue/calibration_jobs';
+import { CalibrationResult } from '../components/tissue/calibration_result';
+import { MaterialsTable } from '../components/tissue/materials_table';
 import { Link } from '../router';
 import { useResource } from '../use_resource';
 import { usePageTitle } from '../use_page_title';
@@ -26,6 +30,7 @@ export const admin_sections = [
   { key: 'stations', title: 'Stations' },
   { key: 'curricula', title: 'Curricula' },
   { key: 'experts', title: 'Experts' },
+  { key: 'calibration', title: 'Tissue calibration' },
   { key: 'exports', title: 'Exports' },
   { key: 'audit', title: 'Audit log' },
 ] as const;
@@ -40,6 +45,7 @@ const sections: Record<AdminSection, () => ReactNode> = {
   stations: () => <StationsSection />,
   curricula: () => <CurriculaSection />,
   experts: () => <ExpertsSection />,
+  calibration: () => <TissueCalibrationSection />,
   exports: () => <ExportsSection />,
   audit: () => (
     <Card id="audit" title="Audit log">
@@ -206,6 +212,57 @@ function ExpertsSection() {
       {benchmarks.error && <p role="alert">Could not load the benchmarks: {benchmarks.error}</p>}
       {benchmarks.data && <BenchmarksTable benchmarks={benchmarks.data} />}
     </Card>
+  );
+}
+
+function TissueCalibrationSection() {
+  const jobs = useCalibrationJobs();
+  const materials = useResource(['materials'], api.materials);
+  const [selected, set_selected] = useState<number | null>(null);
+  const selected_job = jobs.data?.find((j) => j.id === selected);
+  const { reload: reload_jobs } = jobs;
+  const { reload: reload_materials } = materials;
+  return (
+    <>
+      <div className="columns">
+        <Card id="new-calibration" title="New calibration">
+          <CalibrationForm
+            on_created={(job) => {
+              set_selected(job.id);
+              reload_jobs();
+            }}
+          />
+        </Card>
+        <Card id="calibration-jobs" title="Calibration runs" grow>
+          <ResourceView resource={jobs} what="calibration runs" empty="No calibration has run yet.">
+            {(data) => (
+              <CalibrationJobs jobs={data} selected={selected} on_select={set_selected} on_changed={reload_jobs} />
+            )}
+          </ResourceView>
+        </Card>
+      </div>
+      {selected_job && (
+        <Card id="calibration-result" title={`Calibration run #${selected_job.id}`}>
+          <CalibrationResult
+            key={selected_job.id}
+            job={selected_job}
+            on_saved={() => {
+              reload_materials();
+              reload_jobs();
+            }}
+          />
+        </Card>
+      )}
+      <Card id="materials" title="Tissue materials">
+        <p className="hint">
+          A task uses a material by naming it in its curriculum definition, <code>"material": "&lt;name&gt;"</code>{' '}
+          (the Curricula section's editor).
+        </p>
+        <ResourceView resource={materials} what="materials" empty="No material saved yet. Save one from a done calibration.">
+          {(data) => <MaterialsTable materials={data} />}
+        </ResourceView>
+      </Card>
+    </>
   );
 }
 
