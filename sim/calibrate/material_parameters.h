@@ -41,6 +41,8 @@ class MaterialParameters {
   const VecX& lower() const { return lower_; }
   const VecX& upper() const { return upper_; }
   const VecX& masses() const { return masses_; }
+  // Springs of the mass-spring model (node moduli; 0 otherwise).
+  Eigen::Index spring_count() const { return springs_.rows(); }
   // Node or label of coordinate i.
   int owner(int i) const { return owner_[static_cast<std::size_t>(i)]; }
 

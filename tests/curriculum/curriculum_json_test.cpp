@@ -218,7 +218,7 @@ TEST(CurriculumJson, ShapeErrorsNameTheirPath) {
       {[](json& v) { v["modules"][0]["tasks"][1]["scenery"] = "x"; },
        "modules[0].tasks[1].scenery: unknown key (expected one of: key, name, scene, "
        "station_kind, instructions, tools, metrics, completion, consecutive_passes_required, "
-       "prerequisites, protected_zones, targets, safe_force_n, never_force_n, portal_m)"},
+       "prerequisites, protected_zones, targets, safe_force_n, never_force_n, portal_m, material)"},
       {[](json& v) { v["modules"][0]["tasks"][1]["tools"][1] = nullptr; },
        "modules[0].tasks[1].tools[1]: must be a string"},
       {[](json& v) { v["modules"][0]["tasks"][1]["prerequisites"] = "palpation"; },

@@ -184,10 +184,10 @@ TEST_F(MigrationsTest, BothEnginesBuildTheSameTablesAndColumns) {
 
 TEST_F(MigrationsTest, FreshDatabaseGetsTheRecordingColumns) {
   apply_migrations(db());
-  EXPECT_EQ(
-      columns(db(), "recordings"),
-      (std::vector<std::string>{"id", "session_id", "duration_s", "created_at", "scene",
-                                "scene_version", "seed", "tick_hz", "state", "final_state_hash"}));
+  EXPECT_EQ(columns(db(), "recordings"),
+            (std::vector<std::string>{"id", "session_id", "duration_s", "created_at", "scene",
+                                      "scene_version", "seed", "tick_hz", "state",
+                                      "final_state_hash", "material"}));
 }
 
 // A database a build with only 001 created, with a recording and a chunk in it, is upgraded in

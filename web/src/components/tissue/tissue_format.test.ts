@@ -21,6 +21,7 @@ describe('numbers', () => {
   it('shows moduli in kPa to three significant figures and nu as it is', () => {
     expect(format_kpa(12345)).toBe('12.3 kPa');
     expect(format_kpa(3000)).toBe('3.00 kPa');
+    expect(format_kpa(2.46e-13)).toBe('2.46e-16 kPa');
     expect(format_constant('E[4]', 250)).toBe('0.250 kPa');
     expect(format_constant('nu[0]', 0.45)).toBe('0.45');
   });

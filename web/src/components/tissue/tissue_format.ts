@@ -35,9 +35,11 @@ export function is_active(job: CalibrationJob): boolean {
 const three_figures = new Intl.NumberFormat(undefined, { minimumSignificantDigits: 3, maximumSignificantDigits: 3 });
 const plain = new Intl.NumberFormat(undefined, { maximumSignificantDigits: 3 });
 
-/** "12.3 kPa" for 12345 Pa. */
+/** "12.3 kPa" for 12345 Pa; "2.46e-16 kPa" for a spread too small for decimals. */
 export function format_kpa(pa: number): string {
-  return `${three_figures.format(pa / 1000)} kPa`;
+  const kpa = pa / 1000;
+  if (kpa !== 0 && Math.abs(kpa) < 0.001) return `${kpa.toExponential(2)} kPa`;
+  return `${three_figures.format(kpa)} kPa`;
 }
 
 /** A fitted constant in its unit: E (Pa) in kPa, others (nu) as they are. */
