@@ -1,7 +1,6 @@
 #include "db/calibration_repo.h"
 
 #include "db/statement.h"
-#include "db/transaction.h"
 
 namespace incise::db {
 namespace {
@@ -108,19 +107,24 @@ std::string CalibrationJobsRepo::result(std::int64_t id) {
 }
 
 std::optional<CalibrationJob> CalibrationJobsRepo::start_next(const std::string& node) {
-  Transaction tx(db_);
-  std::optional<std::int64_t> id;
-  {
-    auto q = db_.prepare(
-        "SELECT id FROM calibration_jobs WHERE node_id = ? AND status = 'queued' ORDER BY id "
-        "LIMIT 1");
-    q.bind(1, node);
-    if (q.step()) id = q.int64(0);
+  // A plain read, then a conditional write: no lock while nothing is queued, and a job cancelled
+  // between the two is not started (its status is no longer 'queued').
+  for (;;) {
+    std::optional<std::int64_t> id;
+    {
+      auto q = db_.prepare(
+          "SELECT id FROM calibration_jobs WHERE node_id = ? AND status = 'queued' ORDER BY id "
+          "LIMIT 1");
+      q.bind(1, node);
+      if (q.step()) id = q.int64(0);
+    }
+    if (!id) return std::nullopt;
+    auto started = db_.prepare(
+        "UPDATE calibration_jobs SET status = 'running' WHERE id = ? AND status = 'queued' "
+        "RETURNING id");
+    started.bind(1, *id);
+    if (started.step()) return find(*id);
   }
-  if (!id) return std::nullopt;
-  db_.prepare("UPDATE calibration_jobs SET status = 'running' WHERE id = ?").bind(1, *id).run();
-  tx.commit();
-  return find(*id);
 }
 
 bool CalibrationJobsRepo::set_progress(std::int64_t id, const std::string& progress) {
@@ -145,21 +149,18 @@ void CalibrationJobsRepo::finish(std::int64_t id, const std::string& status,
 }
 
 bool CalibrationJobsRepo::request_cancel(std::int64_t id, std::int64_t now) {
-  Transaction tx(db_);
-  auto job = find(id);
-  if (!job || (job->status != "queued" && job->status != "running")) return false;
-  if (job->status == "queued") {
-    db_.prepare(
-           "UPDATE calibration_jobs SET status = 'cancelled', cancel_requested = 1, error = "
-           "'cancelled before it started', finished_at = ? WHERE id = ?")
-        .bind(1, now)
-        .bind(2, id)
-        .run();
-  } else {
-    db_.prepare("UPDATE calibration_jobs SET cancel_requested = 1 WHERE id = ?").bind(1, id).run();
-  }
-  tx.commit();
-  return true;
+  // Each a single conditional write, so that a job starting or ending meanwhile is never missed.
+  auto queued = db_.prepare(
+      "UPDATE calibration_jobs SET status = 'cancelled', cancel_requested = 1, error = "
+      "'cancelled before it started', finished_at = ? WHERE id = ? AND status = 'queued' "
+      "RETURNING id");
+  queued.bind(1, now).bind(2, id);
+  if (queued.step()) return true;
+  auto running = db_.prepare(
+      "UPDATE calibration_jobs SET cancel_requested = 1 WHERE id = ? AND status = 'running' "
+      "RETURNING id");
+  running.bind(1, id);
+  return running.step();
 }
 
 int CalibrationJobsRepo::fail_unfinished(const std::string& node, const std::string& reason,

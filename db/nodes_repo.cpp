@@ -83,6 +83,13 @@ std::vector<std::string> NodesRepo::sweep(const std::string& self, std::int64_t 
     ended.sessions.insert(ended.sessions.end(), of_node.sessions.begin(), of_node.sessions.end());
     ended.recordings.insert(ended.recordings.end(), of_node.recordings.begin(),
                             of_node.recordings.end());
+    // Its calibration jobs end too: nobody else runs them, and a cancel would wait forever.
+    db_.prepare(
+           "UPDATE calibration_jobs SET status = 'failed', error = 'its server node stopped', "
+           "finished_at = ? WHERE node_id = ? AND status IN ('queued', 'running')")
+        .bind(1, now)
+        .bind(2, node)
+        .run();
     db_.prepare("DELETE FROM nodes WHERE id = ?").bind(1, node).run();
   }
   tx.commit();

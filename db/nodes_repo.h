@@ -39,7 +39,8 @@ class NodesRepo {
   // dropped. One IMMEDIATE transaction.
   EndedSessions end_sessions_of(const std::string& node, std::int64_t now, bool and_unowned);
   // Every node but `self` whose last heartbeat is older than `timeout_s`: its sessions are ended as
-  // above and the node forgotten. Returns the nodes swept; `ended` gains what was ended.
+  // above, its queued and running calibration jobs failed, and the node forgotten. Returns the
+  // nodes swept; `ended` gains what was ended.
   std::vector<std::string> sweep(const std::string& self, std::int64_t now, std::int64_t timeout_s,
                                  EndedSessions& ended);
 

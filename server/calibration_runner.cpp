@@ -1,6 +1,7 @@
 #include "server/calibration_runner.h"
 
 #include <chrono>
+#include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
@@ -40,8 +41,8 @@ void CalibrationRunner::run() {
   for (;;) {
     {
       std::unique_lock lock(mutex_);
-      // Also every few seconds: a job queued while this node was busy elsewhere is not missed.
-      woken_.wait_for(lock, std::chrono::seconds(5), [this] { return pending_ || stopping_; });
+      // wake() follows every job this node queues; the drain below takes any that came meanwhile.
+      woken_.wait(lock, [this] { return pending_ || stopping_; });
       if (stopping_) return;
       pending_ = false;
     }
@@ -94,6 +95,7 @@ void CalibrationRunner::run_job(std::int64_t job_id) {
     options.progress = [&](const Progress& progress) {
       const auto now = std::chrono::steady_clock::now();
       if (now - last_write < std::chrono::milliseconds(500)) return;
+      if (!std::isfinite(progress.misfit)) return;  // nothing evaluable yet: nothing to show
       last_write = now;
       const nlohmann::json line = {{"iteration", progress.iteration},
                                    {"evaluations", progress.evaluations},
@@ -116,7 +118,8 @@ void CalibrationRunner::run_job(std::int64_t job_id) {
       std::lock_guard lock(mutex_);
       error = stopping_ ? "the server stopped while it ran" : "cancelled";
     }
-    // The last progress, whatever the throttle held back.
+    // The last progress, whatever the throttle held back (a misfit that never became finite is
+    // JSON null: the job then fails below or shows no fit).
     const nlohmann::json line = {{"iteration", fit.search.iterations},
                                  {"evaluations", fit.search.evaluations},
                                  {"misfit", fit.search.misfit}};

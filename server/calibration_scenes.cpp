@@ -1,8 +1,10 @@
 #include "server/calibration_scenes.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <optional>
+#include <set>
 
 #include "server/live/scene_library.h"
 #include "sim/calibrate/calibration.h"
@@ -26,14 +28,6 @@ std::optional<sim::Scene> calibratable(const live::SceneSource& source) {
   }
 }
 
-std::string_view model_name(sim::MaterialModel model) {
-  for (const std::string_view name : {"mss", "linear", "corotational", "corotational_polar",
-                                      "corotational_nodal_pressure", "stvk", "neohookean"}) {
-    if (sim::material_model_named(name) == model) return name;
-  }
-  return "mss";
-}
-
 }  // namespace
 
 std::vector<CalibrationScene> calibration_scenes() {
@@ -43,7 +37,7 @@ std::vector<CalibrationScene> calibration_scenes() {
     if (!scene) continue;
     CalibrationScene entry;
     entry.id = source.id;
-    entry.model = model_name(scene->material.model);
+    entry.model = sim::material_model_name(scene->material.model);
     entry.per_node = scene->material.model == sim::MaterialModel::mass_spring &&
                      scene->material.volume_stiffness == 0;
     entry.has_example = live::find_example_data(source.id).has_value();
@@ -77,6 +71,42 @@ CalibrationSetup calibration_setup(std::string_view scene_id, std::string_view c
     throw CalibrationError(std::string("data: ") + e.what());
   }
   return setup;
+}
+
+void check_job_size(const CalibrationSetup& setup, bool per_node, std::string_view method) {
+  std::size_t samples = 0;
+  for (const auto& c : setup.data.contacts)
+    samples += c.samples.size();
+  const std::size_t contacts = setup.data.contacts.size();
+  if (contacts > kMaxJobContacts) {
+    throw CalibrationError("data: " + std::to_string(contacts) + " contacts, at most " +
+                           std::to_string(kMaxJobContacts));
+  }
+  if (samples > kMaxJobSamples) {
+    throw CalibrationError("data: " + std::to_string(samples) + " samples, at most " +
+                           std::to_string(kMaxJobSamples));
+  }
+  // Parameters: a modulus per node, or per label (and nu with it for the FEM models).
+  std::set<int> labels;
+  for (Eigen::Index t = 0; t < setup.mesh.labels.size(); ++t)
+    labels.insert(setup.mesh.labels[t]);
+  const bool fem = setup.scene.material.model != sim::MaterialModel::mass_spring;
+  const double parameters =
+      per_node ? setup.mesh.num_nodes()
+               : static_cast<double>(std::max<std::size_t>(labels.size(), 1)) * (fem ? 2 : 1);
+  // Residuals: three per sample, and per node a prior term per spring (about 7 per node).
+  const double residuals = 3.0 * static_cast<double>(samples) + (per_node ? 7.0 * parameters : 0);
+  if (method == "lm" && residuals * parameters > kMaxJacobianEntries) {
+    throw CalibrationError("data: lm's Jacobian would hold " +
+                           std::to_string(static_cast<long long>(residuals * parameters)) +
+                           " numbers (at most 25000000): fewer samples, per label, or ga");
+  }
+  if (method == "cmaes" && parameters > kMaxCmaesParameters) {
+    throw CalibrationError("per: cmaes fits at most " + std::to_string(kMaxCmaesParameters) +
+                           " parameters, and this scene has " +
+                           std::to_string(static_cast<long long>(parameters)) +
+                           " nodes: per label, or lm");
+  }
 }
 
 }  // namespace incise::server

@@ -32,4 +32,14 @@ struct CalibrationSetup {
 // where: "data: line 7: ...", "scene ...: ...".
 CalibrationSetup calibration_setup(std::string_view scene_id, std::string_view csv);
 
+// What one node's job may ask for, so that no upload can take the server's memory or its
+// calibration thread for hours: at most kMaxJobContacts contacts and kMaxJobSamples samples; lm's
+// Jacobian (residuals by parameters) at most kMaxJacobianEntries doubles; cmaes's covariance at
+// most kMaxCmaesParameters square. Throws sim::calibrate::CalibrationError saying which.
+inline constexpr std::size_t kMaxJobContacts = 64;
+inline constexpr std::size_t kMaxJobSamples = 200'000;
+inline constexpr double kMaxJacobianEntries = 2.5e7;
+inline constexpr int kMaxCmaesParameters = 500;
+void check_job_size(const CalibrationSetup& setup, bool per_node, std::string_view method);
+
 }  // namespace incise::server

@@ -19,20 +19,6 @@ namespace {
 
 constexpr auto kMetricsPeriod = std::chrono::milliseconds(100);
 
-// The value of the first key=value pair with this key, if any.
-std::optional<std::string_view> query_value(std::string_view query, std::string_view key) {
-  std::size_t at = 0;
-  while (at < query.size()) {
-    auto end = query.find('&', at);
-    if (end == std::string_view::npos) end = query.size();
-    const auto pair = query.substr(at, end - at);
-    const auto eq = pair.find('=');
-    if (eq != std::string_view::npos && pair.substr(0, eq) == key) return pair.substr(eq + 1);
-    at = end + 1;
-  }
-  return std::nullopt;
-}
-
 int query_int(std::string_view query, std::string_view key, int fallback, int lo, int hi) {
   const auto text = query_value(query, key);
   if (!text) return fallback;

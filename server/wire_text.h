@@ -5,6 +5,7 @@
 // None of these functions throws on any input (only std::bad_alloc can escape).
 #include <cstddef>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -40,5 +41,13 @@ bool is_plain_text(std::string_view text, bool multiline);
 // value.dump(), with any invalid UTF-8 inside strings replaced by U+FFFD instead of nlohmann's
 // type_error 316.
 std::string dump_json(const nlohmann::json& value);
+
+// The value of the first key=value pair with this key in a URL's query (the part after '?'),
+// as it is written (still percent-encoded), if any.
+std::optional<std::string_view> query_value(std::string_view query, std::string_view key);
+
+// The text a query value percent-encodes ("scenes%2Fcube.json" is "scenes/cube.json", '+' a
+// space), or nullopt for a '%' not followed by two hex digits.
+std::optional<std::string> percent_decoded(std::string_view text);
 
 }  // namespace incise::server

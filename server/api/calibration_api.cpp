@@ -19,6 +19,7 @@
 #include "server/calibration_scenes.h"
 #include "server/live/scene_library.h"
 #include "server/time_text.h"
+#include "server/wire_text.h"
 #include "sim/calibrate/optimisers.h"
 
 namespace incise::server::api {
@@ -101,42 +102,6 @@ db::CalibrationJob existing_job(db::Database& db, std::int64_t id) {
   return *job;
 }
 
-// "scene" of the request's query, percent-decoded; "" when absent.
-std::string scene_query(std::string_view target) {
-  const auto question = target.find('?');
-  if (question == std::string_view::npos) return "";
-  std::string_view query = target.substr(question + 1);
-  while (!query.empty()) {
-    const auto amp = std::min(query.find('&'), query.size());
-    const std::string_view pair = query.substr(0, amp);
-    query.remove_prefix(std::min(amp + 1, query.size()));
-    if (!pair.starts_with("scene=")) continue;
-    std::string out;
-    const std::string_view value = pair.substr(6);
-    const auto hex = [](char c) -> int {
-      if (c >= '0' && c <= '9') return c - '0';
-      if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-      if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-      return -1;
-    };
-    for (std::size_t i = 0; i < value.size(); ++i) {
-      if (value[i] != '%') {
-        out += value[i] == '+' ? ' ' : value[i];
-        continue;
-      }
-      const int high = i + 2 < value.size() ? hex(value[i + 1]) : -1;
-      const int low = i + 2 < value.size() ? hex(value[i + 2]) : -1;
-      if (high < 0 || low < 0) {
-        throw ApiError(http::status::bad_request, "scene: malformed percent-encoding");
-      }
-      out += static_cast<char>(high * 16 + low);
-      i += 2;
-    }
-    return out;
-  }
-  return "";
-}
-
 }  // namespace
 
 ApiResponse list_calibration_scenes(ApiContext& ctx) {
@@ -157,7 +122,13 @@ ApiResponse list_calibration_scenes(ApiContext& ctx) {
 ApiResponse calibration_example(ApiContext& ctx) {
   ctx.require_role({db::Role::admin});
   const std::string_view target(ctx.request.target().data(), ctx.request.target().size());
-  const std::string scene = scene_query(target);
+  const auto question = target.find('?');
+  const auto value = question == std::string_view::npos
+                         ? std::nullopt
+                         : query_value(target.substr(question + 1), "scene");
+  const auto decoded = value ? percent_decoded(*value) : std::optional<std::string>("");
+  if (!decoded) throw ApiError(http::status::bad_request, "scene: malformed percent-encoding");
+  const std::string& scene = *decoded;
   const auto example = live::find_example_data(scene);
   if (!example) {
     throw ApiError(http::status::not_found, "no example data for scene \"" + scene + "\"");
@@ -210,6 +181,7 @@ ApiResponse create_calibration_job(ApiContext& ctx) {
   }
   try {
     const CalibrationSetup setup = calibration_setup(job.scene, job.data);
+    check_job_size(setup, job.per == "node", job.method);
     job.contacts = static_cast<std::int64_t>(setup.data.contacts.size());
     for (const auto& c : setup.data.contacts)
       job.samples += static_cast<std::int64_t>(c.samples.size());
@@ -258,8 +230,10 @@ ApiResponse cancel_calibration_job(ApiContext& ctx) {
   db::CalibrationJobsRepo jobs(ctx.db());
   const auto job = existing_job(ctx.db(), ctx.path_id);
   if (!jobs.request_cancel(job.id, ctx.now)) {
-    throw ApiError(http::status::conflict,
-                   "calibration job " + std::to_string(job.id) + " has ended (" + job.status + ")");
+    // Read again: it may have ended between the two.
+    throw ApiError(http::status::conflict, "calibration job " + std::to_string(job.id) +
+                                               " has ended (" +
+                                               existing_job(ctx.db(), job.id).status + ")");
   }
   audit_change(ctx.db(), admin.id, "calibration.cancel", "job " + std::to_string(job.id), ctx.now,
                nullptr, nullptr);

@@ -21,6 +21,7 @@ namespace net = boost::asio;
 
 namespace {
 constexpr auto kReadTimeout = std::chrono::seconds(30);
+constexpr auto kUploadReadTimeout = std::chrono::seconds(300);
 constexpr auto kWriteTimeout = std::chrono::seconds(30);
 // A TLS handshake is a few round trips; a client that stalls in it holds a socket, nothing more.
 constexpr auto kHandshakeTimeout = std::chrono::seconds(10);
@@ -129,7 +130,8 @@ void HttpSession::on_handshake(beast::error_code ec) {
 
 std::size_t body_limit_for(http::verb method, std::string_view target, const ServerConfig& config) {
   // A calibration's data file travels as the job's JSON (docs/calibration.md).
-  if (method == http::verb::post && target == "/api/calibration/jobs") return kUploadBodyLimit;
+  const auto path = target.substr(0, target.find('?'));
+  if (method == http::verb::post && path == "/api/calibration/jobs") return kUploadBodyLimit;
   return config.api_body_limit;
 }
 
@@ -152,6 +154,8 @@ void HttpSession::on_header(beast::error_code ec, std::size_t bytes) {
   const auto length = parser_->content_length();
   if (length && *length > limit) return on_read(http::error::body_limit, bytes);
   parser_->body_limit(limit);  // a chunked body counts against it as it comes
+  // 8 MiB take longer than the API's small bodies on a slow link.
+  if (limit > app_->config().api_body_limit) stream_.tcp().expires_after(kUploadReadTimeout);
   http::async_read(stream_, buffer_, *parser_,
                    beast::bind_front_handler(&HttpSession::on_read, shared_from_this()));
 }
@@ -241,9 +245,11 @@ void HttpSession::open_view(std::variant<ViewTarget, Response>&& resolved) {
 }
 
 bool is_long_read(const Request& request) {
-  if (request.method() != http::verb::get) return false;
   const std::string_view target(request.target().data(), request.target().size());
   const auto path = target.substr(0, target.find('?'));
+  // An upload: up to 8 MiB of JSON and CSV parsed and stored.
+  if (request.method() == http::verb::post && path == "/api/calibration/jobs") return true;
+  if (request.method() != http::verb::get) return false;
   if (path == "/api/exports/scores.csv") return true;
   // GET /api/sessions/{id}/review
   constexpr std::string_view sessions = "/api/sessions/", review = "/review";

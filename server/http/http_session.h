@@ -33,7 +33,8 @@ std::optional<Response> refuse_request(const Request& request);
 // thread (argon2id takes about 50 ms).
 bool checks_password(const Request& request);
 // Whether the request reads a whole recording or table (GET /api/sessions/{id}/review, GET
-// /api/exports/scores.csv): such requests run on AppState::long_reads(), never on an I/O thread.
+// /api/exports/scores.csv) or takes an upload (POST /api/calibration/jobs): such requests run on
+// AppState::long_reads(), never on an I/O thread.
 // A replay's upgrade (/api/recordings/{id}/replay) loads its recording there too.
 bool is_long_read(const Request& request);
 // A request body may be this large: ServerConfig::api_body_limit, except for an upload (POST

@@ -36,6 +36,10 @@ std::string scene_with_material(std::string_view scene_id, std::string_view scen
     }
     scene["material"][key] = *found;
   }
+  // The springs' volume term was part of what was fitted: the material's, or none.
+  if (model == "mss") {
+    scene["material"]["volume_stiffness"] = material["material"].value("volume_stiffness", 0.0);
+  }
   scene.erase("materials");
   if (material.contains("materials")) scene["materials"] = material["materials"];
   return scene.dump(2);

@@ -19,22 +19,33 @@ Real mean_edge_length(const TetMesh& mesh) {
   return mesh.num_tets() > 0 ? sum / (6 * mesh.num_tets()) : 0;
 }
 
+// The data attached to the body (attach_probe_data), checked to move somewhere.
+std::vector<ProbeExperiment> experiments_of(const ProbeData& data, const TetMesh& mesh,
+                                            const std::vector<char>& fixed,
+                                            Real max_contact_distance) {
+  std::vector<ProbeExperiment> experiments =
+      attach_probe_data(data, mesh.rest, fixed,
+                        max_contact_distance > 0 ? max_contact_distance : mean_edge_length(mesh));
+  Real sum = 0;
+  for (const ProbeExperiment& e : experiments)
+    sum += e.measured.squaredNorm();
+  if (!(sum > 0)) {
+    throw CalibrationError("the probe never moves in the data: nothing tells the stiffness");
+  }
+  return experiments;
+}
+
 // The body, its experiments and the misfit's scale, ready to evaluate points of parameters.
 struct Setup {
-  Setup(const Scene& scene, const TetMesh& mesh, const ProbeData& data,
+  Setup(const std::vector<char>& fixed, const TetMesh& mesh, const ProbeData& data,
         const MaterialParameters& parameters, Real max_contact_distance)
       : parameters(parameters),
-        response(parameters.masses(), fixed_nodes(scene, mesh), data.step,
-                 attach_probe_data(
-                     data, mesh.rest, fixed_nodes(scene, mesh),
-                     max_contact_distance > 0 ? max_contact_distance : mean_edge_length(mesh))) {
+        response(parameters.masses(), fixed, data.step,
+                 experiments_of(data, mesh, fixed, max_contact_distance)) {
     Real sum = 0;
     for (const ProbeExperiment& e : response.experiments()) {
       sum += e.measured.squaredNorm();
       data_size += static_cast<int>(e.measured.size());
-    }
-    if (!(sum > 0)) {
-      throw CalibrationError("the probe never moves in the data: nothing tells the stiffness");
     }
     scale = 1 / std::sqrt(sum);
   }
@@ -92,16 +103,7 @@ std::vector<char> fixed_nodes(const Scene& scene, const TetMesh& mesh) {
 
 void check_probe_data(const Scene& scene, const TetMesh& mesh, const ProbeData& data,
                       Real max_contact_distance) {
-  const std::vector<char> fixed = fixed_nodes(scene, mesh);
-  const std::vector<ProbeExperiment> experiments =
-      attach_probe_data(data, mesh.rest, fixed,
-                        max_contact_distance > 0 ? max_contact_distance : mean_edge_length(mesh));
-  Real sum = 0;
-  for (const ProbeExperiment& e : experiments)
-    sum += e.measured.squaredNorm();
-  if (!(sum > 0)) {
-    throw CalibrationError("the probe never moves in the data: nothing tells the stiffness");
-  }
+  experiments_of(data, mesh, fixed_nodes(scene, mesh), max_contact_distance);
 }
 
 CalibrationResult calibrate(const Scene& scene, const TetMesh& mesh, const ProbeData& data,
@@ -112,7 +114,7 @@ CalibrationResult calibrate(const Scene& scene, const TetMesh& mesh, const Probe
       options.parameters == ParameterKind::node_moduli
           ? MaterialParameters::node_moduli(scene, mesh, options.smoothing)
           : MaterialParameters::label_materials(scene, mesh);
-  Setup setup(scene, mesh, data, parameters, options.max_contact_distance);
+  Setup setup(fixed_nodes(scene, mesh), mesh, data, parameters, options.max_contact_distance);
 
   Problem problem;
   problem.start = parameters.start();

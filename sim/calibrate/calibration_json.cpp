@@ -7,14 +7,6 @@ namespace {
 
 using nlohmann::json;
 
-std::string_view model_name(MaterialModel model) {
-  for (const std::string_view name : {"mss", "linear", "corotational", "corotational_polar",
-                                      "corotational_nodal_pressure", "stvk", "neohookean"}) {
-    if (material_model_named(name) == model) return name;
-  }
-  return "mss";
-}
-
 json constants(const Material& m) {
   return {{"E", m.youngs_modulus},
           {"nu", m.poisson_ratio},
@@ -28,7 +20,7 @@ json calibration_json(const CalibrationResult& result, Method method) {
   json out;
   const Scene& scene = result.calibrated;
   out["material"] = constants(scene.material);
-  out["material"]["model"] = model_name(scene.material.model);
+  out["material"]["model"] = material_model_name(scene.material.model);
   if (scene.material.volume_stiffness > 0) {
     out["material"]["volume_stiffness"] = scene.material.volume_stiffness;
   }

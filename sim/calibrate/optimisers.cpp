@@ -26,8 +26,9 @@ class Evaluator {
     result_.misfit = kInfinity;
   }
 
+  // Also false once cancelled, so that a generation or a Jacobian stops within one simulation.
   bool can_evaluate(int n = 1) const {
-    return result_.evaluations + n <= settings_.max_evaluations;
+    return result_.evaluations + n <= settings_.max_evaluations && !cancelled();
   }
   bool cancelled() const { return settings_.cancel != nullptr && settings_.cancel->load(); }
 
@@ -199,6 +200,7 @@ void cma_es(const Problem& p, const OptimiserSettings& s, Evaluator& eval,
   int generation = 0;
   while (eval.can_evaluate(lambda) && !eval.cancelled()) {
     for (int k = 0; k < lambda; ++k) {
+      if (eval.cancelled()) break;
       VecX z(n);
       for (Eigen::Index i = 0; i < n; ++i)
         z[i] = normal(random);
@@ -206,6 +208,7 @@ void cma_es(const Problem& p, const OptimiserSettings& s, Evaluator& eval,
       y[static_cast<std::size_t>(k)] = (x - mean) / sigma;  // the repaired step
       f[static_cast<std::size_t>(k)] = eval.misfit(x);
     }
+    if (eval.cancelled()) break;  // a generation cut short updates nothing
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(), [&](int a, int c2) {
       return f[static_cast<std::size_t>(a)] < f[static_cast<std::size_t>(c2)];
@@ -265,6 +268,7 @@ void levenberg_marquardt(const Problem& p, const OptimiserSettings& s, Evaluator
       break;
     }
     for (Eigen::Index k = 0; k < n; ++k) {
+      if (eval.cancelled()) break;
       VecX zk = z;
       Real h = 1e-6 * std::max(Real(1), std::abs(z[k]));
       if (zk[k] + h > p.upper[k]) h = -h;
@@ -272,6 +276,7 @@ void levenberg_marquardt(const Problem& p, const OptimiserSettings& s, Evaluator
       const Real fk = eval.misfit(zk, trial_r);
       j.col(k) = std::isfinite(fk) ? VecX((trial_r - r) / h) : VecX::Zero(m);
     }
+    if (eval.cancelled()) break;
     a.noalias() = j.transpose() * j;
     const VecX g = j.transpose() * r;
     const Real scale = std::max(a.diagonal().maxCoeff(), Real(1e-300));
@@ -297,7 +302,12 @@ void levenberg_marquardt(const Problem& p, const OptimiserSettings& s, Evaluator
     }
     eval.iteration_done();
     if (!accepted) {
-      if (result.stopped.empty()) result.stopped = eval.cancelled() ? "cancelled" : "converged";
+      if (result.stopped.empty()) {
+        // No step lowered the misfit: converged, unless the budget or a cancel cut it short.
+        result.stopped = eval.cancelled()       ? "cancelled"
+                         : !eval.can_evaluate() ? "budget"
+                                                : "converged";
+      }
       break;
     }
     if (!result.stopped.empty()) break;

@@ -80,6 +80,15 @@ ProbeData parse_probe_csv(std::string_view text) {
     const std::string_view line = trim(text.substr(start, end - start));
     start = end + 1;
     ++line_number;
+    for (const char c : line) {
+      if (static_cast<unsigned char>(c) < 0x20 && c != '\t') {
+        char byte[8];
+        std::snprintf(byte, sizeof byte, "0x%02x",
+                      static_cast<unsigned>(static_cast<unsigned char>(c)));
+        throw CalibrationError("line " + std::to_string(line_number) +
+                               ": a control character (byte " + byte + ")");
+      }
+    }
     if (line.empty()) continue;
     const std::vector<std::string_view> fields = split(line);
     if (!header) {
@@ -168,7 +177,13 @@ ProbeData parse_probe_csv(std::string_view text) {
     if (!pushed) throw CalibrationError(which + "no contact: every force_n is 0");
     for (int k = 1; k < n; ++k) {
       const Real step = contact.samples[k].time - contact.samples[k - 1].time;
-      if (data.step == 0) data.step = step;
+      if (data.step == 0) {
+        if (!(step >= kMinStep && step <= kMaxStep)) {
+          throw CalibrationError(which + "samples " + fixed(step) +
+                                 " s apart: the step must be from 1 us to 10 s");
+        }
+        data.step = step;
+      }
       if (std::abs(step - data.step) > kStepTolerance * data.step) {
         throw CalibrationError(which + "samples " + fixed(step) + " s apart at time_s " +
                                fixed(contact.samples[k].time) + ", the data's step is " +

@@ -49,11 +49,15 @@ struct ProbeData {
 inline constexpr int kMinSamplesPerContact = 5;
 // Spacing within this fraction of the first step counts as even.
 inline constexpr Real kStepTolerance = 0.01;
+// The step between samples [s]: from a haptic device's rate to a slow indentation's.
+inline constexpr Real kMinStep = 1e-6;
+inline constexpr Real kMaxStep = 10;
 
-// Parses and checks the CSV text. Throws CalibrationError for a missing column, a value that is
-// not a finite number, a contact that is not an integer, a zero direction, a negative force, too
-// few samples, times that do not increase evenly, or a contact with no force at all (no
-// contact). Never throws anything else.
+// Parses and checks the CSV text. Throws CalibrationError for a control character (a NUL, ...),
+// a missing column, a value that is not a finite number, a contact that is not an integer, a
+// zero direction, a negative force, too few samples, times that do not increase evenly or a step
+// outside [kMinStep, kMaxStep], or a contact with no force at all (no contact). Never throws
+// anything else.
 ProbeData parse_probe_csv(std::string_view text);
 
 // The CSV text of data (a header and one row per sample, full precision): parse_probe_csv reads

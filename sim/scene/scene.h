@@ -89,6 +89,15 @@ inline std::optional<MaterialModel> material_model_named(std::string_view name) 
   return std::nullopt;
 }
 
+// The scene files' name of a material model ("mss", "linear", ...).
+inline std::string_view material_model_name(MaterialModel model) {
+  for (const std::string_view name : {"mss", "linear", "corotational", "corotational_polar",
+                                      "corotational_nodal_pressure", "stvk", "neohookean"}) {
+    if (material_model_named(name) == model) return name;
+  }
+  return "mss";
+}
+
 struct Material {
   MaterialModel model = MaterialModel::mass_spring;  // "model"
   Real youngs_modulus = 0;                           // "E" [Pa], > 0

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "db/db_error.h"
+#include "db/nodes_repo.h"
 #include "db/recordings_repo.h"
 #include "db/training_repo.h"
 #include "temp_database.h"
@@ -89,6 +90,26 @@ TEST_F(CalibrationRepoTest, AQueuedJobCancelsAtOnceAndARestartFailsWhatWasLeft) 
   }
   EXPECT_EQ(jobs_.find(other)->status, "queued");
   EXPECT_EQ(jobs_.find(queued)->status, "cancelled");
+}
+
+// A node that stops beating leaves its jobs to nobody: the sweep fails them.
+TEST_F(CalibrationRepoTest, TheSweepOfADeadNodeFailsItsJobs) {
+  NodesRepo nodes(db());
+  nodes.start("a", "", 100);
+  nodes.start("b", "", 100);
+  const auto running = queue("b", 101);
+  const auto waiting = queue("b", 102);
+  const auto mine = queue("a", 103);
+  jobs_.start_next("b");
+  nodes.heartbeat("a", "", 200);
+  EndedSessions ended;
+  EXPECT_EQ(nodes.sweep("a", 200, 30, ended), std::vector<std::string>{"b"});
+  for (const auto id : {running, waiting}) {
+    EXPECT_EQ(jobs_.find(id)->status, "failed");
+    EXPECT_EQ(jobs_.find(id)->error, "its server node stopped");
+    EXPECT_EQ(jobs_.find(id)->finished_at, 200);
+  }
+  EXPECT_EQ(jobs_.find(mine)->status, "queued");
 }
 
 TEST_F(CalibrationRepoTest, MaterialsHaveUniqueNamesAndNameTheirJob) {

@@ -128,5 +128,25 @@ TEST(PlainText, RefusesControlCharactersAndDirectionOverrides) {
   EXPECT_FALSE(is_plain_text("carriage\rreturn", true));
 }
 
+TEST(QueryValue, FindsTheFirstPairWithTheKey) {
+  EXPECT_EQ(query_value("fps=20&scene=a%2Fb&scene=c", "scene"), "a%2Fb");
+  EXPECT_EQ(query_value("fps=20", "fps"), "20");
+  EXPECT_EQ(query_value("fps=", "fps"), "");
+  EXPECT_EQ(query_value("fpsx=1&xfps=2", "fps"), std::nullopt);
+  EXPECT_EQ(query_value("", "fps"), std::nullopt);
+  EXPECT_EQ(query_value("fps", "fps"), std::nullopt);  // no '='
+}
+
+TEST(PercentDecoded, DecodesHexPairsAndPlusAndRefusesBrokenOnes) {
+  EXPECT_EQ(percent_decoded("scenes%2Fcalibration%2fcube.json"), "scenes/calibration/cube.json");
+  EXPECT_EQ(percent_decoded("a+b%20c"), "a b c");
+  EXPECT_EQ(percent_decoded("%41"), "A");  // at the very end
+  EXPECT_EQ(percent_decoded("%00"), std::string(1, '\0'));
+  EXPECT_EQ(percent_decoded(""), "");
+  for (const char* broken : {"%", "%4", "%4g", "%g4", "abc%", "%%41"}) {
+    EXPECT_EQ(percent_decoded(broken), std::nullopt) << broken;
+  }
+}
+
 }  // namespace
 }  // namespace incise::server

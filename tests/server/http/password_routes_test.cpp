@@ -46,6 +46,23 @@ TEST(LongReadRoutes, TheReviewAndTheExportRunOnTheLongReadWorkers) {
         "/api/sessions/7/reviewx", "/api/exports/scores.csvx", "/api/recordings/3/replay"}) {
     EXPECT_FALSE(is_long_read(request(http::verb::get, target))) << target;
   }
+  // A calibration's upload: its JSON and CSV parsed and stored off the I/O threads.
+  EXPECT_TRUE(is_long_read(request(http::verb::post, "/api/calibration/jobs")));
+  EXPECT_FALSE(is_long_read(request(http::verb::get, "/api/calibration/jobs")));
+  EXPECT_FALSE(is_long_read(request(http::verb::post, "/api/calibration/jobs/3/cancel")));
+}
+
+// Only the upload may carry a body larger than the API's 64 KiB.
+TEST(BodyLimits, OnlyTheCalibrationUploadTakesEightMebibytes) {
+  ServerConfig config;
+  EXPECT_EQ(body_limit_for(http::verb::post, "/api/calibration/jobs", config), kUploadBodyLimit);
+  EXPECT_EQ(body_limit_for(http::verb::put, "/api/calibration/jobs", config),
+            config.api_body_limit);
+  EXPECT_EQ(body_limit_for(http::verb::post, "/api/calibration/jobs?x=1", config),
+            kUploadBodyLimit);
+  EXPECT_EQ(body_limit_for(http::verb::post, "/api/calibration/jobs/1", config),
+            config.api_body_limit);
+  EXPECT_EQ(body_limit_for(http::verb::post, "/api/users", config), config.api_body_limit);
 }
 
 class HashPassword : public ApiTest {};

@@ -68,6 +68,14 @@ TEST_F(TissueCalibration, AFittedMaterialRunsATasksSessionAndItsReplay) {
           {{"scene", "scenes/surgery/liver_station.json"}, {"method", "lm"}, {"data", data}}),
       422,
       "scene: \"scenes/surgery/liver_station.json\" is not a scene this server can calibrate"));
+  // A search too large for one node: CMA-ES over the palpation block's 845 node moduli.
+  EXPECT_TRUE(is_error(admin.post("/api/calibration/jobs", {{"scene", "scenes/palpation.json"},
+                                                            {"method", "cmaes"},
+                                                            {"per", "node"},
+                                                            {"data", data}}),
+                       422,
+                       "per: cmaes fits at most 500 parameters, and this scene has 845 nodes: per "
+                       "label, or lm"));
   EXPECT_EQ(snapshot(), before);
 
   // The example data came from a 3.6 kPa cube; the scene says 2.4 kPa.
