@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <random>
 
 #include "sim/scene/node_selection.h"
 
@@ -202,6 +203,28 @@ ProbeData simulate_probe_data(const Scene& scene, const TetMesh& mesh,
     }
   }
   return out;
+}
+
+ProbeData with_position_noise(ProbeData data, Real fraction, std::uint64_t seed) {
+  Real sum = 0;
+  int n = 0;
+  for (const ProbeContact& c : data.contacts) {
+    for (const ProbeSample& s : c.samples) {
+      sum += (s.position - c.samples.front().position).squaredNorm();
+      ++n;
+    }
+  }
+  const Real sigma = n > 0 ? fraction * std::sqrt(sum / n / 3) : 0;
+  if (!(sigma > 0)) return data;
+  std::mt19937_64 random(seed);
+  std::normal_distribution<Real> normal(0, sigma);
+  for (ProbeContact& c : data.contacts) {
+    for (std::size_t k = 1; k < c.samples.size(); ++k) {
+      for (int a = 0; a < 3; ++a)
+        c.samples[k].position[a] += normal(random);
+    }
+  }
+  return data;
 }
 
 }  // namespace incise::sim::calibrate

@@ -7,6 +7,7 @@
 // (plus the smoothness prior of node moduli, material_parameters.h).
 
 #include <atomic>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -86,5 +87,10 @@ CalibrationResult calibrate(const Scene& scene, const TetMesh& mesh, const Probe
 ProbeData simulate_probe_data(const Scene& scene, const TetMesh& mesh,
                               const MaterialParameters& parameters, const VecX& z,
                               const ProbeData& data);
+
+// data with Gaussian noise added to every coordinate of every position after each contact's first:
+// a standard deviation of `fraction` times the root-mean-square displacement, from a generator
+// seeded with `seed` (the same noise for the same seed). For synthetic experiments.
+ProbeData with_position_noise(ProbeData data, Real fraction, std::uint64_t seed);
 
 }  // namespace incise::sim::calibrate

@@ -5,7 +5,9 @@
 //    "materials": {"<label>": {"E", "nu", "density", "damping"}},  other labels, if any
 //    "node_moduli": [E_0, ...],                                    per-node calibrations only
 //    "calibration": {"method", "parameters": "label" | "node", "misfit", "start_misfit",
-//                    "evaluations", "iterations", "seconds", "stopped", "history": [...],
+//                    (the data's term)
+//                    "evaluations", "iterations", "seconds", "stopped",
+//                    "history": [...] (the search's objective, the prior included),
 //                    "values": [{"name", "owner", "start", "value", "spread"}],
 //                    "fits": [{"contact", "node", "distance", "time", "force", "measured",
 //                              "start", "fitted"}]}}

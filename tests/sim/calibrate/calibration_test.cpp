@@ -5,7 +5,6 @@
 
 #include <cmath>
 #include <fstream>
-#include <random>
 #include <sstream>
 
 #include "sim/calibrate/calibration.h"
@@ -31,27 +30,6 @@ struct CubeData {
 
 Real relative_error(Real value, Real reference) {
   return std::abs(value - reference) / reference;
-}
-
-ProbeData with_noise(ProbeData data, Real fraction, unsigned seed) {
-  Real sum = 0;
-  int n = 0;
-  for (const auto& c : data.contacts) {
-    for (const auto& s : c.samples) {
-      sum += (s.position - c.samples.front().position).squaredNorm();
-      ++n;
-    }
-  }
-  const Real sigma = fraction * std::sqrt(sum / n / 3);
-  std::mt19937_64 random(seed);
-  std::normal_distribution<Real> normal(0, sigma);
-  for (auto& c : data.contacts) {
-    for (std::size_t k = 1; k < c.samples.size(); ++k) {
-      for (int a = 0; a < 3; ++a)
-        c.samples[k].position[a] += normal(random);
-    }
-  }
-  return data;
 }
 
 TEST(Calibration, EachMethodRecoversTheCubesModulusFromNoiseFreeData) {
@@ -92,8 +70,8 @@ TEST(Calibration, NoiseDegradesTheModulusGracefully) {
   for (const Real noise : {0.01, 0.05, 0.2}) {
     CalibrationOptions options;
     options.max_evaluations = 100;
-    const CalibrationResult result =
-        calibrate(cube.cube.scene, cube.cube.mesh, with_noise(cube.data, noise, 11), options);
+    const CalibrationResult result = calibrate(cube.cube.scene, cube.cube.mesh,
+                                               with_position_noise(cube.data, noise, 11), options);
     const Real error = relative_error(result.values[0].value, kCubeModulus);
     // Thousands of samples average the noise out: far below the noise itself.
     EXPECT_LT(error, 0.1 * noise) << "noise " << noise;
