@@ -92,6 +92,9 @@ out=results/bench-$(date -u +%Y%m%dT%H%M%SZ).txt
   echo "## planning: minimum-penetration paths among 3 to 10 obstacles, degree 3 and 5 (seed 004)"
   "$bin/bench_planning"
   echo
+  echo "## calibration: seed 004's cube, node moduli by ga, cmaes and lm; noise; mass-spring to FEM"
+  "$bin/bench_calibration"
+  echo
   echo "## collision: the surface tree's refit and queries on a ~10k-triangle surface"
   "$bin/bench_collide"
   echo
