@@ -72,7 +72,7 @@ json calibration_json(const CalibrationResult& result, Method method) {
 
 std::string progress_line(Method method, const Progress& progress) {
   char line[160];
-  std::snprintf(line, sizeof line, "%s %d: misfit %.4g after %d evaluations",
+  std::snprintf(line, sizeof line, "%s %d: misfit %.4g after %d simulations",
                 method == Method::lm ? "iteration" : "generation", progress.iteration,
                 progress.misfit, progress.evaluations);
   return line;

@@ -21,8 +21,8 @@ namespace incise::sim::calibrate {
 
 nlohmann::json calibration_json(const CalibrationResult& result, Method method);
 
-// A progress line: "generation 12: misfit 3.1e-04 after 480 evaluations" (ga, cmaes) or
-// "iteration ...".
+// A progress line: "generation 12: misfit 3.1e-04 after 480 simulations" (ga, cmaes) or
+// "iteration ..." (lm). The misfit is the search's objective (the prior included).
 std::string progress_line(Method method, const Progress& progress);
 
 }  // namespace incise::sim::calibrate

@@ -173,8 +173,9 @@ int run_calibrate_command(const std::vector<std::string>& args, std::ostream& ou
   out << line << "\n";
   for (const CalibratedValue& v : result.values) {
     if (result.values.size() > 8) break;  // per-node results are in the file
-    std::snprintf(line, sizeof line, "  %s = %.6g +- %.2g (was %.6g)", v.name.c_str(), v.value,
-                  v.spread, v.start);
+    const char* unit = v.name.starts_with("E") ? " Pa" : "";
+    std::snprintf(line, sizeof line, "  %s = %.6g%s +- %.2g%s (was %.6g%s)", v.name.c_str(),
+                  v.value, unit, v.spread, unit, v.start, unit);
     out << line << "\n";
   }
   return kExitOk;

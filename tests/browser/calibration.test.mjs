@@ -61,7 +61,10 @@ scenario(
     await sees(result.filter({ has: page.getByTestId('calibration-result-status').filter({ hasText: 'Done' }) }), 'the result panel');
     // The data came from a 3.6 kPa cube; the scene said 2.4 kPa.
     const values = result.getByTestId('calibration-values');
-    await sees(values.getByRole('row').filter({ hasText: 'E[0]' }).filter({ hasText: '2.4' }).filter({ hasText: '3.6' }), 'E from 2.4 to 3.6 kPa');
+    await sees(
+      values.getByRole('row').filter({ hasText: 'E, label 0' }).filter({ hasText: '2.40 kPa' }).filter({ hasText: '3.60 kPa' }),
+      'E from 2.40 to 3.60 kPa',
+    );
     await sees(result.getByTestId('calibration-misfit').filter({ hasText: '→' }), 'the misfit before and after');
     await sees(result.getByTestId('calibration-fit'), 'the measured and fitted curves');
     await snap(page, 'admin-tissue-calibration');
@@ -72,7 +75,9 @@ scenario(
     const saved = await click_for_response(page, save.getByRole('button', { name: 'Save material' }), 'POST', /^\/api\/materials$/);
     assert.equal(saved.status(), 201, await saved.text());
     const { material } = await saved.json();
-    await sees(page.getByRole('status').filter({ hasText: 'Saved material “Calibrated cube”.' }), 'the material saved');
+    // One line says so, in place of the form.
+    await sees(result.getByTestId('calibration-saved-as').filter({ hasText: 'Saved as material “Calibrated cube”.' }), 'the material saved');
+    assert.equal(await save.count(), 0, 'the save form gone');
     const materials = page.getByTestId('materials');
     await sees(materials.getByRole('row').filter({ hasText: 'Calibrated cube' }), 'the material listed');
 

@@ -47,8 +47,10 @@ export function fake_server(routes: Record<string, unknown>): SentRequest[] {
   return sent;
 }
 
+/** Renders `ui` in a fresh request cache, which a `rerender` of the result keeps. */
 export function render_with_queries(ui: ReactElement): RenderResult {
-  return render(<QueryClientProvider client={make_query_client()}>{ui}</QueryClientProvider>);
+  const client = make_query_client();
+  return render(ui, { wrapper: ({ children }) => <QueryClientProvider client={client}>{children}</QueryClientProvider> });
 }
 
 /** A catalogue entry like the server's cut area: stored in m², shown in mm² with no decimals. */

@@ -227,6 +227,7 @@ function TissueCalibrationSection() {
       <div className="columns">
         <Card id="new-calibration" title="New calibration">
           <CalibrationForm
+            shown_job={selected_job}
             on_created={(job) => {
               set_selected(job.id);
               reload_jobs();
@@ -255,8 +256,9 @@ function TissueCalibrationSection() {
       )}
       <Card id="materials" title="Tissue materials">
         <p className="hint">
-          A task uses a material by naming it in its curriculum definition, <code>"material": "&lt;name&gt;"</code>{' '}
-          (the Curricula section's editor).
+          A task uses a material when its curriculum names it: in the <Link to="/admin/curricula">Curricula</Link> editor,
+          add <code>{`"material": ${JSON.stringify(materials.data?.[0]?.name ?? 'Calibrated cube')}`}</code> to the
+          task's object. “Used by” lists the tasks that do.
         </p>
         <ResourceView resource={materials} what="materials" empty="No material saved yet. Save one from a done calibration.">
           {(data) => <MaterialsTable materials={data} />}

@@ -1,13 +1,14 @@
 import type { CalibratedValue, CalibrationPer } from '../../api';
 import { DataTable } from '../common/data_table';
-import { format_constant, format_kpa, spread_summary } from './tissue_format';
+import { format_constant, format_kpa, format_spread, parameter_label, spread_summary } from './tissue_format';
 
 /** A per-node fit has a modulus per node: the table shows this many, the summary covers all. */
 export const shown_node_values = 20;
 
 /**
- * The fitted constants: the scene's value, the calibrated one and its spread (E in kPa, nu as it
- * is). Fitted per node, the first few nodes and the smallest, median and largest modulus.
+ * The fitted constants, each named by its label or node ("E, label 0", the raw name "E[0]" in a
+ * tooltip): the scene's value, the calibrated one (E in kPa, nu as it is) and its spread in per
+ * cent of it. Fitted per node, the first few nodes and the smallest, median and largest modulus.
  */
 export function CalibratedValues({
   values,
@@ -30,10 +31,14 @@ export function CalibratedValues({
         rows={shown}
         row_key={(v) => v.name}
         columns={[
-          { header: 'Parameter', cell: (v) => v.name },
-          { header: 'Start', cell: (v) => format_constant(v.name, v.start), className: 'numeric' },
-          { header: 'Calibrated', cell: (v) => format_constant(v.name, v.value), className: 'numeric' },
-          { header: 'Spread', cell: (v) => `± ${format_constant(v.name, v.spread)}`, className: 'numeric' },
+          { header: 'Parameter', cell: (v) => <span title={v.name}>{parameter_label(v, per)}</span> },
+          { header: 'Start', cell: (v) => format_constant(v.name, v.start), className: 'numeric nowrap' },
+          { header: 'Calibrated', cell: (v) => format_constant(v.name, v.value), className: 'numeric nowrap' },
+          {
+            header: <span title="The search's uncertainty of the value, in per cent of it">Spread</span>,
+            cell: (v) => format_spread(v.name, v.spread, v.value),
+            className: 'numeric nowrap',
+          },
         ]}
       />
       {summary && (

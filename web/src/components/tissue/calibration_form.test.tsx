@@ -32,10 +32,15 @@ it('posts the file’s text with the chosen scene, method, parameters and budget
     'POST /api/calibration/jobs': new Reply(201, { job: calibration_job({ id: 12, status: 'queued', progress: null }) }),
   });
   const on_created = vi.fn();
-  render_with_queries(<CalibrationForm on_created={on_created} />);
+  render_with_queries(<CalibrationForm on_created={on_created} shown_job={undefined} />);
   const user = userEvent.setup();
 
   const scene = await screen.findByLabelText('Scene');
+  // Each scene by its file name and model, the title in a tooltip.
+  expect(screen.getAllByRole('option', { name: /\.json/ }).map((o) => [o.textContent, o.title])).toEqual([
+    ['liver.json (corotational)', 'Liver lobe'],
+    ['cube.json (mss)', 'Seed 004 cube (1 cm, mass-spring)'],
+  ]);
   // The first scene fits per label only.
   expect(screen.getAllByRole('option', { name: /^Per / }).map((o) => o.textContent)).toEqual(['Per label']);
   expect(screen.getByLabelText('Method')).toHaveProperty('value', 'lm');
@@ -77,7 +82,7 @@ it('shows the server’s reason for refusing a data file, and creates nothing', 
     'POST /api/calibration/jobs': new Reply(400, { error: refusal }),
   });
   const on_created = vi.fn();
-  render_with_queries(<CalibrationForm on_created={on_created} />);
+  render_with_queries(<CalibrationForm on_created={on_created} shown_job={undefined} />);
   const user = userEvent.setup();
 
   await user.upload(await screen.findByLabelText('Data file (CSV)'), new File(['bad'], 'bad.csv', { type: 'text/csv' }));
@@ -89,4 +94,39 @@ it('shows the server’s reason for refusing a data file, and creates nothing', 
   // The file stays chosen, to be fixed and sent again.
   await waitFor(() => expect(screen.getByRole('button', { name: 'Run calibration' })).toHaveProperty('disabled', false));
   expect(screen.getByTestId('calibration-data-name').textContent).toBe('bad.csv');
+});
+
+it('drops “Calibration N queued.” once that job has ended', async () => {
+  fake_server({
+    'GET /api/calibration/scenes': { scenes: [cube] },
+    'POST /api/calibration/jobs': new Reply(201, { job: calibration_job({ id: 12, status: 'queued', progress: null }) }),
+  });
+  const { rerender } = render_with_queries(<CalibrationForm on_created={vi.fn()} shown_job={undefined} />);
+  const user = userEvent.setup();
+  await user.upload(await screen.findByLabelText('Data file (CSV)'), new File([csv], 'pushes.csv', { type: 'text/csv' }));
+  await user.click(screen.getByRole('button', { name: 'Run calibration' }));
+  await screen.findByText('Calibration 12 queued.');
+
+  // Listed and running: the message holds.
+  rerender(<CalibrationForm on_created={vi.fn()} shown_job={calibration_job({ id: 12 })} />);
+  expect(screen.getByRole('status').textContent).toBe('Calibration 12 queued.');
+  rerender(<CalibrationForm on_created={vi.fn()} shown_job={calibration_job({ id: 12, status: 'done' })} />);
+  expect(screen.queryByRole('status')).toBeNull();
+});
+
+it('drops “Calibration N queued.” when another job is shown, for good', async () => {
+  fake_server({
+    'GET /api/calibration/scenes': { scenes: [cube] },
+    'POST /api/calibration/jobs': new Reply(201, { job: calibration_job({ id: 12, status: 'queued', progress: null }) }),
+  });
+  const { rerender } = render_with_queries(<CalibrationForm on_created={vi.fn()} shown_job={undefined} />);
+  const user = userEvent.setup();
+  await user.upload(await screen.findByLabelText('Data file (CSV)'), new File([csv], 'pushes.csv', { type: 'text/csv' }));
+  await user.click(screen.getByRole('button', { name: 'Run calibration' }));
+  await screen.findByText('Calibration 12 queued.');
+
+  rerender(<CalibrationForm on_created={vi.fn()} shown_job={calibration_job({ id: 9, status: 'done' })} />);
+  expect(screen.queryByRole('status')).toBeNull();
+  rerender(<CalibrationForm on_created={vi.fn()} shown_job={calibration_job({ id: 12 })} />);
+  expect(screen.queryByRole('status')).toBeNull();
 });

@@ -11,7 +11,7 @@ import { InputError, useFormAction } from '../../use_form_action';
 import { useResource } from '../../use_resource';
 import { ErrorAlert, StatusMessage } from '../common/alerts';
 import { ResourceView } from '../common/resource_view';
-import { method_labels, per_labels } from './tissue_format';
+import { is_active, method_labels, per_labels, scene_file_name } from './tissue_format';
 
 const default_budget = 2000;
 const max_budget = 20000;
@@ -22,16 +22,38 @@ const methods = Object.keys(method_labels) as CalibrationMethod[];
  * budget of simulations, with a force-displacement CSV file whose text goes to the server as it
  * is. The server checks the file and names the line or contact of the first problem.
  */
-export function CalibrationForm({ on_created }: { on_created: (job: CalibrationJob) => void }) {
+export function CalibrationForm({
+  on_created,
+  shown_job,
+}: {
+  on_created: (job: CalibrationJob) => void;
+  /** The job the page shows, once listed: "Calibration N queued." lasts while it is N and has not ended. */
+  shown_job: CalibrationJob | undefined;
+}) {
   const scenes = useResource(['calibration', 'scenes'], api.calibration_scenes);
   return (
     <ResourceView resource={scenes} what="calibration scenes" empty="The server offers no scene to calibrate.">
-      {(data) => <StartForm scenes={data} on_created={on_created} />}
+      {(data) => <StartForm scenes={data} on_created={on_created} shown_job={shown_job} />}
     </ResourceView>
   );
 }
 
-function StartForm({ scenes, on_created }: { scenes: CalibrationScene[]; on_created: (job: CalibrationJob) => void }) {
+/** "cube.json (mss)": short enough for the select; the full path when two scenes share a file name. */
+function scene_option_label(scene: CalibrationScene, scenes: CalibrationScene[]): string {
+  const name = scene_file_name(scene.id);
+  const shared = scenes.some((s) => s !== scene && scene_file_name(s.id) === name);
+  return `${shared ? scene.id : name} (${scene.model})`;
+}
+
+function StartForm({
+  scenes,
+  on_created,
+  shown_job,
+}: {
+  scenes: CalibrationScene[];
+  on_created: (job: CalibrationJob) => void;
+  shown_job: CalibrationJob | undefined;
+}) {
   const [scene_id, set_scene_id] = useState('');
   const [method, set_method] = useState<CalibrationMethod>('lm');
   const [chosen_per, set_per] = useState<CalibrationPer>('label');
@@ -40,6 +62,13 @@ function StartForm({ scenes, on_created }: { scenes: CalibrationScene[]; on_crea
   // Changed after a start to give a fresh, empty file input.
   const [input_generation, set_input_generation] = useState(0);
   const { busy, error, status, run, clear } = useFormAction();
+  // The job "Calibration N queued." reports. The message goes once the page shows another job or
+  // that one ended (no news until the list has it).
+  const [queued_id, set_queued_id] = useState<number | null>(null);
+  if (queued_id !== null && shown_job && (shown_job.id !== queued_id || !is_active(shown_job))) {
+    set_queued_id(null);
+    clear();
+  }
 
   // The chosen scene, or the first one until one is chosen; what it offers to fit, the chosen first.
   const scene = scenes.find((s) => s.id === scene_id) ?? scenes[0];
@@ -49,6 +78,7 @@ function StartForm({ scenes, on_created }: { scenes: CalibrationScene[]; on_crea
   async function on_submit(event: SubmitEvent<HTMLFormElement>) {
     event.preventDefault();
     if (!scene || !per || !file) return;
+    set_queued_id(null);
     await run(async () => {
       const budget_value = Number(budget);
       if (!Number.isInteger(budget_value) || budget_value < 1 || budget_value > max_budget) {
@@ -66,6 +96,7 @@ function StartForm({ scenes, on_created }: { scenes: CalibrationScene[]; on_crea
       });
       set_file(null);
       set_input_generation((g) => g + 1);
+      set_queued_id(job.id);
       on_created(job);
       return `Calibration ${job.id} queued.`;
     }, 'Could not start the calibration');
@@ -77,6 +108,7 @@ function StartForm({ scenes, on_created }: { scenes: CalibrationScene[]; on_crea
       <select
         id="calibration-scene"
         value={scene?.id ?? ''}
+        title={scene?.title}
         disabled={busy}
         onChange={(e) => {
           set_scene_id(e.target.value);
@@ -84,8 +116,8 @@ function StartForm({ scenes, on_created }: { scenes: CalibrationScene[]; on_crea
         }}
       >
         {scenes.map((s) => (
-          <option key={s.id} value={s.id}>
-            {s.title}
+          <option key={s.id} value={s.id} title={s.title}>
+            {scene_option_label(s, scenes)}
           </option>
         ))}
       </select>

@@ -28,7 +28,9 @@ it('lists each job with its progress and offers Cancel while it has not ended', 
   );
   expect(screen.getByTestId('calibration-job-8-status').textContent).toBe('Running');
   expect(screen.getByTestId('calibration-job-7-status').textContent).toBe('Done');
-  await screen.findAllByText('Cube');
+  // The scene by its file name, its title and who started the job in tooltips.
+  expect((await screen.findAllByTitle('Cube')).map((s) => s.textContent)).toEqual(['cube.json', 'cube.json']);
+  expect(screen.getAllByTitle('Started by admin')).toHaveLength(2);
   expect(screen.queryByRole('button', { name: 'Cancel calibration 7' })).toBeNull();
 
   const user = userEvent.setup();

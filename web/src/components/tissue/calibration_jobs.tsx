@@ -5,7 +5,7 @@ import { useFormAction } from '../../use_form_action';
 import { useResource, type Resource } from '../../use_resource';
 import { ErrorAlert } from '../common/alerts';
 import { DataTable } from '../common/data_table';
-import { is_active, method_labels, progress_text, status_labels } from './tissue_format';
+import { is_active, method_labels, progress_parts, progress_text, scene_file_name, status_labels } from './tissue_format';
 
 const poll_ms = 1000;
 
@@ -31,7 +31,11 @@ export function useSceneTitle(): (id: string) => string {
   return (id) => scenes.data?.find((s) => s.id === id)?.title ?? id;
 }
 
-/** The jobs as a table: "Show" selects one for the result panel, "Cancel" stops one that has not ended. */
+/**
+ * The jobs as a table narrow enough for its card beside the form: the scene by its file name (its
+ * title and who started a job in tooltips), the progress under the status, misfits kept whole.
+ * "Show" selects one for the result panel, "Cancel" stops one that has not ended.
+ */
 export function CalibrationJobs({
   jobs,
   selected,
@@ -55,7 +59,7 @@ export function CalibrationJobs({
   }
 
   return (
-    <div data-testid="calibration-jobs">
+    <div className="calibration-jobs" data-testid="calibration-jobs">
       <ErrorAlert message={error} />
       <DataTable<CalibrationJob>
         labelled_by="calibration-jobs-title"
@@ -63,35 +67,36 @@ export function CalibrationJobs({
         row_key={(j) => j.id}
         row_class={(j) => (j.id === selected ? 'row-selected' : undefined)}
         columns={[
-          { header: 'Run', cell: (j) => `#${j.id}`, className: 'numeric' },
-          { header: 'Scene', cell: (j) => scene_title(j.scene) },
+          { header: 'Run', cell: (j) => `#${j.id}`, className: 'numeric nowrap' },
+          { header: 'Scene', cell: (j) => <span title={scene_title(j.scene)}>{scene_file_name(j.scene)}</span> },
           { header: 'Method', cell: (j) => method_labels[j.method] },
           {
             header: 'Data file',
+            className: 'file-column',
             cell: (j) => (
               <>
-                {j.data_name}
-                <span className="muted">{` (${j.contacts} contacts, ${j.samples} samples)`}</span>
+                <span className="file-name">{j.data_name}</span>{' '}
+                <span className="muted cell-line">{`${j.contacts} contacts, ${j.samples} samples`}</span>
               </>
             ),
           },
           {
             header: 'Status',
             cell: (j) => (
-              <span className={`badge badge-${j.status}`} data-testid={`calibration-job-${j.id}-status`}>
-                {status_labels[j.status]}
-              </span>
+              <>
+                <span className={`badge badge-${j.status}`} data-testid={`calibration-job-${j.id}-status`}>
+                  {status_labels[j.status]}
+                </span>{' '}
+                <span className="cell-line" data-testid={`calibration-job-${j.id}-progress`}>
+                  {j.status === 'failed' && j.error ? j.error : <Progress job={j} />}
+                </span>
+              </>
             ),
           },
           {
-            header: 'Progress',
-            cell: (j) => (
-              <span data-testid={`calibration-job-${j.id}-progress`}>
-                {j.status === 'failed' && j.error ? j.error : progress_text(j)}
-              </span>
-            ),
+            header: 'Created',
+            cell: (j) => <span title={`Started by ${j.created_by}`}>{format_date_time(j.created_at)}</span>,
           },
-          { header: 'Created', cell: (j) => `${j.created_by}, ${format_date_time(j.created_at)}` },
           {
             header: 'Actions',
             className: 'actions',
@@ -123,5 +128,18 @@ export function CalibrationJobs({
         ]}
       />
     </div>
+  );
+}
+
+/** "iteration 12 · misfit 3.1e-4 · …": the misfit kept whole ("1.4e-29" would break at its hyphen). */
+function Progress({ job }: { job: CalibrationJob }) {
+  const p = progress_parts(job);
+  if (!p) return progress_text(job);
+  return (
+    <>
+      {`${p.step} · `}
+      <span className="nowrap">{p.measure}</span>
+      {` · ${p.count}`}
+    </>
   );
 }

@@ -58,9 +58,10 @@ describe('CalibrationResult of a done job', () => {
     const table = within(await screen.findByTestId('calibration-values'));
     const rows = table.getAllByRole('row').slice(1);
     expect(rows.map((r) => within(r).getAllByRole('cell').map((c) => c.textContent))).toEqual([
-      ['E[0]', '10.0 kPa', '12.3 kPa', '± 0.500 kPa'],
-      ['nu[0]', '0.4', '0.45', '± 0.012'],
+      ['E, label 0', '10.0 kPa', '12.3 kPa', '± 4.1 %'],
+      ['ν, label 0', '0.4', '0.45', '± 2.7 %'],
     ]);
+    expect(table.getByText('ν, label 0').title).toBe('nu[0]');
     expect(screen.getByTestId('calibration-misfit').textContent).toBe('0.32 → 4.1e-4');
     expect(screen.getByTestId('calibration-stopped').textContent).toBe('converged');
     expect(screen.getByTestId('calibration-fit-summary').textContent).toContain('measured -2.00 mm');
@@ -76,6 +77,9 @@ describe('CalibrationResult of a done job', () => {
 
     const table = await screen.findByTestId('calibration-values');
     expect(within(table).getAllByRole('row')).toHaveLength(1 + 20);
+    expect(within(table).getByTitle('E[17]').textContent).toBe('E, node 17');
+    // The search's objective, not the data's misfit, per node.
+    expect(screen.getByTestId('calibration-history').textContent).toContain('Objective per iteration');
     expect(screen.getByTestId('node-moduli-summary').textContent).toBe(
       'The first 20 of 30 values. Node moduli (30 nodes): min 1.00 kPa, median 15.5 kPa, max 30.0 kPa.',
     );
@@ -83,7 +87,7 @@ describe('CalibrationResult of a done job', () => {
 });
 
 describe('Save material', () => {
-  it('posts the job and the name, and says so', async () => {
+  it('posts the job and the name, and says so in place of the form', async () => {
     const sent = fake_server({
       'GET /api/calibration/jobs/7': { job: done, result: result(label_values) },
       'POST /api/materials': new Reply(201, { material: { id: 3, name: 'Liver (probe 2)' } }),
@@ -96,13 +100,24 @@ describe('Save material', () => {
     await user.type(form.getByLabelText('Material name'), 'Liver (probe 2)');
     await user.click(form.getByRole('button', { name: 'Save material' }));
 
-    expect((await form.findByRole('status')).textContent).toBe('Saved material “Liver (probe 2)”.');
+    expect((await screen.findByTestId('calibration-saved-as')).textContent).toBe('Saved as material “Liver (probe 2)”.');
+    expect(screen.queryByRole('form', { name: 'Save material' })).toBeNull();
+    expect(screen.getAllByText(/Saved/)).toHaveLength(1);
     expect(sent.find((r) => r.method === 'POST')).toEqual({
       method: 'POST',
       path: '/api/materials',
       body: { job: 7, name: 'Liver (probe 2)' },
     });
     expect(on_saved).toHaveBeenCalledOnce();
+  });
+
+  it('offers no form for a job already saved', async () => {
+    const saved = { ...done, material: 'Liver' };
+    fake_server({ 'GET /api/calibration/jobs/7': { job: saved, result: result(label_values) } });
+    render_with_queries(<CalibrationResult job={saved} on_saved={vi.fn()} />);
+
+    expect((await screen.findByTestId('calibration-saved-as')).textContent).toBe('Saved as material “Liver”.');
+    expect(screen.queryByRole('form', { name: 'Save material' })).toBeNull();
   });
 
   it('shows why the server refuses a name in use', async () => {

@@ -1,3 +1,4 @@
+import { useState } from 'react';
 import { api, type CalibrationJob, type CalibrationResult as Result } from '../../api';
 import { format_date_time } from '../../time';
 import { useResource } from '../../use_resource';
@@ -11,7 +12,8 @@ import { format_misfit, method_labels, per_labels, progress_text, status_labels 
 /**
  * The chosen job: its state while it runs (the jobs list polls it), and once ended its result
  * (GET /api/calibration/jobs/{id}): the fit per contact, the misfit's history, the constants, and
- * for a done job a form to save them as a material. `on_saved` reloads what a saved material changes.
+ * for a done job a form to save them as a material, or the material's name once saved. `on_saved`
+ * reloads what a saved material changes.
  */
 export function CalibrationResult({ job, on_saved }: { job: CalibrationJob; on_saved: () => void }) {
   return (
@@ -57,14 +59,22 @@ function ResultLoader({ job, on_saved }: { job: CalibrationJob; on_saved: () => 
   );
 }
 
+const misfit_hint =
+  "The data's relative misfit, Σ |u_sim − u_measured|² / Σ |u_measured|², with the scene's constants → " +
+  'with the calibrated ones.';
+const objective_hint = ' The search minimised it plus a smoothness prior: its progress and history show that objective.';
+
 function ResultView({ job, result, on_saved }: { job: CalibrationJob; result: Result; on_saved: () => void }) {
+  // The name just saved, until the reloaded job carries it.
+  const [saved_name, set_saved_name] = useState<string | null>(null);
+  const material = job.material ?? saved_name;
   const c = result.calibration;
   const step = job.method === 'lm' ? 'iteration' : 'generation';
   return (
     <>
       <dl className="calibration-summary" data-testid="calibration-summary">
         <div>
-          <dt>Misfit</dt>
+          <dt title={c.parameters === 'node' ? misfit_hint + objective_hint : misfit_hint}>Misfit</dt>
           <dd data-testid="calibration-misfit">{`${format_misfit(c.start_misfit)} → ${format_misfit(c.misfit)}`}</dd>
         </div>
         <div>
@@ -82,19 +92,30 @@ function ResultView({ job, result, on_saved }: { job: CalibrationJob; result: Re
       </dl>
       <div className="calibration-charts">
         <FitChart fits={c.fits} />
-        <MisfitHistoryChart history={c.history} step={step} />
+        <MisfitHistoryChart
+          history={c.history}
+          start={c.parameters === 'label' ? c.start_misfit : null}
+          step={step}
+          objective={c.parameters === 'node'}
+        />
       </div>
       <h3 id="calibration-values-title">Parameters</h3>
       <CalibratedValues values={c.values} per={c.parameters} node_moduli={result.node_moduli} />
-      {job.status === 'done' && (
-        <>
-          <h3>Save as material</h3>
-          {job.material && (
-            <p className="hint" data-testid="calibration-saved-as">{`Saved as material “${job.material}”.`}</p>
-          )}
-          <MaterialForm job_id={job.id} on_saved={on_saved} />
-        </>
-      )}
+      {job.status === 'done' &&
+        (material ? (
+          <p role="status" data-testid="calibration-saved-as">{`Saved as material “${material}”.`}</p>
+        ) : (
+          <>
+            <h3>Save as material</h3>
+            <MaterialForm
+              job_id={job.id}
+              on_saved={(name) => {
+                set_saved_name(name);
+                on_saved();
+              }}
+            />
+          </>
+        ))}
     </>
   );
 }

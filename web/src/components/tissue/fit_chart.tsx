@@ -8,7 +8,10 @@ const colors = { measured: '#1f2933', start: '#c98a00', fitted: '#0f5e66' };
 const mm_per_m = 1000;
 
 const to_mm = (values: number[]) => values.map((v) => v * mm_per_m);
-const format_mm = (m: number) => `${(m * mm_per_m).toPrecision(3)} mm`;
+const mm_text = (mm: number) => `${mm.toPrecision(3)} mm`;
+const format_mm = (m: number) => mm_text(m * mm_per_m);
+/** The legend's value of a plotted displacement [mm]; none away from the data. */
+const legend_mm = (_: uPlot, mm: number | null) => (mm === null ? '—' : mm_text(mm));
 
 /** The largest magnitude of `values` (0 for none), with its sign. */
 function peak(values: number[]): number {
@@ -45,9 +48,9 @@ export function FitChart({ fits }: { fits: ContactFit[] }) {
             ],
             series: [
               { label: 't [s]' },
-              { label: 'measured', stroke: colors.measured, ...only_points(colors.measured) },
-              { label: 'start', stroke: colors.start, width: 1.5, dash: [6, 4], points: { show: false } },
-              { label: 'fitted', stroke: colors.fitted, width: 2, points: { show: false } },
+              { label: 'measured', stroke: colors.measured, value: legend_mm, ...only_points(colors.measured) },
+              { label: 'start', stroke: colors.start, width: 1.5, dash: [6, 4], value: legend_mm, points: { show: false } },
+              { label: 'fitted', stroke: colors.fitted, width: 2, value: legend_mm, points: { show: false } },
             ],
           },
           data: [fit.time, to_mm(fit.measured), to_mm(fit.start), to_mm(fit.fitted)],

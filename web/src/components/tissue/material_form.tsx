@@ -1,17 +1,18 @@
 import { useState, type SubmitEvent } from 'react';
 import { api } from '../../api';
 import { useFormAction } from '../../use_form_action';
-import { ErrorAlert, StatusMessage } from '../common/alerts';
+import { ErrorAlert } from '../common/alerts';
 
 const max_name_length = 80;
 
 /**
  * Saves a done job's calibrated constants as a named tissue material (POST /api/materials), for
- * curricula to name. The server refuses (409) a name in use.
+ * curricula to name. The server refuses (409) a name in use. `on_saved` gets the saved name: the
+ * caller says it was saved, in place of the form.
  */
-export function MaterialForm({ job_id, on_saved }: { job_id: number; on_saved: () => void }) {
+export function MaterialForm({ job_id, on_saved }: { job_id: number; on_saved: (name: string) => void }) {
   const [name, set_name] = useState('');
-  const { busy, error, status, run, clear } = useFormAction();
+  const { busy, error, run, clear } = useFormAction();
 
   async function on_submit(event: SubmitEvent<HTMLFormElement>) {
     event.preventDefault();
@@ -19,9 +20,8 @@ export function MaterialForm({ job_id, on_saved }: { job_id: number; on_saved: (
     if (!chosen) return;
     await run(async () => {
       const saved = await api.save_material(job_id, chosen);
-      set_name('');
-      on_saved();
-      return `Saved material “${saved.name}”.`;
+      on_saved(saved.name);
+      return undefined;
     }, 'Could not save the material');
   }
 
@@ -43,7 +43,6 @@ export function MaterialForm({ job_id, on_saved }: { job_id: number; on_saved: (
         {busy ? 'Saving…' : 'Save material'}
       </button>
       <ErrorAlert message={error} />
-      <StatusMessage message={status} />
     </form>
   );
 }

@@ -1,6 +1,6 @@
-// How tissue calibration shows its numbers: moduli in kPa to three significant figures, relative
-// misfits in short scientific notation, and a job's progress as one line.
-import type { CalibrationJob, CalibrationMethod, CalibrationPer, CalibrationStatus } from '../../api';
+// How tissue calibration shows its numbers: moduli in kPa to three significant figures, spreads in
+// per cent of the value, relative misfits in short scientific notation, and a job's progress as one line.
+import type { CalibratedValue, CalibrationJob, CalibrationMethod, CalibrationPer, CalibrationStatus } from '../../api';
 
 export const method_labels: Record<CalibrationMethod, string> = {
   ga: 'Genetic algorithm (seed 004)',
@@ -27,6 +27,11 @@ export const status_labels: Record<CalibrationStatus, string> = {
   cancelled: 'Cancelled',
 };
 
+/** A scene's file name, "cube.json" for "scenes/calibration/cube.json": short enough for a table. */
+export function scene_file_name(id: string): string {
+  return id.slice(id.lastIndexOf('/') + 1) || id;
+}
+
 /** Still to finish: its list and progress are polled. */
 export function is_active(job: CalibrationJob): boolean {
   return job.status === 'queued' || job.status === 'running';
@@ -47,6 +52,25 @@ export function format_constant(name: string, value: number): string {
   return name.startsWith('E') ? format_kpa(value) : plain.format(value);
 }
 
+const constant_symbols: Record<string, string> = { E: 'E', nu: 'ν' };
+
+/** "E, label 0" for "E[0]" fitted per label, "E, node 17" for "E[17]" per node, "ν, label 0" for "nu[0]". */
+export function parameter_label(value: CalibratedValue, per: CalibrationPer): string {
+  const constant = value.name.replace(/\[\d+\]$/, '');
+  return `${constant_symbols[constant] ?? constant}, ${per} ${value.owner}`;
+}
+
+const two_figures = new Intl.NumberFormat(undefined, { minimumSignificantDigits: 2, maximumSignificantDigits: 2 });
+/** Below this many per cent a spread is shown as "± <0.001 %": a noise-free fit's is about 1e-14 %. */
+const smallest_percent = 0.001;
+
+/** "± 2.2 %": the spread relative to the value; in the value's unit when the value is 0. */
+export function format_spread(name: string, spread: number, value: number): string {
+  if (value === 0) return `± ${format_constant(name, spread)}`;
+  const percent = (100 * Math.abs(spread)) / Math.abs(value);
+  return percent < smallest_percent ? `± <${smallest_percent} %` : `± ${two_figures.format(percent)} %`;
+}
+
 /** "3.1e-4" for 0.00031, "0.52" for 0.5234: misfits are relative, small numbers. */
 export function format_misfit(misfit: number): string {
   if (misfit === 0) return '0';
@@ -55,12 +79,38 @@ export function format_misfit(misfit: number): string {
   return misfit.toExponential(1).replace('e+', 'e');
 }
 
-/** "iteration 12 · misfit 3.1e-4 · 480 of 2000 simulations" (ga and cmaes count generations). */
-export function progress_text(job: CalibrationJob): string {
+/** 10^k as "0.01", "1", "1e-29": a misfit axis's whole decades, small ones as decimals. */
+export function format_decade(k: number): string {
+  return Math.abs(k) <= 2 ? String(10 ** k) : `1e${k}`;
+}
+
+/** A job's progress: the step reached, the best misfit so far, the simulations spent of the budget. */
+export interface ProgressParts {
+  /** "iteration 12" (ga and cmaes count generations). */
+  step: string;
+  /** "misfit 3.1e-4"; per node "objective …", the search's number with the smoothness prior in it,
+   * not the data's misfit the result reports. */
+  measure: string;
+  /** "480 of 2000 simulations". */
+  count: string;
+}
+
+/** The parts of a job's progress; null before its first step. */
+export function progress_parts(job: CalibrationJob): ProgressParts | null {
   const p = job.progress;
+  if (!p) return null;
+  return {
+    step: `${job.method === 'lm' ? 'iteration' : 'generation'} ${p.iteration}`,
+    measure: `${job.per === 'node' ? 'objective' : 'misfit'} ${format_misfit(p.misfit)}`,
+    count: `${p.evaluations} of ${job.budget} simulations`,
+  };
+}
+
+/** "iteration 12 · misfit 3.1e-4 · 480 of 2000 simulations", or what a job without progress does. */
+export function progress_text(job: CalibrationJob): string {
+  const p = progress_parts(job);
   if (!p) return job.status === 'queued' ? 'waiting to start' : '—';
-  const step = job.method === 'lm' ? 'iteration' : 'generation';
-  return `${step} ${p.iteration} · misfit ${format_misfit(p.misfit)} · ${p.evaluations} of ${job.budget} simulations`;
+  return `${p.step} · ${p.measure} · ${p.count}`;
 }
 
 /** The smallest, median and largest of `values` (not empty). */
