@@ -30,27 +30,31 @@ std::optional<sim::Scene> calibratable(const live::SceneSource& source) {
 
 }  // namespace
 
-std::vector<CalibrationScene> calibration_scenes() {
-  std::vector<CalibrationScene> out;
-  for (const live::SceneSource& source : live::all_scenes()) {
-    const auto scene = calibratable(source);
-    if (!scene) continue;
-    CalibrationScene entry;
-    entry.id = source.id;
-    entry.model = sim::material_model_name(scene->material.model);
-    entry.per_node = scene->material.model == sim::MaterialModel::mass_spring &&
-                     scene->material.volume_stiffness == 0;
-    entry.has_example = live::find_example_data(source.id).has_value();
-    const sim::Vec3 size = scene->mesh.box.size * 100;
-    const sim::Vec3i cells = scene->mesh.box.cells;
-    char title[160];
-    std::snprintf(title, sizeof title, "%s: %s block %.3gx%.3gx%.3g cm, %dx%dx%d cells",
-                  source.id.substr(source.id.rfind('/') + 1).data(), entry.model.c_str(), size.x(),
-                  size.y(), size.z(), cells.x(), cells.y(), cells.z());
-    entry.title = title;
-    out.push_back(std::move(entry));
-  }
-  return out;
+const std::vector<CalibrationScene>& calibration_scenes() {
+  // The scenes are compiled in: parsed once, on first use.
+  static const std::vector<CalibrationScene> scenes = [] {
+    std::vector<CalibrationScene> out;
+    for (const live::SceneSource& source : live::all_scenes()) {
+      const auto scene = calibratable(source);
+      if (!scene) continue;
+      CalibrationScene entry;
+      entry.id = source.id;
+      entry.model = sim::material_model_name(scene->material.model);
+      entry.per_node = scene->material.model == sim::MaterialModel::mass_spring &&
+                       scene->material.volume_stiffness == 0;
+      entry.has_example = live::find_example_data(source.id).has_value();
+      const sim::Vec3 size = scene->mesh.box.size * 100;
+      const sim::Vec3i cells = scene->mesh.box.cells;
+      char title[160];
+      std::snprintf(title, sizeof title, "%s: %s block %.3gx%.3gx%.3g cm, %dx%dx%d cells",
+                    source.id.substr(source.id.rfind('/') + 1).data(), entry.model.c_str(),
+                    size.x(), size.y(), size.z(), cells.x(), cells.y(), cells.z());
+      entry.title = title;
+      out.push_back(std::move(entry));
+    }
+    return out;
+  }();
+  return scenes;
 }
 
 CalibrationSetup calibration_setup(std::string_view scene_id, std::string_view csv) {

@@ -19,7 +19,8 @@ struct CalibrationScene {
   bool has_example = false;
 };
 
-std::vector<CalibrationScene> calibration_scenes();
+// The same list every call (the scenes are compiled in); thread-safe.
+const std::vector<CalibrationScene>& calibration_scenes();
 
 struct CalibrationSetup {
   sim::Scene scene;

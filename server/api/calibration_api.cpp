@@ -167,7 +167,7 @@ ApiResponse create_calibration_job(ApiContext& ctx) {
     throw ApiError(http::status::unprocessable_entity, "data_name must be 1-120 characters");
   }
   job.data = fields.string("data");
-  const auto scenes = calibration_scenes();
+  const auto& scenes = calibration_scenes();
   const auto scene = std::find_if(scenes.begin(), scenes.end(),
                                   [&](const CalibrationScene& s) { return s.id == job.scene; });
   if (scene == scenes.end()) {

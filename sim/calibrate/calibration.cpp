@@ -5,6 +5,7 @@
 #include <random>
 
 #include "sim/scene/node_selection.h"
+#include "sim/scene/scene_error.h"
 
 namespace incise::sim::calibrate {
 namespace {
@@ -83,23 +84,11 @@ Real data_misfit(const VecX& r, int data_size) {
 }  // namespace
 
 std::vector<char> fixed_nodes(const Scene& scene, const TetMesh& mesh) {
-  std::vector<char> fixed(static_cast<std::size_t>(mesh.num_nodes()), 0);
-  const Real tolerance = selection_tolerance(mesh.rest);
-  for (std::size_t c = 0; c < scene.constraints.size(); ++c) {
-    const Constraint& constraint = scene.constraints[c];
-    const std::string which = "constraints[" + std::to_string(c) + "]";
-    if (!(constraint.axes[0] && constraint.axes[1] && constraint.axes[2])) {
-      throw CalibrationError(which + " holds only some axes; calibration takes \"fix\": \"xyz\"");
-    }
-    if (!constraint.displacement.isZero()) {
-      throw CalibrationError(which +
-                             " displaces its nodes; calibration starts from the body at rest");
-    }
-    for (const int i : nodes_in_box(mesh.rest, constraint.where.box, tolerance)) {
-      fixed[static_cast<std::size_t>(i)] = 1;
-    }
+  try {
+    return held_at_rest(scene, mesh);
+  } catch (const SceneError& e) {
+    throw CalibrationError(e.what());
   }
-  return fixed;
 }
 
 void check_probe_data(const Scene& scene, const TetMesh& mesh, const ProbeData& data,

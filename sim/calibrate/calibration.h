@@ -66,9 +66,9 @@ struct CalibrationResult {
   Real seconds = 0;  // wall time of the search
 };
 
-// The nodes every "fix": "xyz" constraint of scene holds. Throws CalibrationError for a
-// constraint that holds only some axes or prescribes a displacement (calibration starts from
-// rest).
+// The nodes every "fix": "xyz" constraint of scene holds (held_at_rest, node_selection.h).
+// Throws CalibrationError for a constraint that holds only some axes, prescribes a displacement
+// (calibration starts from rest) or selects no node.
 std::vector<char> fixed_nodes(const Scene& scene, const TetMesh& mesh);
 
 // Checks, without simulating, that the body can take the data: every contact near a free node,

@@ -1,5 +1,10 @@
 #include "sim/scene/node_selection.h"
 
+#include <string>
+
+#include "sim/scene/scene.h"
+#include "sim/scene/scene_error.h"
+
 namespace incise::sim {
 
 Real selection_tolerance(const Points& points) {
@@ -17,6 +22,26 @@ std::vector<int> nodes_in_box(const Points& points, const Box3& box, Real tolera
     if ((p.array() >= low.array()).all() && (p.array() <= high.array()).all()) nodes.push_back(i);
   }
   return nodes;
+}
+
+std::vector<char> held_at_rest(const Scene& scene, const TetMesh& mesh) {
+  std::vector<char> held(static_cast<std::size_t>(mesh.num_nodes()), 0);
+  const Real tolerance = selection_tolerance(mesh.rest);
+  for (std::size_t k = 0; k < scene.constraints.size(); ++k) {
+    const Constraint& c = scene.constraints[k];
+    const std::string path = "constraints[" + std::to_string(k) + "]";
+    if (c.axes != Axes{true, true, true}) {
+      throw SceneError(path, "holds only some axes; a body held at rest takes \"fix\": \"xyz\"");
+    }
+    if (!c.displacement.isZero()) {
+      throw SceneError(path, "displaces its nodes; a body held at rest takes \"fix\": \"xyz\"");
+    }
+    const std::vector<int> nodes = nodes_in_box(mesh.rest, c.where.box, tolerance);
+    if (nodes.empty()) throw SceneError(path + ".where", "selects no node");
+    for (const int i : nodes)
+      held[static_cast<std::size_t>(i)] = 1;
+  }
+  return held;
 }
 
 }  // namespace incise::sim

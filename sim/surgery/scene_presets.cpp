@@ -126,21 +126,7 @@ SurgicalSceneSetup make_block_surgery(const Scene& block, const BlockSceneOption
   SurgicalSceneSpec& spec = setup.spec;
   spec.tissue = make_box_mesh(block.mesh.box.size, block.mesh.box.cells);
   const TetMesh& mesh = spec.tissue;
-  spec.fixed.assign(static_cast<std::size_t>(mesh.num_nodes()), 0);
-  const Real tolerance = selection_tolerance(mesh.rest);
-  for (std::size_t k = 0; k < block.constraints.size(); ++k) {
-    const Constraint& c = block.constraints[k];
-    if (c.axes != Axes{true, true, true} || !c.displacement.isZero()) {
-      throw SceneError("constraints[" + std::to_string(k) + "]",
-                       "a live block's constraints fix all three axes (\"fix\": \"xyz\")");
-    }
-    const std::vector<int> nodes = nodes_in_box(mesh.rest, c.where.box, tolerance);
-    if (nodes.empty()) {
-      throw SceneError("constraints[" + std::to_string(k) + "].where", "selects no node");
-    }
-    for (const int i : nodes)
-      spec.fixed[static_cast<std::size_t>(i)] = 1;
-  }
+  spec.fixed = held_at_rest(block, mesh);
   spec.model = [scene = block](const TetMesh& m) { return make_model(scene, m); };
   spec.dt = block.solver.dt;
   // Every material a label may take (a label without its own takes "material").

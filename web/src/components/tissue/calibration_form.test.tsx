@@ -96,7 +96,8 @@ it('shows the server’s reason for refusing a data file, and creates nothing', 
   expect(screen.getByTestId('calibration-data-name').textContent).toBe('bad.csv');
 });
 
-it('drops “Calibration N queued.” once that job has ended', async () => {
+/** The form with job 12 queued through it (its "queued" message showing); for the message's life. */
+async function queue_job_12() {
   fake_server({
     'GET /api/calibration/scenes': { scenes: [cube] },
     'POST /api/calibration/jobs': new Reply(201, { job: calibration_job({ id: 12, status: 'queued', progress: null }) }),
@@ -106,6 +107,11 @@ it('drops “Calibration N queued.” once that job has ended', async () => {
   await user.upload(await screen.findByLabelText('Data file (CSV)'), new File([csv], 'pushes.csv', { type: 'text/csv' }));
   await user.click(screen.getByRole('button', { name: 'Run calibration' }));
   await screen.findByText('Calibration 12 queued.');
+  return { rerender };
+}
+
+it('drops “Calibration N queued.” once that job has ended', async () => {
+  const { rerender } = await queue_job_12();
 
   // Listed and running: the message holds.
   rerender(<CalibrationForm on_created={vi.fn()} shown_job={calibration_job({ id: 12 })} />);
@@ -115,15 +121,7 @@ it('drops “Calibration N queued.” once that job has ended', async () => {
 });
 
 it('drops “Calibration N queued.” when another job is shown, for good', async () => {
-  fake_server({
-    'GET /api/calibration/scenes': { scenes: [cube] },
-    'POST /api/calibration/jobs': new Reply(201, { job: calibration_job({ id: 12, status: 'queued', progress: null }) }),
-  });
-  const { rerender } = render_with_queries(<CalibrationForm on_created={vi.fn()} shown_job={undefined} />);
-  const user = userEvent.setup();
-  await user.upload(await screen.findByLabelText('Data file (CSV)'), new File([csv], 'pushes.csv', { type: 'text/csv' }));
-  await user.click(screen.getByRole('button', { name: 'Run calibration' }));
-  await screen.findByText('Calibration 12 queued.');
+  const { rerender } = await queue_job_12();
 
   rerender(<CalibrationForm on_created={vi.fn()} shown_job={calibration_job({ id: 9, status: 'done' })} />);
   expect(screen.queryByRole('status')).toBeNull();
